@@ -1,0 +1,74 @@
+//! Orthonormal frames (shading frames, emission frames).
+
+use glam::Vec3;
+
+/// Right-handed orthonormal basis `(s, t, n)`; local coordinates have `n` as +z.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    pub s: Vec3,
+    pub t: Vec3,
+    pub n: Vec3,
+}
+
+impl Frame {
+    /// Frame around a unit vector `n`, built without branches on the sign of z
+    /// (Duff et al. 2017, "Building an orthonormal basis, revisited").
+    #[inline]
+    pub fn from_normal(n: Vec3) -> Self {
+        let sign = 1.0f32.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        let s = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+        let t = Vec3::new(b, sign + n.y * n.y * a, -n.y);
+        Self { s, t, n }
+    }
+    /// Frame with normal `n` whose first tangent is `s` projected onto the plane of `n`; falls
+    /// back to [`Frame::from_normal`] when `s` is (nearly) parallel to `n`.
+    #[inline]
+    pub fn from_normal_tangent(n: Vec3, s: Vec3) -> Self {
+        let s = s - n * n.dot(s);
+        let len2 = s.length_squared();
+        if len2 < 1e-12 {
+            return Self::from_normal(n);
+        }
+        let s = s / len2.sqrt();
+        Self {
+            s,
+            t: n.cross(s),
+            n,
+        }
+    }
+    #[inline]
+    pub fn to_local(&self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
+    }
+    #[inline]
+    pub fn to_world(&self, v: Vec3) -> Vec3 {
+        self.s * v.x + self.t * v.y + self.n * v.z
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_are_orthonormal_and_invert() {
+        for n in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::new(0.3, -0.5, 0.8).normalize(),
+            Vec3::new(1e-8, 0.0, -1.0).normalize(),
+        ] {
+            let f = Frame::from_normal(n);
+            assert!((f.s.length() - 1.0).abs() < 1e-5 && (f.t.length() - 1.0).abs() < 1e-5);
+            assert!(
+                f.s.dot(f.t).abs() < 1e-5 && f.s.dot(f.n).abs() < 1e-5 && f.t.dot(f.n).abs() < 1e-5
+            );
+            assert!((f.s.cross(f.t) - f.n).length() < 1e-5, "right-handed");
+            let v = Vec3::new(0.2, 0.7, -0.1);
+            assert!((f.to_world(f.to_local(v)) - v).length() < 1e-5);
+        }
+    }
+}

@@ -1,0 +1,107 @@
+//! Discrete distributions sampled by inverting a cumulative table (light selection by power,
+//! triangle selection by area).
+
+/// A discrete distribution over `0..n` proportional to non-negative weights.
+#[derive(Clone, Debug, Default)]
+pub struct Distribution1D {
+    /// Normalised CDF with `cdf[0] = 0` and `cdf[n] = 1`.
+    cdf: Vec<f32>,
+    pmf: Vec<f32>,
+    total: f64,
+}
+
+impl Distribution1D {
+    /// Builds from weights; returns `None` when there is no positive, finite weight.
+    pub fn new(weights: &[f32]) -> Option<Self> {
+        let mut acc = 0.0f64;
+        let mut cdf = Vec::with_capacity(weights.len() + 1);
+        cdf.push(0.0f64);
+        for &w in weights {
+            acc += if w.is_finite() && w > 0.0 {
+                w as f64
+            } else {
+                0.0
+            };
+            cdf.push(acc);
+        }
+        if acc <= 0.0 {
+            return None;
+        }
+        let pmf = weights
+            .iter()
+            .map(|&w| {
+                if w.is_finite() && w > 0.0 {
+                    (w as f64 / acc) as f32
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        Some(Self {
+            cdf: cdf.iter().map(|c| (c / acc) as f32).collect(),
+            pmf,
+            total: acc,
+        })
+    }
+    pub fn len(&self) -> usize {
+        self.pmf.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.pmf.is_empty()
+    }
+    /// Sum of the weights.
+    pub fn total(&self) -> f64 {
+        self.total
+    }
+    /// Probability of index `i`.
+    #[inline]
+    pub fn pmf(&self, i: usize) -> f32 {
+        self.pmf[i]
+    }
+    /// Samples an index with `u ∈ [0, 1)`; returns the index, its probability and `u` remapped
+    /// to [0, 1) within the chosen bucket (so one number can be reused).
+    #[inline]
+    pub fn sample(&self, u: f32) -> (usize, f32, f32) {
+        // First index with cdf[i+1] > u, skipping zero-probability entries.
+        let n = self.pmf.len();
+        let mut i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .saturating_sub(1)
+            .min(n - 1);
+        while self.pmf[i] == 0.0 && i + 1 < n {
+            i += 1;
+        }
+        while self.pmf[i] == 0.0 && i > 0 {
+            i -= 1;
+        }
+        let p = self.pmf[i];
+        let rem = ((u - self.cdf[i]) / p).clamp(0.0, crate::sampling::sampler::ONE_MINUS_EPSILON);
+        (i, p, rem)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::chi2::chi_square;
+    use crate::sampling::Pcg32;
+
+    #[test]
+    fn sampling_follows_weights() {
+        let w = [1.0, 0.0, 3.0, 0.5, 0.0, 2.0];
+        let d = Distribution1D::new(&w).unwrap();
+        let mut rng = Pcg32::new(9, 9);
+        let n = 100_000;
+        let mut obs = vec![0.0; w.len()];
+        for _ in 0..n {
+            let (i, p, rem) = d.sample(rng.next_f32());
+            assert!(p > 0.0 && (0.0..1.0).contains(&rem));
+            obs[i] += 1.0;
+        }
+        let exp: Vec<f64> = (0..w.len()).map(|i| d.pmf(i) as f64 * n as f64).collect();
+        let r = chi_square(&obs, &exp);
+        assert!(r.passed(), "{r}");
+        assert!(Distribution1D::new(&[0.0, f32::NAN]).is_none());
+    }
+}

@@ -1,0 +1,28 @@
+//! STUB: to be implemented.
+
+use super::{EmissionSample, LightSample, LightSource};
+use caustica_core::{Spectrum, Vec2, Vec3};
+
+#[derive(Clone, Debug)]
+pub struct EnvironmentLight {}
+
+impl LightSource for EnvironmentLight {
+    fn sample_li(&self, _p: Vec3, _u: Vec2) -> Option<LightSample> {
+        todo!()
+    }
+    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _light_p: Vec3, _light_n: Vec3) -> f32 {
+        todo!()
+    }
+    fn le(&self, _n: Vec3, _w: Vec3) -> Spectrum {
+        todo!()
+    }
+    fn sample_emission(&self, _u_pos: Vec2, _u_dir: Vec2) -> EmissionSample {
+        todo!()
+    }
+    fn power(&self) -> Spectrum {
+        todo!()
+    }
+    fn is_delta(&self) -> bool {
+        todo!()
+    }
+}

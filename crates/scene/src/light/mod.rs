@@ -1,0 +1,140 @@
+//! Lights. Every light can
+//! (a) sample a direction toward a shading point for next-event estimation ([`Light::sample_li`],
+//!     density [`Light::pdf_li`] for MIS),
+//! (b) sample an emitted ray for photon and light tracing ([`Light::sample_emission`]) together
+//!     with the local frame at the origin that photon differentials need (seed 002 eq. 2–6), and
+//! (c) report its total emitted power ([`Light::power`], W).
+//!
+//! Units: point and spot `intensity` in W/sr; directional and beam `irradiance` in W/m² on a
+//! plane perpendicular to the light; area and environment `radiance` in W/m²/sr.
+
+pub mod area;
+pub mod beam;
+pub mod directional;
+pub mod environment;
+pub mod point;
+pub mod spot;
+
+pub use area::{AreaLight, AreaShape};
+pub use beam::BeamLight;
+pub use directional::DirectionalLight;
+pub use environment::EnvironmentLight;
+pub use point::PointLight;
+pub use spot::SpotLight;
+
+use caustica_core::{Ray, Spectrum, Vec2, Vec3};
+
+/// A direction toward a light, sampled from a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the shading point toward the light.
+    pub wi: Vec3,
+    /// Distance to the sampled light point (m); `f32::INFINITY` for infinite lights.
+    pub dist: f32,
+    /// Sampled point on the light (or a point beyond the scene for infinite lights).
+    pub p: Vec3,
+    /// Radiance arriving along `-wi` divided by `pdf` (for delta lights: the incident
+    /// irradiance-per-unit-solid-angle factor, i.e. I/d² for a point light). The direct-light
+    /// contribution is `f(wo, wi)·|cos θi|·weight` (times an MIS weight for non-delta lights).
+    pub weight: Spectrum,
+    /// Solid-angle density of `wi` at the shading point (sr⁻¹); 1 for delta lights.
+    pub pdf: f32,
+    /// True for point, spot, directional and beam lights (cannot be hit by rays).
+    pub delta: bool,
+}
+
+/// An emitted ray, sampled for photon or light tracing.
+#[derive(Clone, Copy, Debug)]
+pub struct EmissionSample {
+    /// Origin on the light and unit direction of emission.
+    pub ray: Ray,
+    /// Surface normal at the origin (area lights, beam aperture), `None` for point-like sources.
+    pub normal: Option<Vec3>,
+    /// Flux carried by the sample, Le·|cos θ| / (pdf_pos·pdf_dir), in W (before dividing by the
+    /// number of emitted samples).
+    pub weight: Spectrum,
+    /// Area density of the origin (m⁻²), 1 for delta positions.
+    pub pdf_pos: f32,
+    /// Solid-angle density of the direction (sr⁻¹), 1 for delta directions.
+    pub pdf_dir: f32,
+    pub delta_pos: bool,
+    pub delta_dir: bool,
+}
+
+/// Interface of one light type; [`Light`] dispatches.
+pub trait LightSource {
+    /// Called once with the scene's bounding sphere (centre, radius, m) before rendering.
+    fn preprocess(&mut self, center: Vec3, radius: f32) {
+        let _ = (center, radius);
+    }
+    fn sample_li(&self, p: Vec3, u: Vec2) -> Option<LightSample>;
+    /// Solid-angle density with which `sample_li(p, ·)` returns direction `wi` hitting the light
+    /// at `light_p` with light normal `light_n` (non-delta lights only; 0 otherwise).
+    fn pdf_li(&self, p: Vec3, wi: Vec3, light_p: Vec3, light_n: Vec3) -> f32;
+    /// Emitted radiance (W/m²/sr) leaving a point with normal `n` on an area light in direction
+    /// `w`; for the environment, radiance arriving from direction `-w`. Zero for delta lights.
+    fn le(&self, n: Vec3, w: Vec3) -> Spectrum;
+    fn sample_emission(&self, u_pos: Vec2, u_dir: Vec2) -> EmissionSample;
+    /// Total emitted power (W). For infinite lights it is the power crossing the scene's
+    /// bounding disk, which requires `preprocess`.
+    fn power(&self) -> Spectrum;
+    fn is_delta(&self) -> bool;
+    fn is_infinite(&self) -> bool {
+        false
+    }
+}
+
+/// Any light of the scene.
+#[derive(Clone, Debug)]
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+    Directional(DirectionalLight),
+    Beam(BeamLight),
+    Area(AreaLight),
+    Environment(EnvironmentLight),
+}
+
+macro_rules! dispatch {
+    ($self:ident, $l:ident => $e:expr) => {
+        match $self {
+            Light::Point($l) => $e,
+            Light::Spot($l) => $e,
+            Light::Directional($l) => $e,
+            Light::Beam($l) => $e,
+            Light::Area($l) => $e,
+            Light::Environment($l) => $e,
+        }
+    };
+}
+
+impl Light {
+    pub fn preprocess(&mut self, center: Vec3, radius: f32) {
+        dispatch!(self, l => l.preprocess(center, radius))
+    }
+    #[inline]
+    pub fn sample_li(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
+        dispatch!(self, l => l.sample_li(p, u))
+    }
+    #[inline]
+    pub fn pdf_li(&self, p: Vec3, wi: Vec3, light_p: Vec3, light_n: Vec3) -> f32 {
+        dispatch!(self, l => l.pdf_li(p, wi, light_p, light_n))
+    }
+    #[inline]
+    pub fn le(&self, n: Vec3, w: Vec3) -> Spectrum {
+        dispatch!(self, l => l.le(n, w))
+    }
+    #[inline]
+    pub fn sample_emission(&self, u_pos: Vec2, u_dir: Vec2) -> EmissionSample {
+        dispatch!(self, l => l.sample_emission(u_pos, u_dir))
+    }
+    pub fn power(&self) -> Spectrum {
+        dispatch!(self, l => l.power())
+    }
+    pub fn is_delta(&self) -> bool {
+        dispatch!(self, l => l.is_delta())
+    }
+    pub fn is_infinite(&self) -> bool {
+        dispatch!(self, l => l.is_infinite())
+    }
+}

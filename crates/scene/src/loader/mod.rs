@@ -1,0 +1,1 @@
+//! Scene loaders: the caustica TOML format, OBJ and PLY meshes, and the built-in scenes.

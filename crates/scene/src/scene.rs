@@ -1,0 +1,267 @@
+//! The assembled scene and its builder.
+
+use crate::camera::PerspectiveCamera;
+use crate::error::SceneError;
+use crate::geometry::Geometry;
+use crate::intersection::{NONE, SurfaceInteraction};
+use crate::light::{AreaLight, AreaShape, Light};
+use crate::material::Material;
+use crate::shape::{Aabb, Shape, ShapeGeometry};
+use caustica_core::sampling::Distribution1D;
+use caustica_core::{Ray, Spectrum};
+
+/// Pixel reconstruction filter requested by the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum FilterKind {
+    /// Box of one pixel.
+    #[default]
+    Box,
+    /// Gaussian with standard deviation `stddev` (pixels), truncated at `radius` (pixels).
+    Gaussian { stddev: f32, radius: f32 },
+}
+
+/// Render settings a scene file may suggest; the command line overrides them.
+#[derive(Clone, Debug, Default)]
+pub struct SceneSettings {
+    pub spp: Option<u32>,
+    pub filter: FilterKind,
+    pub max_depth: Option<u32>,
+}
+
+/// An immutable, ready-to-render scene.
+pub struct Scene {
+    pub name: String,
+    pub geometry: Geometry,
+    pub materials: Vec<Material>,
+    pub material_names: Vec<String>,
+    pub lights: Vec<Light>,
+    pub camera: PerspectiveCamera,
+    pub settings: SceneSettings,
+    /// Light selection proportional to power (photon emission and next-event estimation).
+    pub light_distribution: Option<Distribution1D>,
+    /// Indices of infinite lights (seen by rays escaping the scene).
+    pub infinite_lights: Vec<u32>,
+    /// Non-fatal problems found while building (skipped triangles, approximated materials).
+    pub warnings: Vec<String>,
+}
+
+impl Scene {
+    /// Closest hit along `ray`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        self.geometry.intersect(ray)
+    }
+    /// True if `ray` is blocked before `ray.t_max`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.geometry.occluded(ray)
+    }
+    pub fn bounds(&self) -> Aabb {
+        self.geometry.bounds()
+    }
+    /// Total emitted power of all lights (W).
+    pub fn total_power(&self) -> Spectrum {
+        self.lights.iter().map(|l| l.power()).sum()
+    }
+    /// Probability that light `i` is chosen by `light_distribution`.
+    pub fn light_pmf(&self, i: u32) -> f32 {
+        self.light_distribution
+            .as_ref()
+            .map_or(0.0, |d| d.pmf(i as usize))
+    }
+}
+
+/// Collects materials, shapes, lights and the camera, validates them and builds a [`Scene`].
+#[derive(Default)]
+pub struct SceneBuilder {
+    pub name: String,
+    materials: Vec<Material>,
+    material_names: Vec<String>,
+    shapes: Vec<Shape>,
+    lights: Vec<Light>,
+    camera: Option<PerspectiveCamera>,
+    pub settings: SceneSettings,
+    pub warnings: Vec<String>,
+    skipped_triangles: usize,
+}
+
+impl SceneBuilder {
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            ..Default::default()
+        }
+    }
+
+    /// Adds a named material after checking its parameters; returns its index.
+    pub fn add_material(&mut self, name: &str, m: Material) -> Result<u32, SceneError> {
+        m.validate()
+            .map_err(|e| SceneError::InvalidParameter(format!("material '{name}': {e}")))?;
+        self.materials.push(m);
+        self.material_names.push(name.to_string());
+        Ok((self.materials.len() - 1) as u32)
+    }
+
+    /// Index of the material called `name`.
+    pub fn material_index(&self, name: &str) -> Option<u32> {
+        self.material_names
+            .iter()
+            .rposition(|n| n == name)
+            .map(|i| i as u32)
+    }
+
+    /// Adds a shape with material `material`; with `emission` (radiance, W/m²/sr) it also
+    /// becomes a one-sided diffuse area light. Meshes are sanitised: non-finite and degenerate
+    /// triangles are dropped and counted in a warning.
+    pub fn add_shape(
+        &mut self,
+        mut geometry: ShapeGeometry,
+        material: u32,
+        emission: Option<Spectrum>,
+        flip_normals: bool,
+    ) -> Result<(), SceneError> {
+        if material as usize >= self.materials.len() {
+            return Err(SceneError::Invalid(format!(
+                "material index {material} does not exist"
+            )));
+        }
+        let mut flip_flag = false;
+        match &mut geometry {
+            ShapeGeometry::Mesh(m) => {
+                let r = m.sanitize();
+                self.skipped_triangles += r.total();
+                if m.indices.is_empty() {
+                    self.warnings
+                        .push("a mesh has no valid triangles and was skipped".into());
+                    return Ok(());
+                }
+                if flip_normals {
+                    for t in &mut m.indices {
+                        t.swap(1, 2);
+                    }
+                    if let Some(ns) = &mut m.normals {
+                        ns.iter_mut().for_each(|n| *n = -*n);
+                    }
+                }
+            }
+            ShapeGeometry::Sphere(s) => {
+                if !(s.radius > 0.0 && s.radius.is_finite() && s.center.is_finite()) {
+                    return Err(SceneError::InvalidParameter(format!(
+                        "sphere radius must be positive and finite, got {}",
+                        s.radius
+                    )));
+                }
+                flip_flag = flip_normals;
+            }
+            ShapeGeometry::Disk(d) => {
+                if !(d.radius > 0.0
+                    && d.radius.is_finite()
+                    && d.center.is_finite()
+                    && d.normal.length_squared() > 0.0)
+                {
+                    return Err(SceneError::InvalidParameter(format!(
+                        "disk radius must be positive and finite, got {}",
+                        d.radius
+                    )));
+                }
+                d.normal = d.normal.normalize();
+                if flip_normals {
+                    d.normal = -d.normal;
+                }
+            }
+        }
+        let mut shape = Shape::new(geometry, material);
+        shape.flip_normals = flip_flag;
+        if let Some(le) = emission
+            && !le.is_black()
+        {
+            if !le.is_finite() || le.min_component() < 0.0 {
+                return Err(SceneError::InvalidParameter(format!(
+                    "emitted radiance must be finite and non-negative, got {:?}",
+                    le.c
+                )));
+            }
+            if flip_flag {
+                return Err(SceneError::Invalid(
+                    "an emitting sphere cannot have flipped normals".into(),
+                ));
+            }
+            let area_shape = match &shape.geometry {
+                ShapeGeometry::Mesh(m) => AreaShape::Triangles(
+                    m.indices
+                        .iter()
+                        .map(|t| t.map(|k| m.positions[k as usize]))
+                        .collect(),
+                ),
+                ShapeGeometry::Sphere(s) => AreaShape::Sphere(*s),
+                ShapeGeometry::Disk(d) => AreaShape::Disk(*d),
+            };
+            shape.light = self.lights.len() as u32;
+            self.lights
+                .push(Light::Area(AreaLight::new(area_shape, le, false)));
+        }
+        self.shapes.push(shape);
+        Ok(())
+    }
+
+    pub fn add_light(&mut self, light: Light) {
+        self.lights.push(light);
+    }
+
+    pub fn set_camera(&mut self, camera: PerspectiveCamera) {
+        self.camera = Some(camera);
+    }
+
+    /// Validates and builds the scene (BVH, light preprocessing, light distribution).
+    pub fn build(self) -> Result<Scene, SceneError> {
+        let camera = self
+            .camera
+            .ok_or_else(|| SceneError::Invalid("the scene has no camera".into()))?;
+        if camera.width == 0 || camera.height == 0 {
+            return Err(SceneError::InvalidParameter(format!(
+                "image size must be positive, got {}x{}",
+                camera.width, camera.height
+            )));
+        }
+        let mut warnings = self.warnings;
+        if self.skipped_triangles > 0 {
+            warnings.push(format!(
+                "skipped {} triangles with NaN/Inf vertices, degenerate area or bad indices",
+                self.skipped_triangles
+            ));
+        }
+        let geometry = Geometry::build(self.shapes);
+        let (center, radius) = geometry.bounds().bounding_sphere();
+        let mut lights = self.lights;
+        for l in &mut lights {
+            l.preprocess(center, radius.max(1e-3));
+        }
+        let infinite_lights = lights
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.is_infinite())
+            .map(|(i, _)| i as u32)
+            .collect();
+        let powers: Vec<f32> = lights.iter().map(|l| l.power().average()).collect();
+        let light_distribution = Distribution1D::new(&powers);
+        if light_distribution.is_none() {
+            warnings
+                .push("the scene has no light with positive power; images will be black".into());
+        }
+        Ok(Scene {
+            name: self.name,
+            geometry,
+            materials: self.materials,
+            material_names: self.material_names,
+            lights,
+            camera,
+            settings: self.settings,
+            light_distribution,
+            infinite_lights,
+            warnings,
+        })
+    }
+}
+
+/// Convenience: `NONE` re-exported for index fields.
+pub const NO_INDEX: u32 = NONE;

@@ -1,0 +1,58 @@
+//! Shapes: triangle meshes and analytic spheres and disks. Rectangles and cubes are built as
+//! meshes ([`TriangleMesh::rectangle`], [`TriangleMesh::cube`]).
+
+pub mod aabb;
+pub mod disk;
+pub mod mesh;
+pub mod sphere;
+
+pub use aabb::Aabb;
+pub use disk::Disk;
+pub use mesh::{SanitizeReport, TriangleMesh};
+pub use sphere::Sphere;
+
+use crate::intersection::NONE;
+
+/// The surface of a shape.
+#[derive(Clone, Debug)]
+pub enum ShapeGeometry {
+    Mesh(TriangleMesh),
+    Sphere(Sphere),
+    Disk(Disk),
+}
+
+/// A shape placed in the scene: geometry already in world space (instances are baked by their
+/// affine transform when the scene is built) plus what it is made of.
+#[derive(Clone, Debug)]
+pub struct Shape {
+    pub geometry: ShapeGeometry,
+    /// Index into `Scene::materials`.
+    pub material: u32,
+    /// Index into `Scene::lights` of the area light on this shape, or `NONE`.
+    pub light: u32,
+    /// Reverse geometric and shading normals (swaps inside and outside).
+    pub flip_normals: bool,
+    /// Media inside/outside (reserved for participating media), or `NONE`.
+    pub medium_inside: u32,
+    pub medium_outside: u32,
+}
+
+impl Shape {
+    pub fn new(geometry: ShapeGeometry, material: u32) -> Self {
+        Self {
+            geometry,
+            material,
+            light: NONE,
+            flip_normals: false,
+            medium_inside: NONE,
+            medium_outside: NONE,
+        }
+    }
+    /// Number of primitives (triangles; 1 for analytic shapes).
+    pub fn primitive_count(&self) -> usize {
+        match &self.geometry {
+            ShapeGeometry::Mesh(m) => m.indices.len(),
+            _ => 1,
+        }
+    }
+}
