@@ -1,1 +1,25 @@
-//! render
+//! Integrators and film of caustica.
+//!
+//! * [`film`], [`filter`] — accumulation of camera samples and light-path splats.
+//! * [`image_loop`] — the pixel-parallel driver: every pixel sample is a pure function of
+//!   (seed, pixel, sample index), so images are identical for any thread count.
+//! * [`splat_loop`] — the light-path-parallel driver: paths are grouped in fixed chunks whose
+//!   splat buffers are merged in chunk order, again independent of the thread count.
+//! * [`surface`] and [`direct`] — shared per-vertex work (BSDF at a hit, shading-normal
+//!   correction, Beer–Lambert absorption, next-event estimation) used by every integrator.
+//! * [`integrator`] — the path tracer and the light tracer.
+
+pub mod direct;
+pub mod film;
+pub mod filter;
+pub mod image_loop;
+pub mod integrator;
+pub mod options;
+pub mod splat_loop;
+pub mod stats;
+pub mod surface;
+
+pub use film::Film;
+pub use integrator::{IntegratorKind, RenderOutput, render};
+pub use options::{Progress, RenderControl, RenderOptions};
+pub use stats::RenderStats;

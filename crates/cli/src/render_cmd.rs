@@ -1,0 +1,224 @@
+//! `caustica render`.
+
+use anyhow::{Context, Result, bail};
+use caustica_core::image_io::Image;
+use caustica_core::sampling::SamplerKind;
+use caustica_render::{Film, IntegratorKind, Progress, RenderControl, RenderOptions, render};
+use caustica_scene::Scene;
+use caustica_scene::loader;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (.toml) or built-in scene name (see `caustica scenes`). Default: the embedded
+    /// glass-sphere caustic scene.
+    pub scene: Option<String>,
+    /// Integrator: path (path tracer with NEE and MIS) or lighttrace (light tracer).
+    #[arg(long, default_value = "path")]
+    pub integrator: String,
+    /// Samples per pixel (path) or light paths per pixel (lighttrace). Default: the scene's
+    /// suggestion, else 16.
+    #[arg(long, conflicts_with = "time")]
+    pub spp: Option<u32>,
+    /// Render for this many seconds instead of a fixed sample count.
+    #[arg(long)]
+    pub time: Option<f64>,
+    /// Worker threads (default: all cores). The image does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Random seed; the same seed gives the same image bytes.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Sampler: sobol (Owen-scrambled) or independent.
+    #[arg(long, default_value = "sobol")]
+    pub sampler: String,
+    /// Longest path in edges (Mitsuba's max_depth; -1 = unlimited).
+    #[arg(long, allow_negative_numbers = true)]
+    pub max_depth: Option<i64>,
+    /// Output image (.exr, .pfm or .png).
+    #[arg(short, long, default_value = "out.exr")]
+    pub output: PathBuf,
+    /// Also write an sRGB PNG.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    /// Exposure (stops) applied to PNG output.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Write the image accumulated so far every S seconds.
+    #[arg(long)]
+    pub checkpoint: Option<f64>,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Loads a scene given as a path or built-in name.
+pub fn load(scene: Option<&str>) -> Result<Scene> {
+    let name = scene.unwrap_or(loader::DEFAULT_SCENE);
+    let path = Path::new(name);
+    let builder = if path.extension().is_some() || path.exists() {
+        return loader::load_scene(path)
+            .with_context(|| format!("cannot load scene {}", path.display()));
+    } else {
+        loader::builtin_scene(name).with_context(|| {
+            format!(
+                "'{name}' is neither a scene file nor a built-in scene ({})",
+                loader::builtin_names().join(", ")
+            )
+        })?
+    };
+    builder
+        .build()
+        .with_context(|| format!("cannot build scene '{name}'"))
+}
+
+fn write_outputs(img: &Image, args: &RenderArgs) -> Result<()> {
+    write_atomically(&args.output, |p| img.write(p))?;
+    if let Some(png) = &args.png {
+        write_atomically(png, |p| img.write_png(p, args.exposure))?;
+    }
+    Ok(())
+}
+
+/// Writes through a temporary file and renames, so an interrupted write never leaves a
+/// truncated image where a good one was.
+fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
+    path: &Path,
+    write: impl Fn(&Path) -> Result<(), E>,
+) -> Result<()> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let tmp = path.with_extension(format!("partial.{ext}"));
+    write(&tmp).with_context(|| format!("cannot write {}", path.display()))?;
+    std::fs::rename(&tmp, path)
+        .with_context(|| format!("cannot move {} to {}", tmp.display(), path.display()))?;
+    Ok(())
+}
+
+pub fn run(args: RenderArgs) -> Result<()> {
+    let kind: IntegratorKind = args.integrator.parse().map_err(anyhow::Error::msg)?;
+    let sampler: SamplerKind = args.sampler.parse().map_err(anyhow::Error::msg)?;
+    if let Some(t) = args.threads {
+        if t == 0 {
+            bail!("--threads must be at least 1");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+            .context("cannot start the worker threads")?;
+    }
+    if let Some(t) = args.time
+        && !(t.is_finite() && t > 0.0)
+    {
+        bail!("--time must be a positive number of seconds, got {t}");
+    }
+    if let Some(c) = args.checkpoint
+        && !(c.is_finite() && c > 0.0)
+    {
+        bail!("--checkpoint must be a positive number of seconds, got {c}");
+    }
+    let ext = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    if !["exr", "pfm", "png"].contains(&ext.as_str()) {
+        bail!(
+            "output {} must end in .exr, .pfm or .png",
+            args.output.display()
+        );
+    }
+    let scene = load(args.scene.as_deref())?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    let spp = args.spp.or(scene.settings.spp).unwrap_or(16);
+    if spp == 0 {
+        bail!("--spp must be at least 1");
+    }
+    let max_depth = match args.max_depth.or(scene.settings.max_depth.map(i64::from)) {
+        None | Some(-1) => u32::MAX,
+        Some(d) if d >= 1 => d.min(u32::MAX as i64) as u32,
+        Some(d) => bail!("--max-depth must be -1 (unlimited) or at least 1, got {d}"),
+    };
+    let opts = RenderOptions {
+        spp,
+        time_limit: args.time.map(Duration::from_secs_f64),
+        seed: args.seed,
+        sampler,
+        max_depth,
+        rr_depth: 5,
+        checkpoint_interval: args.checkpoint.map(Duration::from_secs_f64),
+    };
+
+    static STOP: AtomicBool = AtomicBool::new(false);
+    ctrlc::set_handler(|| {
+        if STOP.swap(true, Ordering::SeqCst) {
+            eprintln!("\ninterrupted twice: exiting without writing");
+            std::process::exit(130);
+        }
+        eprintln!("\ninterrupted: finishing the current pass and writing the image (Ctrl-C again to abort)");
+    })
+    .context("cannot install the Ctrl-C handler")?;
+
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(1000)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta} {msg}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let progress = |p: Progress| {
+        bar.set_position((p.fraction * 1000.0) as u64);
+    };
+    let checkpoint_err = std::sync::Mutex::new(None::<String>);
+    let checkpoint = |film: &Film| {
+        if let Err(e) = write_outputs(&film.to_image(), &args)
+            && let Ok(mut slot) = checkpoint_err.lock()
+        {
+            *slot = Some(format!("{e:#}"));
+        }
+    };
+    let ctl = RenderControl {
+        stop: &STOP,
+        on_progress: &progress,
+        on_checkpoint: &checkpoint,
+    };
+    let out = render(&scene, kind, &opts, &ctl);
+    bar.finish_and_clear();
+    if let Ok(Some(e)) = checkpoint_err.lock().map(|s| s.clone()) {
+        eprintln!("warning: a checkpoint failed: {e}");
+    }
+    let img = out.film.to_image();
+    write_outputs(&img, &args)?;
+    let secs = out.elapsed.as_secs_f64().max(1e-9);
+    let what = match kind {
+        IntegratorKind::Path => format!("{:.1} spp", out.film.mean_samples()),
+        IntegratorKind::LightTrace => format!("{} light paths", out.film.light_paths()),
+    };
+    let stopped = if STOP.load(Ordering::SeqCst) {
+        " (interrupted)"
+    } else {
+        ""
+    };
+    println!(
+        "{}: {} {}x{}, {what} in {secs:.2} s{stopped}: {:.2} M samples/s, {:.2} M rays/s, {} NaN/Inf samples discarded -> {}",
+        scene.name,
+        kind.name(),
+        scene.camera.width,
+        scene.camera.height,
+        out.stats.samples as f64 / secs / 1e6,
+        out.stats.rays as f64 / secs / 1e6,
+        out.stats.nonfinite,
+        args.output.display()
+    );
+    Ok(())
+}

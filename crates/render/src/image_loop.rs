@@ -1,0 +1,106 @@
+//! Pixel-parallel render driver. Work is split into passes of a few samples per pixel; within a
+//! pass rows are rendered in parallel and each pixel's samples in index order, so the result is
+//! a pure function of (scene, options, seed) whatever the thread count. Between passes the
+//! driver checks the stop flag, the time budget and the checkpoint timer.
+
+use crate::film::Film;
+use crate::filter::Filter;
+use crate::options::{Progress, RenderControl, RenderOptions};
+use crate::stats::RenderStats;
+use caustica_core::sampling::Sampler;
+use caustica_core::{Spectrum, Vec2};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Target number of samples per pass (keeps passes short enough for Ctrl-C and checkpoints).
+const SAMPLES_PER_PASS: u64 = 1 << 20;
+
+/// Renders into `film` by calling `sample(sampler, raster)` for every pixel sample; the closure
+/// returns radiance (W/m²/sr) and must draw all its random numbers from `sampler`.
+pub fn render_pixels<F>(
+    film: &mut Film,
+    filter: &Filter,
+    opts: &RenderOptions,
+    ctl: &RenderControl,
+    sample: F,
+) -> RenderStats
+where
+    F: Fn(&mut Sampler, Vec2, &mut RenderStats) -> Spectrum + Sync,
+{
+    let (w, h) = (film.width, film.height);
+    let pixels = (w * h) as u64;
+    let start = Instant::now();
+    let mut last_checkpoint = Instant::now();
+    let per_pass = (SAMPLES_PER_PASS / pixels.max(1)).clamp(1, 64) as u32;
+    let mut done_spp = 0u32;
+    let mut stats = RenderStats::default();
+    let samples_done = AtomicU64::new(0);
+    loop {
+        let pass_spp = match opts.time_limit {
+            Some(_) => per_pass,
+            None => per_pass.min(opts.spp - done_spp),
+        };
+        if pass_spp == 0 {
+            break;
+        }
+        let first = done_spp;
+        let rows: Vec<RenderStats> = film
+            .sum
+            .par_chunks_mut(w)
+            .zip(film.count.par_chunks_mut(w))
+            .enumerate()
+            .map(|(y, (sum_row, count_row))| {
+                let mut st = RenderStats::default();
+                let mut sampler = Sampler::new(opts.sampler, opts.seed);
+                for x in 0..w {
+                    for s in first..first + pass_spp {
+                        sampler.start_pixel_sample(x as u32, y as u32, s);
+                        let offset = filter.sample(sampler.next_2d());
+                        let raster = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                        let l = sample(&mut sampler, raster, &mut st);
+                        if l.is_finite() {
+                            for k in 0..3 {
+                                sum_row[x][k] += l.c[k] as f64;
+                            }
+                        } else {
+                            st.nonfinite += 1;
+                        }
+                        count_row[x] += 1;
+                    }
+                }
+                st.samples += (w as u64) * pass_spp as u64;
+                let total = samples_done.fetch_add(w as u64 * pass_spp as u64, Ordering::Relaxed)
+                    + w as u64 * pass_spp as u64;
+                let fraction = match opts.time_limit {
+                    Some(t) => start.elapsed().as_secs_f64() / t.as_secs_f64(),
+                    None => total as f64 / (pixels * opts.spp as u64) as f64,
+                };
+                (ctl.on_progress)(Progress {
+                    fraction: fraction.min(1.0),
+                    samples: total,
+                });
+                st
+            })
+            .collect();
+        for r in rows {
+            stats += r;
+        }
+        done_spp += pass_spp;
+        if ctl.stop.load(Ordering::Relaxed) {
+            break;
+        }
+        if let Some(t) = opts.time_limit
+            && start.elapsed() >= t
+        {
+            break;
+        }
+        if let Some(iv) = opts.checkpoint_interval
+            && last_checkpoint.elapsed() >= iv
+        {
+            (ctl.on_checkpoint)(film);
+            last_checkpoint = Instant::now();
+        }
+    }
+    stats
+}

@@ -1,0 +1,86 @@
+//! Integrators, selected by name.
+
+pub mod light_tracer;
+pub mod path;
+
+use crate::film::Film;
+use crate::filter::Filter;
+use crate::image_loop::render_pixels;
+use crate::options::{RenderControl, RenderOptions};
+use crate::splat_loop::render_paths;
+use crate::stats::RenderStats;
+use caustica_scene::Scene;
+use std::time::{Duration, Instant};
+
+/// The available integrators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// Unidirectional path tracer with NEE and MIS.
+    Path,
+    /// Light tracer connecting light-path vertices to the camera.
+    LightTrace,
+}
+
+impl IntegratorKind {
+    pub const NAMES: &'static [&'static str] = &["path", "lighttrace"];
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::Path => "path",
+            IntegratorKind::LightTrace => "lighttrace",
+        }
+    }
+}
+
+impl std::str::FromStr for IntegratorKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "path" => Ok(Self::Path),
+            "lighttrace" | "ptracer" | "light" => Ok(Self::LightTrace),
+            _ => Err(format!(
+                "unknown integrator '{s}' (expected one of: {})",
+                Self::NAMES.join(", ")
+            )),
+        }
+    }
+}
+
+/// A finished (or stopped) render.
+pub struct RenderOutput {
+    pub film: Film,
+    pub stats: RenderStats,
+    pub elapsed: Duration,
+}
+
+/// Renders `scene` with integrator `kind`.
+pub fn render(
+    scene: &Scene,
+    kind: IntegratorKind,
+    opts: &RenderOptions,
+    ctl: &RenderControl,
+) -> RenderOutput {
+    let start = Instant::now();
+    let cam = &scene.camera;
+    let mut film = Film::new(cam.width as usize, cam.height as usize);
+    let filter = Filter::new(scene.settings.filter);
+    let stats = match kind {
+        IntegratorKind::Path => {
+            render_pixels(&mut film, &filter, opts, ctl, |sampler, raster, st| {
+                let u_lens = sampler.next_2d();
+                let ray = cam.generate_ray(raster, u_lens).ray;
+                path::radiance(scene, ray, sampler, opts, st)
+            })
+        }
+        IntegratorKind::LightTrace => {
+            let total = opts.spp as u64 * cam.width as u64 * cam.height as u64;
+            render_paths(&mut film, total, opts, ctl, |sampler, out, st| {
+                light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
+            })
+        }
+    };
+    RenderOutput {
+        film,
+        stats,
+        elapsed: start.elapsed(),
+    }
+}

@@ -1,0 +1,69 @@
+//! What a render is asked to do and how it reports back.
+
+use crate::film::Film;
+use caustica_core::sampling::SamplerKind;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+/// Parameters shared by all integrators.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// Samples per pixel (path tracer) or light paths per pixel (light tracer: the number of
+    /// light paths is `spp × width × height`, as Mitsuba's `ptracer` counts them).
+    pub spp: u32,
+    /// With a time budget, passes continue until it is spent (`spp` is then ignored). Such a
+    /// render is not reproducible bit for bit, since the sample count depends on the machine.
+    pub time_limit: Option<Duration>,
+    pub seed: u64,
+    pub sampler: SamplerKind,
+    /// Longest path in edges, Mitsuba's convention: 1 = emitters seen directly, 2 = direct
+    /// lighting, … `u32::MAX` = unlimited (Russian roulette ends paths).
+    pub max_depth: u32,
+    /// Russian roulette starts after this many edges.
+    pub rr_depth: u32,
+    /// Interval at which `RenderControl::on_checkpoint` receives the film.
+    pub checkpoint_interval: Option<Duration>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            spp: 16,
+            time_limit: None,
+            seed: 0,
+            sampler: SamplerKind::Sobol,
+            max_depth: u32::MAX,
+            rr_depth: 5,
+            checkpoint_interval: None,
+        }
+    }
+}
+
+/// Progress of a render.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Fraction done in [0, 1] (by samples, or by time under a time budget).
+    pub fraction: f64,
+    /// Samples (or light paths) done so far.
+    pub samples: u64,
+}
+
+/// Callbacks and the stop flag of a render.
+pub struct RenderControl<'a> {
+    /// Set (e.g. by Ctrl-C) to stop after the current pass; the film keeps what was rendered.
+    pub stop: &'a AtomicBool,
+    pub on_progress: &'a (dyn Fn(Progress) + Sync),
+    pub on_checkpoint: &'a (dyn Fn(&Film) + Sync),
+}
+
+impl RenderControl<'_> {
+    /// A control that never stops and reports nothing.
+    pub fn silent() -> RenderControl<'static> {
+        static NEVER: AtomicBool = AtomicBool::new(false);
+        RenderControl {
+            stop: &NEVER,
+            on_progress: &|_| {},
+            on_checkpoint: &|_| {},
+        }
+    }
+}

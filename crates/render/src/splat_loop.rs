@@ -1,0 +1,95 @@
+//! Light-path-parallel render driver. Paths are numbered; fixed-size chunks of consecutive paths
+//! each splat into their own buffer, and buffers are merged into the film in chunk order. Since
+//! neither the chunking nor the merge order depends on the thread count, neither does the image.
+
+use crate::film::{Film, SplatBuffer};
+use crate::options::{Progress, RenderControl, RenderOptions};
+use crate::stats::RenderStats;
+use caustica_core::sampling::Sampler;
+use rayon::prelude::*;
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+/// Light paths per chunk.
+pub const CHUNK: u64 = 1 << 14;
+/// Chunks rendered concurrently before merging (a constant, not the thread count).
+const WAVE: usize = 8;
+
+/// Traces `total_paths` light paths (or paths until the time budget is spent) by calling
+/// `trace(sampler, out, stats)` with the sampler positioned on each path.
+pub fn render_paths<F>(
+    film: &mut Film,
+    total_paths: u64,
+    opts: &RenderOptions,
+    ctl: &RenderControl,
+    trace: F,
+) -> RenderStats
+where
+    F: Fn(&mut Sampler, &mut SplatBuffer, &mut RenderStats) + Sync,
+{
+    let start = Instant::now();
+    let mut last_checkpoint = Instant::now();
+    let mut buffers: Vec<SplatBuffer> = (0..WAVE)
+        .map(|_| SplatBuffer::new(film.width, film.height))
+        .collect();
+    let mut stats = RenderStats::default();
+    let mut next_path = 0u64;
+    loop {
+        let remaining = match opts.time_limit {
+            Some(_) => u64::MAX,
+            None => total_paths - next_path,
+        };
+        if remaining == 0 {
+            break;
+        }
+        let wave_start = next_path;
+        let results: Vec<(u64, RenderStats)> = buffers
+            .par_iter_mut()
+            .enumerate()
+            .map(|(c, buf)| {
+                buf.clear();
+                let mut st = RenderStats::default();
+                let first = wave_start + c as u64 * CHUNK;
+                let last = (first + CHUNK).min(wave_start.saturating_add(remaining));
+                let mut sampler = Sampler::new(opts.sampler, opts.seed);
+                for path in first..last.max(first) {
+                    sampler.start_path(0, path);
+                    trace(&mut sampler, buf, &mut st);
+                }
+                let n = last.saturating_sub(first);
+                st.samples += n;
+                (n, st)
+            })
+            .collect();
+        for (buf, (n, st)) in buffers.iter().zip(results) {
+            if n > 0 {
+                buf.merge_into(film, n);
+            }
+            next_path += n;
+            stats += st;
+        }
+        let fraction = match opts.time_limit {
+            Some(t) => start.elapsed().as_secs_f64() / t.as_secs_f64(),
+            None => next_path as f64 / total_paths.max(1) as f64,
+        };
+        (ctl.on_progress)(Progress {
+            fraction: fraction.min(1.0),
+            samples: next_path,
+        });
+        if ctl.stop.load(Ordering::Relaxed) {
+            break;
+        }
+        if let Some(t) = opts.time_limit
+            && start.elapsed() >= t
+        {
+            break;
+        }
+        if let Some(iv) = opts.checkpoint_interval
+            && last_checkpoint.elapsed() >= iv
+        {
+            (ctl.on_checkpoint)(film);
+            last_checkpoint = Instant::now();
+        }
+    }
+    stats
+}

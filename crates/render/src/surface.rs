@@ -1,0 +1,70 @@
+//! Per-vertex work shared by all integrators.
+
+use caustica_core::{Frame, Ray, Spectrum, Vec3};
+use caustica_scene::bsdf::{Bsdf, TransportMode};
+use caustica_scene::{Scene, SurfaceInteraction};
+
+/// The scattering state at a path vertex.
+pub struct Vertex {
+    pub si: SurfaceInteraction,
+    pub bsdf: Bsdf,
+    pub frame: Frame,
+    /// Direction back along the incoming ray, local frame.
+    pub wo: Vec3,
+}
+
+impl Vertex {
+    /// Sets up the BSDF and frame at a hit reached by `ray`.
+    #[inline]
+    pub fn new(scene: &Scene, si: SurfaceInteraction, ray: &Ray) -> Self {
+        let bsdf = scene.materials[si.material as usize].bsdf(&si);
+        let frame = si.shading_frame();
+        let wo = frame.to_local(-ray.d);
+        Self {
+            si,
+            bsdf,
+            frame,
+            wo,
+        }
+    }
+
+    /// Factor that makes transport with shading normals correct for importance (light paths):
+    /// |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|) (Veach 1997, §5.3). `wo` and `wi` are world space.
+    #[inline]
+    pub fn shading_normal_correction(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        if mode == TransportMode::Radiance {
+            return 1.0;
+        }
+        let num = wo.dot(self.si.ns).abs() * wi.dot(self.si.ng).abs();
+        let den = wo.dot(self.si.ng).abs() * wi.dot(self.si.ns).abs();
+        if den == 0.0 { 0.0 } else { num / den }
+    }
+
+    /// True if `wi` (world) leaves on a side consistent with the sampled lobe, judged by the
+    /// geometric normal; prevents light leaking through surfaces with bent shading normals.
+    #[inline]
+    pub fn same_side_consistent(&self, wo_world: Vec3, wi_world: Vec3, wi_local: Vec3) -> bool {
+        let geo_reflect = wo_world.dot(self.si.ng) * wi_world.dot(self.si.ng) > 0.0;
+        let shade_reflect = self.wo.z * wi_local.z > 0.0;
+        geo_reflect == shade_reflect
+    }
+}
+
+/// Beer–Lambert transmittance exp(−σa t) of the segment that ended at `si`, if that segment ran
+/// inside an absorbing dielectric, i.e. the ray hit the surface from its inside (−ng side).
+#[inline]
+pub fn interior_transmittance(scene: &Scene, si: &SurfaceInteraction, ray: &Ray) -> Spectrum {
+    if ray.d.dot(si.ng) > 0.0
+        && let Some(sigma) = scene.materials[si.material as usize].interior_absorption()
+    {
+        return (sigma * -si.t).exp();
+    }
+    Spectrum::ONE
+}
+
+/// Russian roulette survival probability for throughput `beta` (Mitsuba's rule: the largest
+/// channel, capped at 0.95).
+#[inline]
+pub fn rr_survival(beta: Spectrum) -> f32 {
+    beta.max_component().min(0.95)
+}

@@ -1,0 +1,174 @@
+//! Scenes and statistics shared by the render tests.
+#![allow(dead_code)]
+
+use caustica_core::Affine3A;
+use caustica_core::image_io::Image;
+use caustica_core::{Spectrum, Vec3};
+use caustica_render::{IntegratorKind, RenderControl, RenderOptions, render};
+use caustica_scene::camera::PerspectiveCamera;
+use caustica_scene::material::Material;
+use caustica_scene::shape::{ShapeGeometry, Sphere, TriangleMesh};
+use caustica_scene::texture::Texture;
+use caustica_scene::{Scene, SceneBuilder};
+
+pub fn render_image(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> Image {
+    let opts = RenderOptions {
+        spp,
+        seed,
+        ..Default::default()
+    };
+    render(scene, kind, &opts, &RenderControl::silent())
+        .film
+        .to_image()
+}
+
+pub fn diffuse(b: &mut SceneBuilder, name: &str, albedo: f32) -> u32 {
+    b.add_material(
+        name,
+        Material::Diffuse {
+            reflectance: Texture::Constant(Spectrum::splat(albedo)),
+        },
+    )
+    .unwrap()
+}
+
+/// A rectangle (Mitsuba convention: [−1,1]² facing +z) transformed.
+pub fn quad(t: Affine3A) -> ShapeGeometry {
+    ShapeGeometry::Mesh(TriangleMesh::rectangle(&t))
+}
+
+/// An open diffuse box (floor, back wall, left and right walls, ceiling) with a square area
+/// light under the ceiling, seen from the open front: only diffuse surfaces.
+pub fn diffuse_box(width: u32, height: u32) -> Scene {
+    let mut b = SceneBuilder::new("diffuse-box");
+    let white = diffuse(&mut b, "white", 0.7);
+    let grey = diffuse(&mut b, "grey", 0.4);
+    let light_mat = diffuse(&mut b, "black", 0.0);
+    use std::f32::consts::FRAC_PI_2;
+    // floor y = -1 facing up
+    b.add_shape(
+        quad(
+            Affine3A::from_translation(Vec3::new(0.0, -1.0, 0.0))
+                * Affine3A::from_rotation_x(-FRAC_PI_2),
+        ),
+        white,
+        None,
+        false,
+    )
+    .unwrap();
+    // ceiling y = 1 facing down
+    b.add_shape(
+        quad(
+            Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0))
+                * Affine3A::from_rotation_x(FRAC_PI_2),
+        ),
+        white,
+        None,
+        false,
+    )
+    .unwrap();
+    // back wall z = -1 facing +z
+    b.add_shape(
+        quad(Affine3A::from_translation(Vec3::new(0.0, 0.0, -1.0))),
+        grey,
+        None,
+        false,
+    )
+    .unwrap();
+    // left wall x = -1 facing +x, right wall x = 1 facing -x
+    b.add_shape(
+        quad(
+            Affine3A::from_translation(Vec3::new(-1.0, 0.0, 0.0))
+                * Affine3A::from_rotation_y(FRAC_PI_2),
+        ),
+        white,
+        None,
+        false,
+    )
+    .unwrap();
+    b.add_shape(
+        quad(
+            Affine3A::from_translation(Vec3::new(1.0, 0.0, 0.0))
+                * Affine3A::from_rotation_y(-FRAC_PI_2),
+        ),
+        grey,
+        None,
+        false,
+    )
+    .unwrap();
+    // area light just below the ceiling, facing down
+    b.add_shape(
+        quad(
+            Affine3A::from_translation(Vec3::new(0.0, 0.98, 0.0))
+                * Affine3A::from_rotation_x(FRAC_PI_2)
+                * Affine3A::from_scale(Vec3::splat(0.3)),
+        ),
+        light_mat,
+        Some(Spectrum::splat(10.0)),
+        false,
+    )
+    .unwrap();
+    // a sphere on the floor
+    b.add_shape(
+        ShapeGeometry::Sphere(Sphere {
+            center: Vec3::new(0.3, -0.6, -0.2),
+            radius: 0.4,
+        }),
+        white,
+        None,
+        false,
+    )
+    .unwrap();
+    b.set_camera(PerspectiveCamera::look_at(
+        Vec3::new(0.0, 0.0, 3.5),
+        Vec3::ZERO,
+        Vec3::Y,
+        40.0,
+        width,
+        height,
+    ));
+    b.build().unwrap()
+}
+
+/// Mean of each channel over a region (x0..x1, y0..y1).
+pub fn region_mean(img: &Image, x0: usize, y0: usize, x1: usize, y1: usize) -> [f64; 3] {
+    let mut s = [0.0f64; 3];
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let p = img.get(x, y);
+            for k in 0..3 {
+                s[k] += p[k] as f64;
+            }
+        }
+    }
+    let n = ((x1 - x0) * (y1 - y0)) as f64;
+    s.map(|v| v / n)
+}
+
+/// Luminance-like scalar of a pixel (channel mean).
+pub fn lum(p: [f32; 3]) -> f64 {
+    (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0
+}
+
+/// Averages `block × block` pixel blocks (channel mean), returning the block image.
+pub fn blocks(img: &Image, block: usize) -> Vec<f64> {
+    let (bw, bh) = (img.width / block, img.height / block);
+    let mut out = vec![0.0; bw * bh];
+    for by in 0..bh {
+        for bx in 0..bw {
+            let mut s = 0.0;
+            for y in 0..block {
+                for x in 0..block {
+                    s += lum(img.get(bx * block + x, by * block + y));
+                }
+            }
+            out[by * bw + bx] = s / (block * block) as f64;
+        }
+    }
+    out
+}
+
+/// Channel mean of an RGB triple.
+pub fn lum_arr(p: [f64; 3]) -> f64 {
+    (p[0] + p[1] + p[2]) / 3.0
+}
