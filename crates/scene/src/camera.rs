@@ -180,10 +180,7 @@ impl PerspectiveCamera {
         let o = pl + w * (self.near_clip / scale);
         let m = &self.to_world;
         RayDifferential {
-            ray: Ray::new(
-                m.transform_point3(o),
-                m.transform_vector3(d).normalize(),
-            ),
+            ray: Ray::new(m.transform_point3(o), m.transform_vector3(d).normalize()),
             dodx: m.transform_vector3(dvx * self.near_clip),
             dody: m.transform_vector3(dvy * self.near_clip),
             dddx: m.transform_vector3(dd(dvx)),

@@ -260,7 +260,9 @@ impl LightSource for AreaLight {
         } else {
             (a.n, u_dir, 1.0)
         };
-        let u = u.min(Vec2::splat(caustica_core::sampling::sampler::ONE_MINUS_EPSILON));
+        let u = u.min(Vec2::splat(
+            caustica_core::sampling::sampler::ONE_MINUS_EPSILON,
+        ));
         let local = warp::square_to_cosine_hemisphere(u);
         let f = Frame::from_normal(n);
         let d = f.to_world(local).normalize();

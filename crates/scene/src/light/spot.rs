@@ -34,7 +34,9 @@ impl SpotLight {
     ) -> Self {
         let dir = direction.try_normalize().unwrap_or(Vec3::Z);
         let cutoff = cutoff_angle_deg.clamp(0.0, 180.0).to_radians();
-        let beam = beam_width_deg.clamp(0.0, cutoff_angle_deg.clamp(0.0, 180.0)).to_radians();
+        let beam = beam_width_deg
+            .clamp(0.0, cutoff_angle_deg.clamp(0.0, 180.0))
+            .to_radians();
         Self {
             position,
             frame: Frame::from_normal(dir),
