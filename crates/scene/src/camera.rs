@@ -192,7 +192,7 @@ impl PerspectiveCamera {
     /// camera-space lens point `pl` (the pinhole position for a pinhole), if in front.
     fn raster_of(&self, pc: Vec3, pl: Vec3, ext: Vec2) -> Option<Vec2> {
         let w = pc - pl;
-        if !(w.z > 0.0) {
+        if w.z <= 0.0 || w.z.is_nan() {
             return None;
         }
         let scale = if self.lens_radius > 0.0 {
@@ -251,7 +251,7 @@ impl PerspectiveCamera {
     /// [`PerspectiveCamera::we`].
     pub fn sample_wi(&self, p: Vec3, u_lens: Vec2) -> Option<CameraSample> {
         let pc = self.to_world.inverse().transform_point3(p);
-        if !(pc.z > self.near_clip) {
+        if pc.z <= self.near_clip || pc.z.is_nan() {
             return None;
         }
         let ext = self.screen_half_extent();

@@ -582,7 +582,7 @@ fn spot_falloff_and_power() {
     let mut rng = Pcg32::new(8, 8);
     for _ in 0..1000 {
         let e = spot.sample_emission(u2(&mut rng), u2(&mut rng));
-        assert!(e.ray.d.dot(axis) >= (cut as f32).to_radians().cos() - 1e-5);
+        assert!(e.ray.d.dot(axis) >= cut.to_radians().cos() - 1e-5);
         assert!(e.normal.is_none() && e.delta_pos);
     }
 }

@@ -118,11 +118,11 @@ impl AreaLight {
     fn area_to_solid_angle(&self, p: Vec3, lp: Vec3, ln: Vec3) -> f32 {
         let v = lp - p;
         let d2 = v.length_squared();
-        if !(d2 > 0.0) {
+        if d2 <= 0.0 || d2.is_nan() {
             return 0.0;
         }
         let cos = ln.dot(v).abs() / d2.sqrt();
-        if !(cos > 0.0) {
+        if cos <= 0.0 || cos.is_nan() {
             return 0.0;
         }
         d2 / (cos * self.area)
@@ -195,7 +195,7 @@ impl LightSource for AreaLight {
         };
         let v = lp - p;
         let dist = v.length();
-        if !(dist > 0.0) || !(pdf > 0.0) || !pdf.is_finite() {
+        if (dist <= 0.0 || dist.is_nan()) || (pdf <= 0.0 || pdf.is_nan()) || !pdf.is_finite() {
             return None;
         }
         let wi = v / dist;
@@ -291,5 +291,10 @@ impl LightSource for AreaLight {
     }
     fn is_delta(&self) -> bool {
         false
+    }
+    /// (A, 2π), or (A, 4π) if two-sided: the emitting hemisphere(s).
+    fn emission_extent(&self) -> (f32, f32) {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        (self.area, sides * 2.0 * PI)
     }
 }

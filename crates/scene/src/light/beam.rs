@@ -41,7 +41,7 @@ impl LightSource for BeamLight {
         let d = self.frame.n;
         let v = p - self.center;
         let along = v.dot(d);
-        if !(along > 0.0) {
+        if along <= 0.0 || along.is_nan() {
             return None;
         }
         let perp = v - d * along;
@@ -90,5 +90,9 @@ impl LightSource for BeamLight {
     }
     fn is_delta(&self) -> bool {
         true
+    }
+    /// (π r², 0).
+    fn emission_extent(&self) -> (f32, f32) {
+        (PI * self.radius * self.radius, 0.0)
     }
 }

@@ -87,4 +87,8 @@ impl LightSource for DirectionalLight {
     fn is_infinite(&self) -> bool {
         true
     }
+    /// (π r², 0).
+    fn emission_extent(&self) -> (f32, f32) {
+        (PI * self.scene_radius * self.scene_radius, 0.0)
+    }
 }

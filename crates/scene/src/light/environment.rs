@@ -90,4 +90,8 @@ impl LightSource for EnvironmentLight {
     fn is_infinite(&self) -> bool {
         true
     }
+    /// (π r², 4π): the emission disk and all directions.
+    fn emission_extent(&self) -> (f32, f32) {
+        (PI * self.scene_radius * self.scene_radius, 4.0 * PI)
+    }
 }

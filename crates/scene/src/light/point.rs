@@ -26,7 +26,7 @@ impl LightSource for PointLight {
     fn sample_li(&self, p: Vec3, _u: Vec2) -> Option<LightSample> {
         let v = self.position - p;
         let d2 = v.length_squared();
-        if !(d2 > 0.0) || !d2.is_finite() {
+        if (d2 <= 0.0 || d2.is_nan()) || !d2.is_finite() {
             return None;
         }
         let dist = d2.sqrt();
@@ -65,5 +65,9 @@ impl LightSource for PointLight {
     }
     fn is_delta(&self) -> bool {
         true
+    }
+    /// (0, 4π).
+    fn emission_extent(&self) -> (f32, f32) {
+        (0.0, 4.0 * PI)
     }
 }

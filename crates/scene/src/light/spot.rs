@@ -88,7 +88,7 @@ impl LightSource for SpotLight {
     fn sample_li(&self, p: Vec3, _u: Vec2) -> Option<LightSample> {
         let v = self.position - p;
         let d2 = v.length_squared();
-        if !(d2 > 0.0) || !d2.is_finite() {
+        if (d2 <= 0.0 || d2.is_nan()) || !d2.is_finite() {
             return None;
         }
         let dist = d2.sqrt();
@@ -143,5 +143,9 @@ impl LightSource for SpotLight {
     }
     fn is_delta(&self) -> bool {
         true
+    }
+    /// (0, 2π (1 − cos cutoff)): the sampled cone.
+    fn emission_extent(&self) -> (f32, f32) {
+        (0.0, 2.0 * std::f32::consts::PI * (1.0 - self.cos_cutoff))
     }
 }
