@@ -238,7 +238,7 @@ impl LightSource for AreaLight {
     /// Uniform point by area (`pdf_pos` = 1/A) and cosine-weighted direction around the emitting
     /// normal (`pdf_dir` = cos θ/π, halved for two-sided lights, whose side is chosen with
     /// `u_dir.x`); `weight` = Le cos θ/(pdf_pos pdf_dir) = π A Le (×2 two-sided). `normal` is the
-    /// normal of the emitting side.
+    /// normal of the emitting side. The origin lies exactly on the surface (not offset).
     fn sample_emission(&self, u_pos: Vec2, u_dir: Vec2) -> EmissionSample {
         let Some(a) = self.sample_area(u_pos) else {
             return EmissionSample {
