@@ -82,6 +82,11 @@ pub trait LightSource {
     fn is_infinite(&self) -> bool {
         false
     }
+    /// Extent of the emission for the initial photon-differential lengths (seed 002 eq. 5–6):
+    /// `(A_e, ω_e)` = area (m²) the photon origins are spread over and solid angle (sr) of the
+    /// emitted directions around each origin; 0 for a delta position or direction. Infinite
+    /// lights report their emission disk (requires `preprocess`).
+    fn emission_extent(&self) -> (f32, f32);
 }
 
 /// Any light of the scene.
@@ -136,5 +141,9 @@ impl Light {
     }
     pub fn is_infinite(&self) -> bool {
         dispatch!(self, l => l.is_infinite())
+    }
+    /// See [`LightSource::emission_extent`].
+    pub fn emission_extent(&self) -> (f32, f32) {
+        dispatch!(self, l => l.emission_extent())
     }
 }

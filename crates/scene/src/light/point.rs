@@ -1,28 +1,73 @@
-//! STUB: to be implemented.
+//! Isotropic point light.
 
 use super::{EmissionSample, LightSample, LightSource};
-use caustica_core::{Spectrum, Vec2, Vec3};
+use caustica_core::sampling::warp;
+use caustica_core::{PI, Ray, Spectrum, Vec2, Vec3};
 
+/// Isotropic point light of radiant intensity `intensity` (W/sr) at `position`.
 #[derive(Clone, Debug)]
-pub struct PointLight {}
+pub struct PointLight {
+    pub position: Vec3,
+    /// Radiant intensity (W/sr).
+    pub intensity: Spectrum,
+}
+
+impl PointLight {
+    pub fn new(position: Vec3, intensity: Spectrum) -> Self {
+        Self {
+            position,
+            intensity,
+        }
+    }
+}
 
 impl LightSource for PointLight {
-    fn sample_li(&self, _p: Vec3, _u: Vec2) -> Option<LightSample> {
-        todo!()
+    /// `weight` = I / d² (W/m² per unit projected area, i.e. the irradiance at normal incidence).
+    fn sample_li(&self, p: Vec3, _u: Vec2) -> Option<LightSample> {
+        let v = self.position - p;
+        let d2 = v.length_squared();
+        if (d2 <= 0.0 || d2.is_nan()) || !d2.is_finite() {
+            return None;
+        }
+        let dist = d2.sqrt();
+        Some(LightSample {
+            wi: v / dist,
+            dist,
+            p: self.position,
+            weight: self.intensity / d2,
+            pdf: 1.0,
+            delta: true,
+        })
     }
     fn pdf_li(&self, _p: Vec3, _wi: Vec3, _light_p: Vec3, _light_n: Vec3) -> f32 {
-        todo!()
+        0.0
     }
     fn le(&self, _n: Vec3, _w: Vec3) -> Spectrum {
-        todo!()
+        Spectrum::ZERO
     }
-    fn sample_emission(&self, _u_pos: Vec2, _u_dir: Vec2) -> EmissionSample {
-        todo!()
+    /// Uniform direction on the sphere: `weight` = 4π I (W), `pdf_dir` = 1/(4π).
+    fn sample_emission(&self, _u_pos: Vec2, u_dir: Vec2) -> EmissionSample {
+        let d = warp::square_to_uniform_sphere(u_dir);
+        let pdf_dir = warp::uniform_sphere_pdf();
+        EmissionSample {
+            ray: Ray::new(self.position, d),
+            normal: None,
+            weight: self.intensity / pdf_dir,
+            pdf_pos: 1.0,
+            pdf_dir,
+            delta_pos: true,
+            delta_dir: false,
+        }
     }
+    /// 4π I (W).
     fn power(&self) -> Spectrum {
-        todo!()
+        self.intensity * (4.0 * PI)
     }
     fn is_delta(&self) -> bool {
-        todo!()
+        true
+    }
+    /// (0, 4π).
+    fn emission_extent(&self) -> (f32, f32) {
+        (0.0, 4.0 * PI)
     }
 }
