@@ -193,3 +193,135 @@ fn glass_sphere() -> Result<SceneBuilder, SceneError> {
     )));
     Ok(b)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::loader::parse_scene_file;
+    use std::path::Path;
+
+    #[test]
+    fn names_include_the_default() {
+        assert!(builtin_names().contains(&DEFAULT_SCENE));
+        assert!(builtin_names().contains(&"cornell-box"));
+        assert!(builtin_scene("no-such-scene").is_none());
+    }
+
+    fn mesh_positions(b: &SceneBuilder) -> Vec<Vec<Vec3>> {
+        b.shapes()
+            .iter()
+            .map(|s| match &s.geometry {
+                ShapeGeometry::Mesh(m) => m.positions.clone(),
+                ShapeGeometry::Sphere(s) => vec![s.center, Vec3::splat(s.radius)],
+                ShapeGeometry::Disk(d) => vec![d.center, d.normal, Vec3::splat(d.radius)],
+            })
+            .collect()
+    }
+
+    // TODO(lead): remove the `#[ignore]` after merging the material and lights branches.
+    #[test]
+    #[ignore = "needs Material::validate, AreaLight::new and Light::power (other helpers)"]
+    fn builtin_scenes_match_their_toml_files() {
+        for name in builtin_names() {
+            let a = builtin_scene(name).unwrap();
+            let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../../scenes")
+                .join(format!("{name}.toml"));
+            let b = parse_scene_file(&path).unwrap();
+            assert_eq!(a.name, b.name);
+            assert_eq!(a.shape_count(), b.shape_count(), "{name}");
+            assert_eq!(a.material_names(), b.material_names(), "{name}");
+            assert_eq!(a.lights().len(), b.lights().len(), "{name}");
+            for (la, lb) in a.lights().iter().zip(b.lights()) {
+                let (pa, pb) = (la.power(), lb.power());
+                for i in 0..3 {
+                    assert!(
+                        (pa.c[i] - pb.c[i]).abs() <= 1e-5 * pa.c[i].abs().max(1e-3),
+                        "{name}: {pa:?} vs {pb:?}"
+                    );
+                }
+                assert_eq!(std::mem::discriminant(la), std::mem::discriminant(lb));
+            }
+            let (ca, cb) = (a.camera().unwrap(), b.camera().unwrap());
+            assert_eq!(
+                (ca.width, ca.height, ca.fov_axis),
+                (cb.width, cb.height, cb.fov_axis)
+            );
+            assert!((ca.fov_deg - cb.fov_deg).abs() < 1e-6);
+            assert!(Mat4Cmp(ca.to_world).close(cb.to_world));
+            assert!((ca.focus_distance - cb.focus_distance).abs() < 1e-5);
+            assert_eq!(a.settings.spp, b.settings.spp);
+            assert_eq!(a.settings.max_depth, b.settings.max_depth);
+            assert_eq!(a.settings.filter, b.settings.filter);
+            for (sa, sb) in a.shapes().iter().zip(b.shapes()) {
+                assert_eq!(sa.material, sb.material, "{name}");
+                assert_eq!(
+                    sa.light == crate::intersection::NONE,
+                    sb.light == crate::intersection::NONE
+                );
+            }
+            for (pa, pb) in mesh_positions(&a).iter().zip(mesh_positions(&b).iter()) {
+                assert_eq!(pa.len(), pb.len());
+                for (x, y) in pa.iter().zip(pb) {
+                    assert!(x.abs_diff_eq(*y, 1e-5), "{name}: {x} vs {y}");
+                }
+            }
+        }
+    }
+
+    struct Mat4Cmp(Affine3A);
+    impl Mat4Cmp {
+        fn close(&self, o: Affine3A) -> bool {
+            self.0.abs_diff_eq(o, 1e-5)
+        }
+    }
+
+    #[test]
+    #[ignore = "needs Material::validate and AreaLight::new (other helpers)"]
+    fn cornell_box_geometry() {
+        let b = builtin_scene("cornell-box").unwrap();
+        assert_eq!(b.shape_count(), 8);
+        assert_eq!(b.lights().len(), 1);
+        // Light: 0.46 × 0.38 rectangle at y = 0.99 facing down.
+        let ShapeGeometry::Mesh(l) = &b.shapes()[0].geometry else {
+            panic!()
+        };
+        let area = l.triangle_area(0) + l.triangle_area(1);
+        assert!((area - 0.46 * 0.38).abs() < 1e-5);
+        let [p0, p1, p2] = l.indices[0].map(|i| l.positions[i as usize]);
+        assert!(
+            (p1 - p0)
+                .cross(p2 - p0)
+                .normalize()
+                .abs_diff_eq(-Vec3::Y, 1e-6)
+        );
+        assert!(l.positions.iter().all(|p| (p.y - 0.99).abs() < 1e-6));
+        // Every wall faces the inside of the box and the red wall is on the left (x = −1).
+        for s in &b.shapes()[1..6] {
+            let ShapeGeometry::Mesh(m) = &s.geometry else {
+                panic!()
+            };
+            let [p0, p1, p2] = m.indices[0].map(|i| m.positions[i as usize]);
+            let n = (p1 - p0).cross(p2 - p0).normalize();
+            assert!(n.dot(-p0) > 0.9, "wall at {p0} faces {n}");
+        }
+        let red = b.material_index("red").unwrap();
+        let ShapeGeometry::Mesh(m) = &b.shapes()[5].geometry else {
+            panic!()
+        };
+        assert_eq!(b.shapes()[5].material, red);
+        assert!(m.positions.iter().all(|p| (p.x + 1.0).abs() < 1e-6));
+        // Boxes stand on the floor.
+        for s in &b.shapes()[6..] {
+            let ShapeGeometry::Mesh(m) = &s.geometry else {
+                panic!()
+            };
+            let min_y = m
+                .positions
+                .iter()
+                .map(|p| p.y)
+                .fold(f32::INFINITY, f32::min);
+            assert!((min_y + 1.0).abs() < 1e-5);
+        }
+    }
+}
