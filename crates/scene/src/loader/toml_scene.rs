@@ -251,11 +251,29 @@ struct RotateDesc {
     angle: Finite,
 }
 
-#[derive(Deserialize, Clone, Debug)]
-#[serde(untagged)]
-enum RotateList {
-    One(RotateDesc),
-    Many(Vec<RotateDesc>),
+/// `rotate = { axis, angle }` or an array of such tables (applied in order).
+#[derive(Clone, Debug)]
+struct RotateList(Vec<RotateDesc>);
+
+impl<'de> Deserialize<'de> for RotateList {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RotateList;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("{ axis = [x, y, z], angle = degrees } or an array of them")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<RotateList, A::Error> {
+                let r = RotateDesc::deserialize(de::value::MapAccessDeserializer::new(map))?;
+                Ok(RotateList(vec![r]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<RotateList, A::Error> {
+                Vec::<RotateDesc>::deserialize(de::value::SeqAccessDeserializer::new(seq))
+                    .map(RotateList)
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -730,12 +748,7 @@ fn shape_transform(cx: &Ctx, span: &Range<usize>, s: &ShapeDesc) -> Result<Affin
     if let Some(sc) = s.scale {
         t = Affine3A::from_scale(sc.0) * t;
     }
-    let rotations: Vec<RotateDesc> = match &s.rotate {
-        None => vec![],
-        Some(RotateList::One(r)) => vec![*r],
-        Some(RotateList::Many(v)) => v.clone(),
-    };
-    for r in rotations {
+    for r in s.rotate.iter().flat_map(|l| l.0.iter()) {
         let axis = r
             .axis
             .0
@@ -1167,6 +1180,11 @@ mod tests {
             &format!("{CAMERA}{d}{sphere}radius = 1\nmaterial2 = 1\n"),
             14,
             &["material2"],
+        );
+        expect_parse_error(
+            &format!("{CAMERA}{d}{sphere}rotate = {{ axis = [0, 1], angle = 3 }}\n"),
+            13,
+            &["axis", "vector"],
         );
         // Cross-field problems are reported at their table.
         expect_parse_error(&format!("{CAMERA}{d}ior = 1.5\n"), 7, &["ior", "diffuse"]);
