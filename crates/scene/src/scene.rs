@@ -212,8 +212,50 @@ impl SceneBuilder {
         self.camera = Some(camera);
     }
 
+    /// Shapes added so far (read-only; for loaders' tests and tools).
+    pub fn shapes(&self) -> &[Shape] {
+        &self.shapes
+    }
+    /// Number of shapes added so far.
+    pub fn shape_count(&self) -> usize {
+        self.shapes.len()
+    }
+    /// Lights added so far (including the area lights of emitting shapes).
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+    /// The camera, if one was set.
+    pub fn camera(&self) -> Option<&PerspectiveCamera> {
+        self.camera.as_ref()
+    }
+    /// Materials added so far, in index order.
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+    /// Names of the materials, parallel to [`SceneBuilder::materials`].
+    pub fn material_names(&self) -> &[String] {
+        &self.material_names
+    }
+    /// Number of mesh triangles dropped so far by sanitising (NaN/Inf, degenerate, bad index).
+    pub fn skipped_triangles(&self) -> usize {
+        self.skipped_triangles
+    }
+    /// The warnings the built scene will carry (explicit warnings plus the skipped-triangle
+    /// count).
+    pub fn pending_warnings(&self) -> Vec<String> {
+        let mut warnings = self.warnings.clone();
+        if self.skipped_triangles > 0 {
+            warnings.push(format!(
+                "skipped {} triangles with NaN/Inf vertices, degenerate area or bad indices",
+                self.skipped_triangles
+            ));
+        }
+        warnings
+    }
+
     /// Validates and builds the scene (BVH, light preprocessing, light distribution).
     pub fn build(self) -> Result<Scene, SceneError> {
+        let mut warnings = self.pending_warnings();
         let camera = self
             .camera
             .ok_or_else(|| SceneError::Invalid("the scene has no camera".into()))?;
@@ -222,13 +264,6 @@ impl SceneBuilder {
                 "image size must be positive, got {}x{}",
                 camera.width, camera.height
             )));
-        }
-        let mut warnings = self.warnings;
-        if self.skipped_triangles > 0 {
-            warnings.push(format!(
-                "skipped {} triangles with NaN/Inf vertices, degenerate area or bad indices",
-                self.skipped_triangles
-            ));
         }
         let geometry = Geometry::build(self.shapes);
         let (center, radius) = geometry.bounds().bounding_sphere();

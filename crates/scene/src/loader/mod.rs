@@ -1,21 +1,30 @@
 //! Scene loaders: the caustica TOML format, OBJ and PLY meshes, and the built-in scenes.
-//! (Being written; the CLI codes against these entry points.)
 
-use crate::{Scene, SceneBuilder, SceneError};
+pub mod builtin;
+pub mod obj;
+pub mod ply;
+pub mod toml_scene;
+
+pub use builtin::{DEFAULT_SCENE, builtin_names, builtin_scene};
+pub use obj::load_obj;
+pub use ply::load_ply;
+pub use toml_scene::parse_toml_scene;
+
+use crate::error::SceneError;
+use crate::scene::Scene;
 use std::path::Path;
 
-pub const DEFAULT_SCENE: &str = "glass-sphere";
-
+/// Reads and builds the TOML scene at `path` (relative file names inside resolve against the
+/// scene file's folder).
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let _ = path;
-    todo!()
+    parse_scene_file(path)?.build()
 }
 
-pub fn builtin_scene(name: &str) -> Option<SceneBuilder> {
-    let _ = name;
-    todo!()
-}
-
-pub fn builtin_names() -> &'static [&'static str] {
-    &[]
+/// Reads the TOML scene at `path` into a [`crate::SceneBuilder`] without building it.
+pub fn parse_scene_file(path: &Path) -> Result<crate::SceneBuilder, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError::File {
+        path: path.to_path_buf(),
+        message: format!("cannot read scene file: {e}"),
+    })?;
+    parse_toml_scene(&text, path)
 }

@@ -1,0 +1,141 @@
+//! Wavefront OBJ meshes (via `tobj`): triangulated, single-indexed, positions with optional
+//! normals and texture coordinates. All objects/groups of a file are merged into one mesh.
+
+use crate::error::SceneError;
+use crate::shape::TriangleMesh;
+use caustica_core::{Vec2, Vec3};
+use std::path::Path;
+
+/// Loads `path` as one [`TriangleMesh`]. Vertex normals (uvs) are kept only if every object of
+/// the file has them. Non-finite vertices are kept here; [`crate::SceneBuilder::add_shape`]
+/// drops the affected triangles and counts them in the scene warnings.
+pub fn load_obj(path: &Path) -> Result<TriangleMesh, SceneError> {
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, _materials) = tobj::load_obj(path, &opts).map_err(|e| SceneError::File {
+        path: path.to_path_buf(),
+        message: match e {
+            tobj::LoadError::OpenFileFailed => "cannot open OBJ file".to_string(),
+            e => format!("malformed OBJ file: {e}"),
+        },
+    })?;
+    let mut mesh = TriangleMesh::default();
+    let all_normals = models
+        .iter()
+        .all(|m| !m.mesh.normals.is_empty() && m.mesh.normals.len() == m.mesh.positions.len());
+    let all_uvs = models.iter().all(|m| {
+        !m.mesh.texcoords.is_empty() && m.mesh.texcoords.len() / 2 == m.mesh.positions.len() / 3
+    });
+    let mut normals = Vec::new();
+    let mut uvs = Vec::new();
+    for model in &models {
+        let m = &model.mesh;
+        let base = mesh.positions.len() as u32;
+        let count = m.positions.len() / 3;
+        mesh.positions.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|p| Vec3::new(p[0], p[1], p[2])),
+        );
+        if all_normals {
+            normals.extend(
+                m.normals
+                    .chunks_exact(3)
+                    .map(|n| Vec3::new(n[0], n[1], n[2])),
+            );
+        }
+        if all_uvs {
+            uvs.extend(m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], t[1])));
+        }
+        for t in m.indices.chunks_exact(3) {
+            // Out-of-range indices are kept and removed (and counted) by `sanitize`.
+            let idx = |i: u32| {
+                if (i as usize) < count {
+                    base + i
+                } else {
+                    u32::MAX
+                }
+            };
+            mesh.indices.push([idx(t[0]), idx(t[1]), idx(t[2])]);
+        }
+    }
+    if mesh.indices.is_empty() {
+        return Err(SceneError::File {
+            path: path.to_path_buf(),
+            message: "OBJ file contains no faces".into(),
+        });
+    }
+    if all_normals {
+        mesh.normals = Some(normals);
+    }
+    if all_uvs {
+        mesh.uvs = Some(uvs);
+    }
+    Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(name: &str, text: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("caustica-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn quad_is_triangulated_and_objects_merged() {
+        let p = write(
+            "two.obj",
+            "o a\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+             f 1/1 2/2 3/3 4/4\no b\nv 0 0 1\nv 1 0 1\nv 0 1 1\nvt 0 0\nvt 1 0\nvt 0 1\nf 5/5 6/6 7/7\n",
+        );
+        let m = load_obj(&p).unwrap();
+        assert_eq!(m.indices.len(), 3);
+        let area: f32 = (0..3).map(|i| m.triangle_area(i)).sum();
+        assert!((area - 1.5).abs() < 1e-6);
+        assert!(m.normals.is_none());
+        let uvs = m.uvs.as_ref().unwrap();
+        assert_eq!(uvs.len(), m.positions.len());
+        // The second object's triangle refers to its own vertices at z = 1.
+        let last = m.indices[2];
+        assert!(last.iter().all(|&i| m.positions[i as usize].z == 1.0));
+    }
+
+    #[test]
+    fn normals_are_loaded() {
+        let p = write(
+            "n.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n",
+        );
+        let m = load_obj(&p).unwrap();
+        assert_eq!(m.normals.as_ref().unwrap(), &vec![Vec3::Z; 3]);
+    }
+
+    #[test]
+    fn nan_vertex_is_loaded_then_sanitized() {
+        let p = write(
+            "nan.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nf 1 2 3\nf 1 2 4\n",
+        );
+        let mut m = load_obj(&p).unwrap();
+        assert_eq!(m.indices.len(), 2);
+        let r = m.sanitize();
+        assert_eq!(r.non_finite, 1);
+        assert_eq!(m.indices.len(), 1);
+    }
+
+    #[test]
+    fn missing_file_names_the_path() {
+        let e = load_obj(Path::new("/nonexistent/dir/bunny.obj")).unwrap_err();
+        assert!(matches!(e, SceneError::File { .. }));
+        assert!(e.to_string().contains("/nonexistent/dir/bunny.obj"), "{e}");
+    }
+}
