@@ -1,35 +1,228 @@
 //! All shapes of a scene behind one BVH: closest-hit and shadow queries.
+//!
+//! Every primitive (mesh triangle, sphere, disk) is a leaf primitive of the same [`Bvh`]. The
+//! primitives are copied in BVH order into a compact array (triangles as `v0, e1, e2`), so a
+//! leaf reads contiguous memory. Traversal only tracks `(t, primitive, b1, b2)`; the full
+//! [`SurfaceInteraction`] is computed once, for the closest hit.
 
 use crate::bvh::Bvh;
 use crate::intersection::SurfaceInteraction;
-use crate::shape::{Aabb, Shape};
-use caustica_core::Ray;
+use crate::shape::mesh::intersect_triangle;
+use crate::shape::{Aabb, Disk, Shape, ShapeGeometry, Sphere};
+use caustica_core::{Ray, Vec2, Vec3};
+use rayon::prelude::*;
+
+/// Surface data of a hit computed by a shape (before shape-level flags are applied).
+#[derive(Clone, Copy, Debug)]
+pub struct ShapeHit {
+    pub p: Vec3,
+    pub ng: Vec3,
+    pub ns: Vec3,
+    pub uv: Vec2,
+    pub bary: Vec2,
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
+}
+
+/// Geometry of one primitive in BVH order.
+#[derive(Clone, Copy, Debug)]
+enum PrimGeom {
+    Triangle { v0: Vec3, e1: Vec3, e2: Vec3 },
+    Sphere(Sphere),
+    Disk(Disk),
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Prim {
+    geom: PrimGeom,
+    shape: u32,
+    index: u32,
+}
+
+impl Prim {
+    /// `(t, b1, b2)` of a hit with `t ∈ (0, t_max)`.
+    #[inline(always)]
+    fn intersect(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
+        match &self.geom {
+            PrimGeom::Triangle { v0, e1, e2 } => intersect_triangle(o, d, t_max, *v0, *e1, *e2),
+            PrimGeom::Sphere(s) => s.intersect(o, d, t_max).map(|t| (t, 0.0, 0.0)),
+            PrimGeom::Disk(k) => k.intersect(o, d, t_max).map(|t| (t, 0.0, 0.0)),
+        }
+    }
+}
 
 /// The scene's shapes and their acceleration structure.
 pub struct Geometry {
     pub shapes: Vec<Shape>,
     pub bvh: Bvh,
     bounds: Aabb,
+    prims: Vec<Prim>,
+}
+
+/// Everything the traversal keeps about the current closest hit.
+#[derive(Clone, Copy)]
+struct Hit {
+    t: f32,
+    prim: u32,
+    b1: f32,
+    b2: f32,
 }
 
 impl Geometry {
-    /// Builds the BVH over every primitive of `shapes`.
+    /// Builds the BVH over every primitive of `shapes`. Primitives that cannot be hit are
+    /// skipped: triangles with out-of-range indices or non-finite vertices, spheres and disks
+    /// with non-positive or non-finite radii (loaders report those; nothing here panics).
     pub fn build(shapes: Vec<Shape>) -> Self {
-        let _ = shapes;
-        todo!("Geometry::build")
+        // (shape, primitive) of every candidate primitive, in shape order.
+        let mut ids: Vec<(u32, u32)> = Vec::new();
+        for (s, shape) in shapes.iter().enumerate() {
+            ids.extend((0..shape.primitive_count() as u32).map(|p| (s as u32, p)));
+        }
+        let geoms: Vec<Option<PrimGeom>> = ids
+            .par_iter()
+            .with_min_len(4096)
+            .map(|&(s, p)| match &shapes[s as usize].geometry {
+                ShapeGeometry::Mesh(m) => {
+                    let v = m.triangle(p as usize)?;
+                    if !(v[0].is_finite() && v[1].is_finite() && v[2].is_finite()) {
+                        return None;
+                    }
+                    Some(PrimGeom::Triangle {
+                        v0: v[0],
+                        e1: v[1] - v[0],
+                        e2: v[2] - v[0],
+                    })
+                }
+                ShapeGeometry::Sphere(sp) => sp.is_valid().then_some(PrimGeom::Sphere(*sp)),
+                ShapeGeometry::Disk(dk) => dk.is_valid().then_some(PrimGeom::Disk(Disk {
+                    normal: dk.normal.normalize(),
+                    ..*dk
+                })),
+            })
+            .collect();
+        let boxes: Vec<Aabb> = geoms
+            .par_iter()
+            .with_min_len(4096)
+            .map(|g| match g {
+                None => Aabb::EMPTY,
+                Some(PrimGeom::Triangle { v0, e1, e2 }) => {
+                    let mut b = Aabb::from_point(*v0);
+                    b.grow(*v0 + *e1);
+                    b.grow(*v0 + *e2);
+                    b
+                }
+                Some(PrimGeom::Sphere(s)) => s.bounds(),
+                Some(PrimGeom::Disk(d)) => d.bounds(),
+            })
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        let prims: Vec<Prim> = bvh
+            .prim_order
+            .par_iter()
+            .with_min_len(4096)
+            .filter_map(|&i| {
+                let (shape, index) = ids[i as usize];
+                geoms[i as usize].map(|geom| Prim { geom, shape, index })
+            })
+            .collect();
+        debug_assert_eq!(prims.len(), bvh.prim_order.len());
+        let bounds = bvh.bounds();
+        Self {
+            shapes,
+            bvh,
+            bounds,
+            prims,
+        }
     }
-    /// Closest hit along `ray` with `t < ray.t_max`.
+
+    /// Number of primitives in the BVH.
+    pub fn primitive_count(&self) -> usize {
+        self.prims.len()
+    }
+
+    #[inline]
+    fn closest(&self, ray: &Ray) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let (o, d) = (ray.o, ray.d);
+        self.bvh.closest_hit(o, d, ray.t_max, |k, t_max| {
+            let (t, b1, b2) = self.prims[k as usize].intersect(o, d, t_max)?;
+            best = Some(Hit { t, prim: k, b1, b2 });
+            Some(t)
+        });
+        best
+    }
+
+    /// Closest hit along `ray` with `t ∈ (0, ray.t_max)`.
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
-        let _ = ray;
-        todo!("Geometry::intersect")
+        let hit = self.closest(ray)?;
+        Some(self.interaction(ray, hit))
     }
-    /// True if anything blocks `ray` before `ray.t_max`.
+
+    /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let _ = ray;
-        todo!("Geometry::occluded")
+        let (o, d) = (ray.o, ray.d);
+        self.bvh.any_hit(o, d, ray.t_max, |k, t_max| {
+            self.prims[k as usize].intersect(o, d, t_max).is_some()
+        })
     }
+
     /// World bounds of all shapes.
     pub fn bounds(&self) -> Aabb {
         self.bounds
+    }
+
+    /// The full record of a hit found by the traversal.
+    fn interaction(&self, ray: &Ray, hit: Hit) -> SurfaceInteraction {
+        let prim = &self.prims[hit.prim as usize];
+        let shape = &self.shapes[prim.shape as usize];
+        let p_ray = ray.at(hit.t);
+        let (mut sh, triangle) = match (&shape.geometry, &prim.geom) {
+            (ShapeGeometry::Mesh(m), _) => match m.surface(prim.index as usize, hit.b1, hit.b2) {
+                Some((sh, tv)) => (sh, Some(tv)),
+                // Unreachable for primitives that passed the build; keep a sane record anyway.
+                None => (flat_hit(p_ray, -ray.d), None),
+            },
+            (_, PrimGeom::Sphere(s)) => (s.surface(p_ray), None),
+            (_, PrimGeom::Disk(d)) => (d.surface(p_ray), None),
+            (_, PrimGeom::Triangle { .. }) => (flat_hit(p_ray, -ray.d), None),
+        };
+        let mut triangle = triangle;
+        if shape.flip_normals {
+            sh.ng = -sh.ng;
+            sh.ns = -sh.ns;
+            if let Some(tv) = &mut triangle {
+                tv.n = tv.n.map(|n| n.map(|v| -v));
+            }
+        }
+        SurfaceInteraction {
+            p: sh.p,
+            t: hit.t,
+            ng: sh.ng,
+            ns: sh.ns,
+            uv: sh.uv,
+            bary: sh.bary,
+            dpdu: sh.dpdu,
+            dpdv: sh.dpdv,
+            shape: prim.shape,
+            prim: prim.index,
+            material: shape.material,
+            light: shape.light,
+            medium_inside: shape.medium_inside,
+            medium_outside: shape.medium_outside,
+            triangle,
+        }
+    }
+}
+
+fn flat_hit(p: Vec3, n: Vec3) -> ShapeHit {
+    let f = caustica_core::Frame::from_normal(n.normalize_or_zero());
+    ShapeHit {
+        p,
+        ng: f.n,
+        ns: f.n,
+        uv: Vec2::ZERO,
+        bary: Vec2::ZERO,
+        dpdu: f.s,
+        dpdv: f.t,
     }
 }

@@ -1,7 +1,48 @@
 //! Triangle meshes.
 
+// NaN-rejecting `!(x > 0.0)` comparisons are intentional here.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::Aabb;
-use caustica_core::{Affine3A, Vec2, Vec3};
+use crate::geometry::ShapeHit;
+use crate::intersection::TriangleVertices;
+use caustica_core::{Affine3A, Frame, Vec2, Vec3};
+
+/// Möller–Trumbore ray/triangle test on the precomputed `v0`, `e1 = v1 − v0`, `e2 = v2 − v0`.
+///
+/// Returns `(t, b1, b2)` with `t ∈ (0, t_max)` and barycentrics `b1, b2 ≥ 0`, `b1 + b2 ≤ 1`
+/// (edges inclusive). Rays parallel to the plane (|det| below a relative 1e-10 threshold) and
+/// degenerate triangles miss.
+#[inline]
+pub fn intersect_triangle(
+    o: Vec3,
+    d: Vec3,
+    t_max: f32,
+    v0: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+) -> Option<(f32, f32, f32)> {
+    let pv = d.cross(e2);
+    let det = e1.dot(pv);
+    // |det| = |d · (e1 × e2)| ≤ |d| |e1| |e2|; reject (near-)parallel rays scale-invariantly.
+    let scale = d.length_squared() * e1.length_squared() * e2.length_squared();
+    if !(det * det > 1e-20 * scale) {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let s = o - v0;
+    let b1 = s.dot(pv) * inv_det;
+    if !(0.0..=1.0).contains(&b1) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let b2 = d.dot(q) * inv_det;
+    if !(b2 >= 0.0 && b1 + b2 <= 1.0) {
+        return None;
+    }
+    let t = e2.dot(q) * inv_det;
+    (t > 0.0 && t < t_max).then_some((t, b1, b2))
+}
 
 /// An indexed triangle mesh in world space.
 #[derive(Clone, Debug, Default)]
@@ -145,6 +186,104 @@ impl TriangleMesh {
     pub fn triangle_area(&self, i: usize) -> f32 {
         let [a, b, c] = self.indices[i].map(|k| self.positions[k as usize]);
         0.5 * (b - a).cross(c - a).length()
+    }
+
+    /// Vertex positions of triangle `i`, or `None` if it indexes past the vertex array.
+    #[inline]
+    pub fn triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+        let t = self.indices.get(i)?;
+        Some([
+            *self.positions.get(t[0] as usize)?,
+            *self.positions.get(t[1] as usize)?,
+            *self.positions.get(t[2] as usize)?,
+        ])
+    }
+
+    /// Vertex normals of triangle `i` when the mesh has a complete normal array.
+    #[inline]
+    pub fn triangle_normals(&self, i: usize) -> Option<[Vec3; 3]> {
+        let ns = self.normals.as_ref()?;
+        if ns.len() != self.positions.len() {
+            return None;
+        }
+        let t = self.indices.get(i)?;
+        Some(t.map(|k| ns[k as usize]))
+    }
+
+    /// Texture coordinates of triangle `i` when the mesh has a complete uv array.
+    #[inline]
+    pub fn triangle_uvs(&self, i: usize) -> Option<[Vec2; 3]> {
+        let uv = self.uvs.as_ref()?;
+        if uv.len() != self.positions.len() {
+            return None;
+        }
+        let t = self.indices.get(i)?;
+        Some(t.map(|k| uv[k as usize]))
+    }
+
+    /// Surface data of triangle `i` at barycentrics `(b1, b2)`, or `None` for a bad index.
+    ///
+    /// `ng = normalize(e1 × e2)` (winding); `ns` the normalised Phong interpolation of vertex
+    /// normals flipped into the hemisphere of `ng` (or `ng`); `uv` the interpolated texture
+    /// coordinates or `(b1, b2)`; `dpdu`, `dpdv` solved from the uv parameterisation (for
+    /// `uv = (b1, b2)` they are the edges `e1`, `e2`), or a frame around `ng` if it degenerates.
+    pub fn surface(&self, i: usize, b1: f32, b2: f32) -> Option<(ShapeHit, TriangleVertices)> {
+        let p = self.triangle(i)?;
+        let normals = self.triangle_normals(i);
+        let b0 = 1.0 - b1 - b2;
+        let e1 = p[1] - p[0];
+        let e2 = p[2] - p[0];
+        let ng = e1.cross(e2).normalize_or_zero();
+        let ng = if ng == Vec3::ZERO { Vec3::Z } else { ng };
+        let pos = p[0] * b0 + p[1] * b1 + p[2] * b2;
+        let ns = match normals {
+            Some(n) => {
+                let v = (n[0] * b0 + n[1] * b1 + n[2] * b2).normalize_or_zero();
+                if v == Vec3::ZERO || !v.is_finite() {
+                    ng
+                } else if v.dot(ng) < 0.0 {
+                    -v
+                } else {
+                    v
+                }
+            }
+            None => ng,
+        };
+        let (uv, dpdu, dpdv) = match self.triangle_uvs(i) {
+            Some(t) => {
+                let uv = t[0] * b0 + t[1] * b1 + t[2] * b2;
+                let d02 = t[0] - t[2];
+                let d12 = t[1] - t[2];
+                let dp02 = p[0] - p[2];
+                let dp12 = p[1] - p[2];
+                let det = d02.x * d12.y - d02.y * d12.x;
+                let (mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO);
+                if det.abs() > 1e-12 {
+                    let inv = 1.0 / det;
+                    du = (dp02 * d12.y - dp12 * d02.y) * inv;
+                    dv = (dp12 * d02.x - dp02 * d12.x) * inv;
+                }
+                (uv, du, dv)
+            }
+            None => (Vec2::new(b1, b2), e1, e2),
+        };
+        let (dpdu, dpdv) =
+            if dpdu.is_finite() && dpdv.is_finite() && dpdu.cross(dpdv).length_squared() > 0.0 {
+                (dpdu, dpdv)
+            } else {
+                let f = Frame::from_normal(ng);
+                (f.s, f.t)
+            };
+        let hit = ShapeHit {
+            p: pos,
+            ng,
+            ns,
+            uv,
+            bary: Vec2::new(b1, b2),
+            dpdu,
+            dpdv,
+        };
+        Some((hit, TriangleVertices { p, n: normals }))
     }
 
     pub fn bounds(&self) -> Aabb {
