@@ -1,10 +1,11 @@
 //! Shared checks for the BSDF unit tests (compiled only for tests).
 //!
-//! [`LobeDomain`] is a χ² binning of the whole sphere centred on a lobe direction: θ (angle to
-//! `center`) = π t^power with `nt` equal bins in t, and `np` equal bins in φ around `center`.
-//! With power > 1 the cells near the centre are small, so narrow lobes (GGX α = 0.05, Phong
-//! n = 1000) are resolved by many cells instead of falling into one ring of the default
-//! (cos θ, φ) grid. Expected counts integrate the density with the midpoint rule in (t, φ) with
+//! [`LobeDomain`] is a χ² binning of the whole sphere around an axis `center`: `nt` equal bins
+//! in t ∈ [0, 1] mapped to the polar angle θ by θ = (π/2)(2t)^power for t ≤ ½ and
+//! θ = π − (π/2)(2 − 2t)^power above (the equator θ = π/2 is always a bin edge), and `np` equal
+//! bins in φ. With power > 1 the cells near both poles are small, so narrow lobes (GGX
+//! α = 0.05, Phong n = 2000, transmission at normal incidence) are resolved by many cells
+//! instead of falling into one ring of the default (cos θ, φ) grid. Expected counts integrate the density with the midpoint rule in (t, φ) with
 //! the Jacobian sin θ dθ/dt; rejected samples form an extra cell (as in `caustica_core::chi2`).
 
 use super::{BxDF, TransportMode};
@@ -44,7 +45,11 @@ impl LobeDomain {
         }
         let l = l / len;
         let theta = l.z.clamp(-1.0, 1.0).acos();
-        let t = (theta / PI).powf(1.0 / self.power);
+        let t = if theta <= 0.5 * PI {
+            0.5 * (2.0 * theta / PI).powf(1.0 / self.power)
+        } else {
+            1.0 - 0.5 * (2.0 * (PI - theta) / PI).powf(1.0 / self.power)
+        };
         let mut phi = l.y.atan2(l.x);
         if phi < 0.0 {
             phi += 2.0 * PI;
@@ -64,8 +69,18 @@ impl LobeDomain {
         for ti in 0..nt {
             for a in 0..r {
                 let t = ((ti * r + a) as f64 + 0.5) * dt;
-                let theta = PI * t.powf(self.power);
-                let jac = theta.sin() * PI * self.power * t.powf(self.power - 1.0) * dt * dphi;
+                let (theta, dtheta_dt) = if t <= 0.5 {
+                    (
+                        0.5 * PI * (2.0 * t).powf(self.power),
+                        PI * self.power * (2.0 * t).powf(self.power - 1.0),
+                    )
+                } else {
+                    (
+                        PI - 0.5 * PI * (2.0 - 2.0 * t).powf(self.power),
+                        PI * self.power * (2.0 - 2.0 * t).powf(self.power - 1.0),
+                    )
+                };
+                let jac = theta.sin() * dtheta_dt * dt * dphi;
                 for pi in 0..np {
                     let mut acc = 0.0;
                     for b in 0..r {
@@ -117,13 +132,14 @@ impl LobeDomain {
     }
 }
 
-/// Domain for testing a BSDF: rings of 1.5° around +z (so the horizon, where most densities are
+/// Domain for testing a BSDF: 120 rings around +z (so the horizon, where most densities are
 /// discontinuous, is a cell boundary and no cell straddles it) times 128 azimuth bins. `narrow`
-/// lobes (α ≈ 0.05, high Phong exponents) get a finer integration grid.
+/// lobes (α ≈ 0.05, high Phong exponents) get rings refined toward the poles and a finer
+/// integration grid.
 pub fn lobe_domain(narrow: bool) -> LobeDomain {
     LobeDomain {
         center: Vec3::Z,
-        power: 1.0,
+        power: if narrow { 2.0 } else { 1.0 },
         nt: 120,
         np: 128,
         res: if narrow { 20 } else { 8 },
