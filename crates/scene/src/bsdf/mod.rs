@@ -21,6 +21,8 @@ pub mod mirror;
 pub mod phong;
 pub mod rough_conductor;
 pub mod rough_dielectric;
+#[cfg(test)]
+pub(crate) mod testutil;
 
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;
@@ -31,6 +33,17 @@ pub use rough_conductor::RoughConductor;
 pub use rough_dielectric::RoughDielectric;
 
 use caustica_core::{Spectrum, Vec2, Vec3};
+
+/// Two-sided opaque BSDFs: mirrors `wo` and `wi` through the tangent plane when `wo` is below
+/// the surface, so the model only ever sees `wo.z ≥ 0` (crate docs, "two-sidedness").
+#[inline]
+pub fn to_upper_side(wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
+    if wo.z < 0.0 {
+        (Vec3::new(wo.x, wo.y, -wo.z), Vec3::new(wi.x, wi.y, -wi.z))
+    } else {
+        (wo, wi)
+    }
+}
 
 /// Lobe classification bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
