@@ -60,7 +60,7 @@ fn trs(t: Vec3, axis: Vec3, deg: f32, s: Vec3) -> Affine3A {
 fn cornell_box() -> Result<SceneBuilder, SceneError> {
     let mut b = SceneBuilder::new("cornell-box");
     b.set_camera(camera(
-        Vec3::new(0.0, 0.0, 4.1),
+        Vec3::new(0.0, 0.0, 3.9),
         Vec3::ZERO,
         39.3077,
         256,
@@ -137,7 +137,7 @@ fn cornell_box() -> Result<SceneBuilder, SceneError> {
             Vec3::new(-0.33, -0.4, -0.28),
             Vec3::Y,
             18.25,
-            Vec3::new(0.3, 0.6, 0.3),
+            Vec3::new(0.3, 0.61, 0.3),
         )),
         white,
         None,
