@@ -72,7 +72,14 @@ mod tests {
         for (i, &(deg, up)) in angles.iter().enumerate() {
             let wo = dir(deg, up);
             let center = if up { Vec3::Z } else { -Vec3::Z };
-            let r = chi2_bsdf(&b, wo, MODE, &LobeDomain::new(center, 1.0), 10 + i as u64, 100_000);
+            let r = chi2_bsdf(
+                &b,
+                wo,
+                MODE,
+                &LobeDomain::new(center, 1.0),
+                10 + i as u64,
+                100_000,
+            );
             assert!(r.passed_at(sidak(angles.len())), "θ={deg} up={up}: {r}");
         }
     }

@@ -163,7 +163,7 @@ mod tests {
             Phong::new(Spectrum::splat(0.5), Spectrum::splat(0.5), 1.0),
             Phong::new(Spectrum::splat(0.2), Spectrum::new(0.7, 0.6, 0.5), 30.0),
             Phong::new(Spectrum::splat(0.1), Spectrum::splat(0.9), 300.0),
-            Phong::new(Spectrum::ZERO, Spectrum::ONE, 2000.0),
+            Phong::new(Spectrum::ZERO, Spectrum::ONE, 500.0),
         ]
     }
 

@@ -161,7 +161,10 @@ mod tests {
                     / n as f64;
                 let tol = 5.0 * (acc * (1.0 - acc) / n as f64).sqrt() + 2e-3;
                 assert!(integral <= 1.0 + 2e-3, "∫pdf = {integral}");
-                assert!((integral - acc).abs() < tol, "α={alpha} θ={deg}: ∫pdf = {integral}, accepted {acc}");
+                assert!(
+                    (integral - acc).abs() < tol,
+                    "α={alpha} θ={deg}: ∫pdf = {integral}, accepted {acc}"
+                );
             }
         }
     }
@@ -169,9 +172,8 @@ mod tests {
     #[test]
     fn weights_reciprocity_and_energy() {
         // A (nearly) perfect reflector: F ≈ 1 for κ ≫ 1.
-        let perfect = |alpha| {
-            RoughConductor::new(alpha, Spectrum::ONE, Spectrum::splat(1e4), Spectrum::ONE)
-        };
+        let perfect =
+            |alpha| RoughConductor::new(alpha, Spectrum::ONE, Spectrum::splat(1e4), Spectrum::ONE);
         for alpha in [0.05f32, 0.2, 0.6] {
             for (deg, up) in [(0.0f32, true), (30.0, false), (60.0, true), (85.0, true)] {
                 let wo = dir(deg, up);

@@ -1,12 +1,14 @@
 //! Shared checks for the BSDF unit tests (compiled only for tests).
 //!
-//! [`LobeDomain`] is a χ² binning of the whole sphere around an axis `center`: `nt` equal bins
-//! in t ∈ [0, 1] mapped to the polar angle θ by θ = (π/2)(2t)^power for t ≤ ½ and
+//! [`LobeDomain`] is a χ² binning of the whole sphere around an axis `center`: rings between
+//! explicit θ edges (extra edges can be put on known discontinuities), by default `nt` equal
+//! bins in t ∈ [0, 1] mapped to the polar angle θ by θ = (π/2)(2t)^power for t ≤ ½ and
 //! θ = π − (π/2)(2 − 2t)^power above (the equator θ = π/2 is always a bin edge), and `np` equal
 //! bins in φ. With power > 1 the cells near both poles are small, so narrow lobes (GGX
 //! α = 0.05, Phong n = 2000, transmission at normal incidence) are resolved by many cells
-//! instead of falling into one ring of the default (cos θ, φ) grid. Expected counts integrate the density with the midpoint rule in (t, φ) with
-//! the Jacobian sin θ dθ/dt; rejected samples form an extra cell (as in `caustica_core::chi2`).
+//! instead of falling into one ring of the default (cos θ, φ) grid. Expected counts integrate
+//! the density with the midpoint rule in (θ, φ) with the Jacobian sin θ; rejected samples form
+//! an extra cell (as in `caustica_core::chi2`).
 
 use super::{BxDF, TransportMode};
 use caustica_core::chi2::{ChiSquareResult, chi_square};
@@ -16,21 +18,50 @@ use std::f64::consts::PI;
 
 pub struct LobeDomain {
     pub center: Vec3,
-    pub power: f64,
-    pub nt: usize,
+    /// Ring edges in θ (radians), increasing from 0 to π.
+    pub edges: Vec<f64>,
     pub np: usize,
     pub res: usize,
 }
 
+/// θ(t) of the symmetric power mapping described in the module docs.
+fn power_map(t: f64, power: f64) -> f64 {
+    if t <= 0.5 {
+        0.5 * PI * (2.0 * t).powf(power)
+    } else {
+        PI - 0.5 * PI * (2.0 - 2.0 * t).powf(power)
+    }
+}
+
 impl LobeDomain {
     pub fn new(center: Vec3, power: f64) -> Self {
+        Self::with_rings(center, power, 48, 64, 10)
+    }
+
+    pub fn with_rings(center: Vec3, power: f64, nt: usize, np: usize, res: usize) -> Self {
+        let edges = (0..=nt)
+            .map(|i| power_map(i as f64 / nt as f64, power))
+            .collect();
         Self {
             center: center.normalize(),
-            power,
-            nt: 48,
-            np: 64,
-            res: 10,
+            edges,
+            np,
+            res,
         }
+    }
+
+    /// Adds a ring edge at polar angle `theta` (radians), e.g. on a known discontinuity of the
+    /// density, so that no cell straddles it.
+    pub fn split_at(mut self, theta: f64) -> Self {
+        if theta > 0.0 && theta < PI && !self.edges.iter().any(|&e| (e - theta).abs() < 1e-9) {
+            self.edges.push(theta);
+            self.edges.sort_by(f64::total_cmp);
+        }
+        self
+    }
+
+    fn nt(&self) -> usize {
+        self.edges.len() - 1
     }
 
     fn frame(&self) -> Frame {
@@ -45,16 +76,15 @@ impl LobeDomain {
         }
         let l = l / len;
         let theta = l.z.clamp(-1.0, 1.0).acos();
-        let t = if theta <= 0.5 * PI {
-            0.5 * (2.0 * theta / PI).powf(1.0 / self.power)
-        } else {
-            1.0 - 0.5 * (2.0 * (PI - theta) / PI).powf(1.0 / self.power)
-        };
+        let ti = self
+            .edges
+            .partition_point(|&e| e <= theta)
+            .saturating_sub(1)
+            .min(self.nt() - 1);
         let mut phi = l.y.atan2(l.x);
         if phi < 0.0 {
             phi += 2.0 * PI;
         }
-        let ti = ((t * self.nt as f64) as usize).min(self.nt - 1);
         let pi = ((phi / (2.0 * PI) * self.np as f64) as usize).min(self.np - 1);
         Some(ti * self.np + pi)
     }
@@ -62,25 +92,14 @@ impl LobeDomain {
     /// ∫ pdf dω over each cell.
     pub fn integrate_cells(&self, pdf: &impl Fn(Vec3) -> f32) -> Vec<f64> {
         let frame = self.frame();
-        let (nt, np, r) = (self.nt, self.np, self.res);
-        let dt = 1.0 / (nt * r) as f64;
+        let (nt, np, r) = (self.nt(), self.np, self.res);
         let dphi = 2.0 * PI / (np * r) as f64;
         let mut out = vec![0.0; nt * np];
         for ti in 0..nt {
+            let dtheta = (self.edges[ti + 1] - self.edges[ti]) / r as f64;
             for a in 0..r {
-                let t = ((ti * r + a) as f64 + 0.5) * dt;
-                let (theta, dtheta_dt) = if t <= 0.5 {
-                    (
-                        0.5 * PI * (2.0 * t).powf(self.power),
-                        PI * self.power * (2.0 * t).powf(self.power - 1.0),
-                    )
-                } else {
-                    (
-                        PI - 0.5 * PI * (2.0 - 2.0 * t).powf(self.power),
-                        PI * self.power * (2.0 - 2.0 * t).powf(self.power - 1.0),
-                    )
-                };
-                let jac = theta.sin() * dtheta_dt * dt * dphi;
+                let theta = self.edges[ti] + (a as f64 + 0.5) * dtheta;
+                let jac = theta.sin() * dtheta * dphi;
                 for pi in 0..np {
                     let mut acc = 0.0;
                     for b in 0..r {
@@ -113,7 +132,7 @@ impl LobeDomain {
         pdf: impl Fn(Vec3) -> f32,
     ) -> ChiSquareResult {
         let frame = self.frame();
-        let ncell = self.nt * self.np;
+        let ncell = self.nt() * self.np;
         let mut observed = vec![0.0f64; ncell + 1];
         for _ in 0..n {
             match sample().and_then(|w| self.cell(&frame, w)) {
@@ -137,12 +156,10 @@ impl LobeDomain {
 /// lobes (α ≈ 0.05, high Phong exponents) get rings refined toward the poles and a finer
 /// integration grid.
 pub fn lobe_domain(narrow: bool) -> LobeDomain {
-    LobeDomain {
-        center: Vec3::Z,
-        power: if narrow { 2.0 } else { 1.0 },
-        nt: 120,
-        np: 128,
-        res: if narrow { 20 } else { 8 },
+    if narrow {
+        LobeDomain::with_rings(Vec3::Z, 2.0, 120, 128, 20)
+    } else {
+        LobeDomain::with_rings(Vec3::Z, 1.0, 120, 128, 8)
     }
 }
 
@@ -192,7 +209,11 @@ pub fn check_sample_consistency(b: &impl BxDF, wo: Vec3, mode: TransportMode, se
             continue;
         };
         accepted += 1;
-        assert!((s.wi.length() - 1.0).abs() < 1e-4, "wi not unit: {:?}", s.wi);
+        assert!(
+            (s.wi.length() - 1.0).abs() < 1e-4,
+            "wi not unit: {:?}",
+            s.wi
+        );
         assert!(s.weight.is_finite() && s.weight.min_component() >= 0.0);
         let pdf = b.pdf(wo, s.wi, mode);
         assert!(
