@@ -2,6 +2,7 @@
 
 use caustica_core::{Frame, Ray, Spectrum, Vec3};
 use caustica_scene::bsdf::{Bsdf, TransportMode};
+use caustica_scene::light::EmissionSample;
 use caustica_scene::{Scene, SurfaceInteraction};
 
 /// The scattering state at a path vertex.
@@ -60,6 +61,24 @@ pub fn interior_transmittance(scene: &Scene, si: &SurfaceInteraction, ray: &Ray)
         return (sigma * -si.t).exp();
     }
     Spectrum::ONE
+}
+
+/// Moves `p` off a surface with normal `n` to the side of direction `d`, by the same relative
+/// offset `SurfaceInteraction::spawn_ray` uses.
+#[inline]
+pub fn offset_origin(p: Vec3, n: Vec3, d: Vec3) -> Vec3 {
+    let eps = 1e-4 * (1.0 + p.abs().max_element());
+    p + n * (eps * if d.dot(n) >= 0.0 { 1.0 } else { -1.0 })
+}
+
+/// The emitted ray of a light sample, with its origin moved off the emitting surface so it does
+/// not hit that surface again (lights return origins exactly on their surface).
+#[inline]
+pub fn emission_ray(es: &EmissionSample) -> Ray {
+    match es.normal {
+        Some(n) => Ray::new(offset_origin(es.ray.o, n, es.ray.d), es.ray.d),
+        None => es.ray,
+    }
 }
 
 /// Russian roulette survival probability for throughput `beta` (Mitsuba's rule: the largest

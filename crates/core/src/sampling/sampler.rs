@@ -58,19 +58,22 @@ impl Sampler {
     pub fn kind(&self) -> SamplerKind {
         self.kind
     }
-    /// Positions the sampler on sample `index` of pixel `(x, y)`.
+    /// Positions the sampler on sample `index` of pixel `(x, y)`. Like paths, samples are
+    /// grouped in blocks of 2¹⁶ (the Sobol generator's limit), each with its own scramble.
     pub fn start_pixel_sample(&mut self, x: u32, y: u32, index: u32) {
-        let pixel = mix_seed(self.seed, &[x as u64, y as u64, 0x5049_5845]);
-        self.start(pixel, index);
+        let pixel = mix_seed(
+            self.seed,
+            &[x as u64, y as u64, (index >> 16) as u64, 0x5049_5845],
+        );
+        self.start(pixel, index & 0xFFFF);
     }
     /// Positions the sampler on light/photon path number `path` (of pass `pass`).
+    ///
+    /// The Sobol generator yields 2¹⁶ points per scramble, so paths are grouped in blocks of
+    /// 2¹⁶ consecutive indices; each block gets its own scramble seed.
     pub fn start_path(&mut self, pass: u64, path: u64) {
-        // Sobol index is the path number within the pass; the pass picks the scramble.
-        let stream = mix_seed(self.seed, &[pass, 0x5041_5448]);
-        self.start(stream, path as u32);
-        if path > u32::MAX as u64 {
-            self.stream_seed ^= (path >> 32) as u32;
-        }
+        let stream = mix_seed(self.seed, &[pass, path >> 16, 0x5041_5448]);
+        self.start(stream, (path & 0xFFFF) as u32);
     }
     fn start(&mut self, stream: u64, index: u32) {
         self.stream_seed = (stream ^ (stream >> 32)) as u32;
@@ -122,6 +125,26 @@ mod tests {
                 assert_eq!(a.next_1d().to_bits(), b.next_1d().to_bits());
             }
         }
+    }
+
+    #[test]
+    fn paths_beyond_the_sobol_block_are_new_points() {
+        // Sobol yields 2^16 points per scramble; later paths must not repeat earlier ones.
+        let mut s = Sampler::new(SamplerKind::Sobol, 3);
+        let mut first = Vec::new();
+        for p in [5u64, 70_000, 5 + (1 << 16), 5 + (1 << 32)] {
+            s.start_path(0, p);
+            first.push(s.next_2d());
+        }
+        for i in 0..first.len() {
+            for j in i + 1..first.len() {
+                assert_ne!(first[i], first[j], "paths {i} and {j} share their samples");
+            }
+        }
+        s.start_pixel_sample(1, 1, 5);
+        let a = s.next_2d();
+        s.start_pixel_sample(1, 1, 5 + (1 << 16));
+        assert_ne!(a, s.next_2d());
     }
 
     #[test]

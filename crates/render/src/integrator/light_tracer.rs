@@ -7,9 +7,9 @@ use crate::film::SplatBuffer;
 use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
-use crate::surface::{Vertex, interior_transmittance, rr_survival};
-use caustica_core::Spectrum;
+use crate::surface::{Vertex, emission_ray, interior_transmittance, offset_origin, rr_survival};
 use caustica_core::sampling::Sampler;
+use caustica_core::{Ray, Spectrum};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 
@@ -53,10 +53,8 @@ pub fn trace_light_path(
     {
         let le = light.le(n, cs.wi);
         if !le.is_black() {
-            let o = es.ray.o
-                + n * (1e-4 * (1.0 + es.ray.o.abs().max_element())) * n.dot(cs.wi).signum();
-            let shadow =
-                caustica_core::Ray::with_t_max(o, cs.wi, (cs.lens_p - o).length() * (1.0 - 1e-4));
+            let o = offset_origin(es.ray.o, n, cs.wi);
+            let shadow = Ray::with_t_max(o, cs.wi, (cs.lens_p - o).length() * (1.0 - 1e-4));
             stats.rays += 1;
             if !scene.occluded(&shadow) {
                 splat(
@@ -70,7 +68,7 @@ pub fn trace_light_path(
     }
 
     let mut beta = es.weight / pmf;
-    let mut ray = es.ray;
+    let mut ray = emission_ray(&es);
     let mut depth = 1u32; // edges of the light subpath including the one being traced
     loop {
         stats.rays += 1;

@@ -1309,14 +1309,12 @@ mod tests {
 
     // The tests below add materials and emitting shapes, so they need `Material::validate`,
     // `conductor_preset` and `AreaLight::new`, which other helpers implement in parallel.
-    // TODO(lead): remove the `#[ignore]`s after merging the BSDF/material and lights branches.
 
     fn scenes_dir() -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
     }
 
     #[test]
-    #[ignore = "needs Material::validate, conductor_preset, AreaLight::new (other helpers)"]
     fn feature_tour_parses_every_key() {
         let b = super::super::parse_scene_file(&scenes_dir().join("feature-tour.toml")).unwrap();
         assert_eq!(b.name, "feature-tour");
@@ -1401,7 +1399,6 @@ mod tests {
     }
 
     #[test]
-    #[ignore = "needs Material::validate (other helper)"]
     fn nan_vertex_in_obj_is_skipped_and_counted_in_warnings() {
         let dir = std::env::temp_dir().join(format!("caustica-toml-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
@@ -1426,7 +1423,6 @@ mod tests {
     }
 
     #[test]
-    #[ignore = "needs Material::validate (other helper)"]
     fn shapes_transforms_and_flip() {
         let text = format!(
             "{CAMERA}[[material]]\nname = \"d\"\ntype = \"diffuse\"\nreflectance = {{ texture = \"missing.png\" }}\n"
