@@ -12,9 +12,21 @@ use caustica_scene::texture::Texture;
 use caustica_scene::{Scene, SceneBuilder};
 
 pub fn render_image(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> Image {
+    render_image_depth(scene, kind, spp, seed, u32::MAX)
+}
+
+/// As [`render_image`] with a maximum path length in edges (Mitsuba's `max_depth`).
+pub fn render_image_depth(
+    scene: &Scene,
+    kind: IntegratorKind,
+    spp: u32,
+    seed: u64,
+    max_depth: u32,
+) -> Image {
     let opts = RenderOptions {
         spp,
         seed,
+        max_depth,
         ..Default::default()
     };
     render(scene, kind, &opts, &RenderControl::silent())
