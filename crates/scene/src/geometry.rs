@@ -1,13 +1,13 @@
 //! All shapes of a scene behind one BVH: closest-hit and shadow queries.
 //!
 //! Every primitive (mesh triangle, sphere, disk) is a leaf primitive of the same [`Bvh`]. The
-//! primitives are copied in BVH order into a compact array (triangles as `v0, e1, e2`), so a
+//! primitives are copied in BVH order into a compact array (triangles as their three vertices), so a
 //! leaf reads contiguous memory. Traversal only tracks `(t, primitive, b1, b2)`; the full
 //! [`SurfaceInteraction`] is computed once, for the closest hit.
 
 use crate::bvh::Bvh;
 use crate::intersection::SurfaceInteraction;
-use crate::shape::mesh::intersect_triangle;
+use crate::shape::mesh::TriangleRay;
 use crate::shape::{Aabb, Disk, Shape, ShapeGeometry, Sphere};
 use caustica_core::{Ray, Vec2, Vec3};
 use rayon::prelude::*;
@@ -27,7 +27,7 @@ pub struct ShapeHit {
 /// Geometry of one primitive in BVH order.
 #[derive(Clone, Copy, Debug)]
 enum PrimGeom {
-    Triangle { v0: Vec3, e1: Vec3, e2: Vec3 },
+    Triangle([Vec3; 3]),
     Sphere(Sphere),
     Disk(Disk),
 }
@@ -42,9 +42,9 @@ struct Prim {
 impl Prim {
     /// `(t, b1, b2)` of a hit with `t ∈ (0, t_max)`.
     #[inline(always)]
-    fn intersect(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
+    fn intersect(&self, tr: &TriangleRay, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
         match &self.geom {
-            PrimGeom::Triangle { v0, e1, e2 } => intersect_triangle(o, d, t_max, *v0, *e1, *e2),
+            PrimGeom::Triangle([p0, p1, p2]) => tr.intersect(t_max, *p0, *p1, *p2),
             PrimGeom::Sphere(s) => s.intersect(o, d, t_max).map(|t| (t, 0.0, 0.0)),
             PrimGeom::Disk(k) => k.intersect(o, d, t_max).map(|t| (t, 0.0, 0.0)),
         }
@@ -87,11 +87,7 @@ impl Geometry {
                     if !(v[0].is_finite() && v[1].is_finite() && v[2].is_finite()) {
                         return None;
                     }
-                    Some(PrimGeom::Triangle {
-                        v0: v[0],
-                        e1: v[1] - v[0],
-                        e2: v[2] - v[0],
-                    })
+                    Some(PrimGeom::Triangle(v))
                 }
                 ShapeGeometry::Sphere(sp) => sp.is_valid().then_some(PrimGeom::Sphere(*sp)),
                 ShapeGeometry::Disk(dk) => dk.is_valid().then_some(PrimGeom::Disk(Disk {
@@ -105,10 +101,10 @@ impl Geometry {
             .with_min_len(4096)
             .map(|g| match g {
                 None => Aabb::EMPTY,
-                Some(PrimGeom::Triangle { v0, e1, e2 }) => {
-                    let mut b = Aabb::from_point(*v0);
-                    b.grow(*v0 + *e1);
-                    b.grow(*v0 + *e2);
+                Some(PrimGeom::Triangle(v)) => {
+                    let mut b = Aabb::from_point(v[0]);
+                    b.grow(v[1]);
+                    b.grow(v[2]);
                     b
                 }
                 Some(PrimGeom::Sphere(s)) => s.bounds(),
@@ -144,8 +140,9 @@ impl Geometry {
     fn closest(&self, ray: &Ray) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let (o, d) = (ray.o, ray.d);
+        let tr = TriangleRay::new(o, d);
         self.bvh.closest_hit(o, d, ray.t_max, |k, t_max| {
-            let (t, b1, b2) = self.prims[k as usize].intersect(o, d, t_max)?;
+            let (t, b1, b2) = self.prims[k as usize].intersect(&tr, o, d, t_max)?;
             best = Some(Hit { t, prim: k, b1, b2 });
             Some(t)
         });
@@ -161,8 +158,9 @@ impl Geometry {
     /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
         let (o, d) = (ray.o, ray.d);
+        let tr = TriangleRay::new(o, d);
         self.bvh.any_hit(o, d, ray.t_max, |k, t_max| {
-            self.prims[k as usize].intersect(o, d, t_max).is_some()
+            self.prims[k as usize].intersect(&tr, o, d, t_max).is_some()
         })
     }
 
@@ -184,7 +182,7 @@ impl Geometry {
             },
             (_, PrimGeom::Sphere(s)) => (s.surface(p_ray), None),
             (_, PrimGeom::Disk(d)) => (d.surface(p_ray), None),
-            (_, PrimGeom::Triangle { .. }) => (flat_hit(p_ray, -ray.d), None),
+            (_, PrimGeom::Triangle(_)) => (flat_hit(p_ray, -ray.d), None),
         };
         let mut triangle = triangle;
         if shape.flip_normals {
