@@ -155,6 +155,12 @@ impl Geometry {
         Some(self.interaction(ray, hit))
     }
 
+    /// Distance to the closest hit along `ray` (`t ∈ (0, ray.t_max)`), without computing the
+    /// surface record.
+    pub fn hit_distance(&self, ray: &Ray) -> Option<f32> {
+        self.closest(ray).map(|h| h.t)
+    }
+
     /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
         let (o, d) = (ray.o, ray.d);
