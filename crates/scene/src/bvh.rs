@@ -481,3 +481,128 @@ impl Bvh {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use caustica_core::sampling::Pcg32;
+
+    fn random_boxes(n: usize, seed: u64) -> Vec<Aabb> {
+        let mut rng = Pcg32::new(seed, 0);
+        (0..n)
+            .map(|_| {
+                let c = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 100.0;
+                let e = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+                Aabb {
+                    min: c - e,
+                    max: c + e,
+                }
+            })
+            .collect()
+    }
+
+    fn contains(outer: &Aabb, inner: &Aabb) -> bool {
+        outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()
+    }
+
+    /// Checks structure: children inside parents, leaves small, primitives covered once.
+    fn check(bvh: &Bvh, boxes: &[Aabb]) {
+        let mut covered = vec![0u32; bvh.prim_order.len()];
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            let n = bvh.nodes[i];
+            if n.is_leaf() {
+                assert!(n.count() as usize <= MAX_LEAF.max(1));
+                for k in n.index()..n.index() + n.count() {
+                    covered[k as usize] += 1;
+                    let b = boxes[bvh.prim_order[k as usize] as usize];
+                    assert!(contains(&n.bounds(), &b));
+                }
+            } else {
+                let (l, r) = (i + 1, n.index() as usize);
+                assert!(r > l && r < bvh.nodes.len());
+                assert!(contains(&n.bounds(), &bvh.nodes[l].bounds()));
+                assert!(contains(&n.bounds(), &bvh.nodes[r].bounds()));
+                stack.extend([l, r]);
+            }
+        }
+        assert!(covered.iter().all(|&c| c == 1));
+    }
+
+    #[test]
+    fn node_is_32_bytes_and_round_trips_integers() {
+        assert_eq!(std::mem::size_of::<BvhNode>(), 32);
+        let b = Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ONE,
+        };
+        // Bit patterns that are NaNs as floats must survive.
+        let n = BvhNode::new(b, 0x7fc0_0001, 0xffff_fff0);
+        assert_eq!((n.index(), n.count()), (0x7fc0_0001, 0xffff_fff0));
+        assert_eq!(n.bounds(), b);
+    }
+
+    #[test]
+    fn structure_is_valid_sequential_and_parallel() {
+        for n in [1usize, 2, 5, 100, 3000, 40_000] {
+            let boxes = random_boxes(n, n as u64);
+            let bvh = Bvh::build(&boxes);
+            assert_eq!(bvh.prim_order.len(), n);
+            check(&bvh, &boxes);
+        }
+    }
+
+    #[test]
+    fn empty_and_invalid_boxes() {
+        let bvh = Bvh::build(&[]);
+        assert!(bvh.nodes.is_empty() && bvh.bounds().is_empty());
+        assert_eq!(bvh.depth(), 0);
+        assert!(!bvh.any_hit(Vec3::ZERO, Vec3::X, f32::INFINITY, |_, _| true));
+        let mut boxes = random_boxes(10, 1);
+        boxes.push(Aabb::EMPTY);
+        boxes.push(Aabb {
+            min: Vec3::splat(f32::NAN),
+            max: Vec3::ONE,
+        });
+        let bvh = Bvh::build(&boxes);
+        assert_eq!(bvh.prim_order.len(), 10);
+        check(&bvh, &boxes);
+    }
+
+    #[test]
+    fn identical_boxes_stay_shallow() {
+        let boxes = vec![
+            Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::ONE
+            };
+            10_000
+        ];
+        let bvh = Bvh::build(&boxes);
+        check(&bvh, &boxes);
+        // Median splits: depth ≈ log2(10000 / 4) + 1.
+        assert!(bvh.depth() <= 14, "depth {}", bvh.depth());
+    }
+
+    #[test]
+    fn closest_hit_visits_boxes_in_order() {
+        // Boxes along +x; the traversal must report the nearest one first and then prune.
+        let boxes: Vec<Aabb> = (0..64)
+            .map(|i| Aabb {
+                min: Vec3::new(i as f32 * 2.0, -0.5, -0.5),
+                max: Vec3::new(i as f32 * 2.0 + 1.0, 0.5, 0.5),
+            })
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        let mut tested = 0;
+        let o = Vec3::new(-1.0, 0.0, 0.0);
+        let t = bvh.closest_hit(o, Vec3::X, f32::INFINITY, |k, t_max| {
+            tested += 1;
+            let b = boxes[bvh.prim_order[k as usize] as usize];
+            let t = b.min.x - o.x;
+            (t < t_max).then_some(t)
+        });
+        assert_eq!(t, 1.0);
+        assert!(tested <= 2 * MAX_LEAF, "tested {tested} primitives");
+    }
+}
