@@ -32,18 +32,13 @@ enum PrimGeom {
     Disk(Disk),
 }
 
-#[derive(Clone, Copy, Debug)]
-struct Prim {
-    geom: PrimGeom,
-    shape: u32,
-    index: u32,
-}
+const _: () = assert!(std::mem::size_of::<PrimGeom>() == 40);
 
-impl Prim {
+impl PrimGeom {
     /// `(t, b1, b2)` of a hit with `t ∈ (0, t_max)`.
     #[inline(always)]
     fn intersect(&self, tr: &TriangleRay, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
-        match &self.geom {
+        match self {
             PrimGeom::Triangle([p0, p1, p2]) => tr.intersect(t_max, *p0, *p1, *p2),
             PrimGeom::Sphere(s) => s.intersect(o, d, t_max).map(|t| (t, 0.0, 0.0)),
             PrimGeom::Disk(k) => k.intersect(o, d, t_max).map(|t| (t, 0.0, 0.0)),
@@ -56,7 +51,10 @@ pub struct Geometry {
     pub shapes: Vec<Shape>,
     pub bvh: Bvh,
     bounds: Aabb,
-    prims: Vec<Prim>,
+    /// Primitive geometry in BVH order (40 bytes each).
+    prims: Vec<PrimGeom>,
+    /// (shape, primitive within the shape) in BVH order; read once per closest hit.
+    prim_ids: Vec<(u32, u32)>,
 }
 
 /// Everything the traversal keeps about the current closest hit.
@@ -112,15 +110,14 @@ impl Geometry {
             })
             .collect();
         let bvh = Bvh::build(&boxes);
-        let prims: Vec<Prim> = bvh
+        // Every primitive in the BVH had valid (finite, non-empty) bounds, hence `Some` geometry.
+        let prims: Vec<PrimGeom> = bvh
             .prim_order
             .par_iter()
             .with_min_len(4096)
-            .filter_map(|&i| {
-                let (shape, index) = ids[i as usize];
-                geoms[i as usize].map(|geom| Prim { geom, shape, index })
-            })
+            .filter_map(|&i| geoms[i as usize])
             .collect();
+        let prim_ids: Vec<(u32, u32)> = bvh.prim_order.iter().map(|&i| ids[i as usize]).collect();
         debug_assert_eq!(prims.len(), bvh.prim_order.len());
         let bounds = bvh.bounds();
         Self {
@@ -128,6 +125,7 @@ impl Geometry {
             bvh,
             bounds,
             prims,
+            prim_ids,
         }
     }
 
@@ -177,11 +175,12 @@ impl Geometry {
 
     /// The full record of a hit found by the traversal.
     fn interaction(&self, ray: &Ray, hit: Hit) -> SurfaceInteraction {
-        let prim = &self.prims[hit.prim as usize];
-        let shape = &self.shapes[prim.shape as usize];
+        let geom = &self.prims[hit.prim as usize];
+        let (shape_id, prim_id) = self.prim_ids[hit.prim as usize];
+        let shape = &self.shapes[shape_id as usize];
         let p_ray = ray.at(hit.t);
-        let (mut sh, triangle) = match (&shape.geometry, &prim.geom) {
-            (ShapeGeometry::Mesh(m), _) => match m.surface(prim.index as usize, hit.b1, hit.b2) {
+        let (mut sh, triangle) = match (&shape.geometry, geom) {
+            (ShapeGeometry::Mesh(m), _) => match m.surface(prim_id as usize, hit.b1, hit.b2) {
                 Some((sh, tv)) => (sh, Some(tv)),
                 // Unreachable for primitives that passed the build; keep a sane record anyway.
                 None => (flat_hit(p_ray, -ray.d), None),
@@ -207,8 +206,8 @@ impl Geometry {
             bary: sh.bary,
             dpdu: sh.dpdu,
             dpdv: sh.dpdv,
-            shape: prim.shape,
-            prim: prim.index,
+            shape: shape_id,
+            prim: prim_id,
             material: shape.material,
             light: shape.light,
             medium_inside: shape.medium_inside,
