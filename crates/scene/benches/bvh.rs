@@ -210,6 +210,14 @@ fn benches(c: &mut Criterion) {
     g.bench_function("caustica_closest_incoherent", |b| {
         b.iter(|| random.iter().filter(|r| geo.intersect(r).is_some()).count())
     });
+    g.bench_function("caustica_distance_only_incoherent", |b| {
+        b.iter(|| {
+            random
+                .iter()
+                .filter(|r| geo.hit_distance(r).is_some())
+                .count()
+        })
+    });
     g.bench_function("obvhs_closest_incoherent", |b| {
         b.iter(|| {
             random

@@ -10,7 +10,8 @@
 //! entry distance so that stale entries are skipped.
 
 use crate::shape::Aabb;
-use caustica_core::Vec3;
+use caustica_core::{Vec3, Vec3A};
+use glam::Vec4;
 use rayon::prelude::*;
 
 /// SAH bins per axis.
@@ -26,40 +27,60 @@ const STACK_SIZE: usize = 96;
 /// Relative cost of a node traversal step against one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 
-/// One flattened node (32 bytes). Leaves have `count > 0` primitives starting at `index` in the
-/// BVH primitive order; interior nodes have `count == 0`, their left child at `self + 1` and the
-/// right child at `index`.
+/// One flattened node (32 bytes, two SIMD registers). `lo = (min, index)`,
+/// `hi = (max, count)` with the integers stored as raw bits in the `w` lanes. Leaves have
+/// `count > 0` primitives starting at `index` in the BVH primitive order; interior nodes have
+/// `count == 0`, their left child at `self + 1` and the right child at `index`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C)]
 pub struct BvhNode {
-    pub min: Vec3,
-    pub index: u32,
-    pub max: Vec3,
-    pub count: u32,
+    lo: Vec4,
+    hi: Vec4,
 }
 
 const _: () = assert!(std::mem::size_of::<BvhNode>() == 32);
 
 impl BvhNode {
     #[inline]
+    fn new(bounds: Aabb, index: u32, count: u32) -> Self {
+        Self {
+            lo: bounds.min.extend(f32::from_bits(index)),
+            hi: bounds.max.extend(f32::from_bits(count)),
+        }
+    }
+    /// First primitive (leaf) or right child (interior node).
+    #[inline(always)]
+    pub fn index(&self) -> u32 {
+        self.lo.w.to_bits()
+    }
+    /// Number of primitives; 0 for interior nodes.
+    #[inline(always)]
+    pub fn count(&self) -> u32 {
+        self.hi.w.to_bits()
+    }
+    #[inline]
+    fn set_index(&mut self, i: u32) {
+        self.lo.w = f32::from_bits(i);
+    }
+    #[inline(always)]
     pub fn is_leaf(&self) -> bool {
-        self.count > 0
+        self.count() > 0
     }
     pub fn bounds(&self) -> Aabb {
         Aabb {
-            min: self.min,
-            max: self.max,
+            min: self.lo.truncate(),
+            max: self.hi.truncate(),
         }
     }
 
     /// Entry distance of the ray into the box if it overlaps `(0, t_max)`, else +∞.
     #[inline(always)]
-    fn slab(&self, o: Vec3, inv_d: Vec3, t_max: f32) -> f32 {
-        let t0 = (self.min - o) * inv_d;
-        let t1 = (self.max - o) * inv_d;
+    fn slab(&self, o: Vec3A, inv_d: Vec3A, t_max: f32) -> f32 {
+        let t0 = (Vec3A::from_vec4(self.lo) - o) * inv_d;
+        let t1 = (Vec3A::from_vec4(self.hi) - o) * inv_d;
         let t_near = t0.min(t1).max_element().max(0.0);
         // Conservative far distance (pbrt's 1 + 2γ₃) so rounding never skips a hit.
-        let t_far = t0.max(t1).min_element() * (1.0 + 2.0 * 3.0 * f32::EPSILON * 0.5);
+        let t_far = t0.max(t1).min_element() * (1.0 + 3.0 * f32::EPSILON);
         if t_near <= t_far && t_near < t_max {
             t_near
         } else {
@@ -206,12 +227,7 @@ fn partition(refs: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> usize {
 }
 
 fn leaf(bounds: Aabb, first: usize, count: usize) -> BvhNode {
-    BvhNode {
-        min: bounds.min,
-        index: first as u32,
-        max: bounds.max,
-        count: count as u32,
-    }
+    BvhNode::new(bounds, first as u32, count as u32)
 }
 
 /// Builds the subtree over `refs` (which start at position `first` of the primitive order),
@@ -254,12 +270,7 @@ fn build_node(refs: &mut [PrimRef], first: usize, depth: u32, nodes: &mut Vec<Bv
         });
     }
     let parent = nodes.len();
-    nodes.push(BvhNode {
-        min: bounds.min,
-        index: 0,
-        max: bounds.max,
-        count: 0,
-    });
+    nodes.push(BvhNode::new(bounds, 0, 0));
     let (left, right) = refs.split_at_mut(mid);
     if n >= PARALLEL_THRESHOLD {
         let (ln, rn) = rayon::join(
@@ -277,10 +288,11 @@ fn build_node(refs: &mut [PrimRef], first: usize, depth: u32, nodes: &mut Vec<Bv
         append_shifted(nodes, ln);
         let right_index = nodes.len();
         append_shifted(nodes, rn);
-        nodes[parent].index = right_index as u32;
+        nodes[parent].set_index(right_index as u32);
     } else {
         build_node(left, first, depth + 1, nodes);
-        nodes[parent].index = nodes.len() as u32;
+        let right_index = nodes.len() as u32;
+        nodes[parent].set_index(right_index);
         build_node(right, first + mid, depth + 1, nodes);
     }
 }
@@ -289,7 +301,7 @@ fn append_shifted(nodes: &mut Vec<BvhNode>, sub: Vec<BvhNode>) {
     let off = nodes.len() as u32;
     nodes.extend(sub.into_iter().map(|mut nd| {
         if !nd.is_leaf() {
-            nd.index += off;
+            nd.set_index(nd.index() + off);
         }
         nd
     }));
@@ -330,7 +342,7 @@ impl Bvh {
             if n.is_leaf() {
                 1
             } else {
-                1 + rec(nodes, i + 1).max(rec(nodes, n.index as usize))
+                1 + rec(nodes, i + 1).max(rec(nodes, n.index() as usize))
             }
         }
         if self.nodes.is_empty() {
@@ -354,7 +366,7 @@ impl Bvh {
         let Some(root) = self.nodes.first() else {
             return t_max;
         };
-        let inv_d = d.recip();
+        let (o, inv_d) = (Vec3A::from(o), Vec3A::from(d).recip());
         if root.slab(o, inv_d, t_max) == f32::INFINITY {
             return t_max;
         }
@@ -364,14 +376,15 @@ impl Bvh {
         loop {
             let nd = &self.nodes[node];
             if nd.is_leaf() {
-                for k in nd.index..nd.index + nd.count {
+                let first = nd.index();
+                for k in first..first + nd.count() {
                     if let Some(t) = hit(k, t_max) {
                         t_max = t;
                     }
                 }
             } else {
                 let l = node + 1;
-                let r = nd.index as usize;
+                let r = nd.index() as usize;
                 let tl = self.nodes[l].slab(o, inv_d, t_max);
                 let tr = self.nodes[r].slab(o, inv_d, t_max);
                 match (tl < f32::INFINITY, tr < f32::INFINITY) {
@@ -421,7 +434,7 @@ impl Bvh {
         let Some(root) = self.nodes.first() else {
             return false;
         };
-        let inv_d = d.recip();
+        let (o, inv_d) = (Vec3A::from(o), Vec3A::from(d).recip());
         if root.slab(o, inv_d, t_max) == f32::INFINITY {
             return false;
         }
@@ -431,14 +444,15 @@ impl Bvh {
         loop {
             let nd = &self.nodes[node];
             if nd.is_leaf() {
-                for k in nd.index..nd.index + nd.count {
+                let first = nd.index();
+                for k in first..first + nd.count() {
                     if hit(k, t_max) {
                         return true;
                     }
                 }
             } else {
                 let l = node + 1;
-                let r = nd.index as usize;
+                let r = nd.index() as usize;
                 let hl = self.nodes[l].slab(o, inv_d, t_max) < f32::INFINITY;
                 let hr = self.nodes[r].slab(o, inv_d, t_max) < f32::INFINITY;
                 match (hl, hr) {
@@ -465,5 +479,130 @@ impl Bvh {
             sp -= 1;
             node = stack[sp] as usize;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use caustica_core::sampling::Pcg32;
+
+    fn random_boxes(n: usize, seed: u64) -> Vec<Aabb> {
+        let mut rng = Pcg32::new(seed, 0);
+        (0..n)
+            .map(|_| {
+                let c = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 100.0;
+                let e = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+                Aabb {
+                    min: c - e,
+                    max: c + e,
+                }
+            })
+            .collect()
+    }
+
+    fn contains(outer: &Aabb, inner: &Aabb) -> bool {
+        outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()
+    }
+
+    /// Checks structure: children inside parents, leaves small, primitives covered once.
+    fn check(bvh: &Bvh, boxes: &[Aabb]) {
+        let mut covered = vec![0u32; bvh.prim_order.len()];
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            let n = bvh.nodes[i];
+            if n.is_leaf() {
+                assert!(n.count() as usize <= MAX_LEAF.max(1));
+                for k in n.index()..n.index() + n.count() {
+                    covered[k as usize] += 1;
+                    let b = boxes[bvh.prim_order[k as usize] as usize];
+                    assert!(contains(&n.bounds(), &b));
+                }
+            } else {
+                let (l, r) = (i + 1, n.index() as usize);
+                assert!(r > l && r < bvh.nodes.len());
+                assert!(contains(&n.bounds(), &bvh.nodes[l].bounds()));
+                assert!(contains(&n.bounds(), &bvh.nodes[r].bounds()));
+                stack.extend([l, r]);
+            }
+        }
+        assert!(covered.iter().all(|&c| c == 1));
+    }
+
+    #[test]
+    fn node_is_32_bytes_and_round_trips_integers() {
+        assert_eq!(std::mem::size_of::<BvhNode>(), 32);
+        let b = Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ONE,
+        };
+        // Bit patterns that are NaNs as floats must survive.
+        let n = BvhNode::new(b, 0x7fc0_0001, 0xffff_fff0);
+        assert_eq!((n.index(), n.count()), (0x7fc0_0001, 0xffff_fff0));
+        assert_eq!(n.bounds(), b);
+    }
+
+    #[test]
+    fn structure_is_valid_sequential_and_parallel() {
+        for n in [1usize, 2, 5, 100, 3000, 40_000] {
+            let boxes = random_boxes(n, n as u64);
+            let bvh = Bvh::build(&boxes);
+            assert_eq!(bvh.prim_order.len(), n);
+            check(&bvh, &boxes);
+        }
+    }
+
+    #[test]
+    fn empty_and_invalid_boxes() {
+        let bvh = Bvh::build(&[]);
+        assert!(bvh.nodes.is_empty() && bvh.bounds().is_empty());
+        assert_eq!(bvh.depth(), 0);
+        assert!(!bvh.any_hit(Vec3::ZERO, Vec3::X, f32::INFINITY, |_, _| true));
+        let mut boxes = random_boxes(10, 1);
+        boxes.push(Aabb::EMPTY);
+        boxes.push(Aabb {
+            min: Vec3::splat(f32::NAN),
+            max: Vec3::ONE,
+        });
+        let bvh = Bvh::build(&boxes);
+        assert_eq!(bvh.prim_order.len(), 10);
+        check(&bvh, &boxes);
+    }
+
+    #[test]
+    fn identical_boxes_stay_shallow() {
+        let boxes = vec![
+            Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::ONE
+            };
+            10_000
+        ];
+        let bvh = Bvh::build(&boxes);
+        check(&bvh, &boxes);
+        // Median splits: depth ≈ log2(10000 / 4) + 1.
+        assert!(bvh.depth() <= 14, "depth {}", bvh.depth());
+    }
+
+    #[test]
+    fn closest_hit_visits_boxes_in_order() {
+        // Boxes along +x; the traversal must report the nearest one first and then prune.
+        let boxes: Vec<Aabb> = (0..64)
+            .map(|i| Aabb {
+                min: Vec3::new(i as f32 * 2.0, -0.5, -0.5),
+                max: Vec3::new(i as f32 * 2.0 + 1.0, 0.5, 0.5),
+            })
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        let mut tested = 0;
+        let o = Vec3::new(-1.0, 0.0, 0.0);
+        let t = bvh.closest_hit(o, Vec3::X, f32::INFINITY, |k, t_max| {
+            tested += 1;
+            let b = boxes[bvh.prim_order[k as usize] as usize];
+            let t = b.min.x - o.x;
+            (t < t_max).then_some(t)
+        });
+        assert_eq!(t, 1.0);
+        assert!(tested <= 2 * MAX_LEAF, "tested {tested} primitives");
     }
 }

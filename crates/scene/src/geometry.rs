@@ -1,13 +1,13 @@
 //! All shapes of a scene behind one BVH: closest-hit and shadow queries.
 //!
 //! Every primitive (mesh triangle, sphere, disk) is a leaf primitive of the same [`Bvh`]. The
-//! primitives are copied in BVH order into a compact array (triangles as `v0, e1, e2`), so a
+//! primitives are copied in BVH order into a compact array (triangles as their three vertices), so a
 //! leaf reads contiguous memory. Traversal only tracks `(t, primitive, b1, b2)`; the full
 //! [`SurfaceInteraction`] is computed once, for the closest hit.
 
 use crate::bvh::Bvh;
 use crate::intersection::SurfaceInteraction;
-use crate::shape::mesh::intersect_triangle;
+use crate::shape::mesh::TriangleRay;
 use crate::shape::{Aabb, Disk, Shape, ShapeGeometry, Sphere};
 use caustica_core::{Ray, Vec2, Vec3};
 use rayon::prelude::*;
@@ -27,24 +27,19 @@ pub struct ShapeHit {
 /// Geometry of one primitive in BVH order.
 #[derive(Clone, Copy, Debug)]
 enum PrimGeom {
-    Triangle { v0: Vec3, e1: Vec3, e2: Vec3 },
+    Triangle([Vec3; 3]),
     Sphere(Sphere),
     Disk(Disk),
 }
 
-#[derive(Clone, Copy, Debug)]
-struct Prim {
-    geom: PrimGeom,
-    shape: u32,
-    index: u32,
-}
+const _: () = assert!(std::mem::size_of::<PrimGeom>() == 40);
 
-impl Prim {
+impl PrimGeom {
     /// `(t, b1, b2)` of a hit with `t ∈ (0, t_max)`.
     #[inline(always)]
-    fn intersect(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
-        match &self.geom {
-            PrimGeom::Triangle { v0, e1, e2 } => intersect_triangle(o, d, t_max, *v0, *e1, *e2),
+    fn intersect(&self, tr: &TriangleRay, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
+        match self {
+            PrimGeom::Triangle([p0, p1, p2]) => tr.intersect(t_max, *p0, *p1, *p2),
             PrimGeom::Sphere(s) => s.intersect(o, d, t_max).map(|t| (t, 0.0, 0.0)),
             PrimGeom::Disk(k) => k.intersect(o, d, t_max).map(|t| (t, 0.0, 0.0)),
         }
@@ -56,7 +51,10 @@ pub struct Geometry {
     pub shapes: Vec<Shape>,
     pub bvh: Bvh,
     bounds: Aabb,
-    prims: Vec<Prim>,
+    /// Primitive geometry in BVH order (40 bytes each).
+    prims: Vec<PrimGeom>,
+    /// (shape, primitive within the shape) in BVH order; read once per closest hit.
+    prim_ids: Vec<(u32, u32)>,
 }
 
 /// Everything the traversal keeps about the current closest hit.
@@ -87,11 +85,7 @@ impl Geometry {
                     if !(v[0].is_finite() && v[1].is_finite() && v[2].is_finite()) {
                         return None;
                     }
-                    Some(PrimGeom::Triangle {
-                        v0: v[0],
-                        e1: v[1] - v[0],
-                        e2: v[2] - v[0],
-                    })
+                    Some(PrimGeom::Triangle(v))
                 }
                 ShapeGeometry::Sphere(sp) => sp.is_valid().then_some(PrimGeom::Sphere(*sp)),
                 ShapeGeometry::Disk(dk) => dk.is_valid().then_some(PrimGeom::Disk(Disk {
@@ -105,10 +99,10 @@ impl Geometry {
             .with_min_len(4096)
             .map(|g| match g {
                 None => Aabb::EMPTY,
-                Some(PrimGeom::Triangle { v0, e1, e2 }) => {
-                    let mut b = Aabb::from_point(*v0);
-                    b.grow(*v0 + *e1);
-                    b.grow(*v0 + *e2);
+                Some(PrimGeom::Triangle(v)) => {
+                    let mut b = Aabb::from_point(v[0]);
+                    b.grow(v[1]);
+                    b.grow(v[2]);
                     b
                 }
                 Some(PrimGeom::Sphere(s)) => s.bounds(),
@@ -116,15 +110,14 @@ impl Geometry {
             })
             .collect();
         let bvh = Bvh::build(&boxes);
-        let prims: Vec<Prim> = bvh
+        // Every primitive in the BVH had valid (finite, non-empty) bounds, hence `Some` geometry.
+        let prims: Vec<PrimGeom> = bvh
             .prim_order
             .par_iter()
             .with_min_len(4096)
-            .filter_map(|&i| {
-                let (shape, index) = ids[i as usize];
-                geoms[i as usize].map(|geom| Prim { geom, shape, index })
-            })
+            .filter_map(|&i| geoms[i as usize])
             .collect();
+        let prim_ids: Vec<(u32, u32)> = bvh.prim_order.iter().map(|&i| ids[i as usize]).collect();
         debug_assert_eq!(prims.len(), bvh.prim_order.len());
         let bounds = bvh.bounds();
         Self {
@@ -132,6 +125,7 @@ impl Geometry {
             bvh,
             bounds,
             prims,
+            prim_ids,
         }
     }
 
@@ -144,8 +138,9 @@ impl Geometry {
     fn closest(&self, ray: &Ray) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let (o, d) = (ray.o, ray.d);
+        let tr = TriangleRay::new(o, d);
         self.bvh.closest_hit(o, d, ray.t_max, |k, t_max| {
-            let (t, b1, b2) = self.prims[k as usize].intersect(o, d, t_max)?;
+            let (t, b1, b2) = self.prims[k as usize].intersect(&tr, o, d, t_max)?;
             best = Some(Hit { t, prim: k, b1, b2 });
             Some(t)
         });
@@ -158,11 +153,18 @@ impl Geometry {
         Some(self.interaction(ray, hit))
     }
 
+    /// Distance to the closest hit along `ray` (`t ∈ (0, ray.t_max)`), without computing the
+    /// surface record.
+    pub fn hit_distance(&self, ray: &Ray) -> Option<f32> {
+        self.closest(ray).map(|h| h.t)
+    }
+
     /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
         let (o, d) = (ray.o, ray.d);
+        let tr = TriangleRay::new(o, d);
         self.bvh.any_hit(o, d, ray.t_max, |k, t_max| {
-            self.prims[k as usize].intersect(o, d, t_max).is_some()
+            self.prims[k as usize].intersect(&tr, o, d, t_max).is_some()
         })
     }
 
@@ -173,18 +175,19 @@ impl Geometry {
 
     /// The full record of a hit found by the traversal.
     fn interaction(&self, ray: &Ray, hit: Hit) -> SurfaceInteraction {
-        let prim = &self.prims[hit.prim as usize];
-        let shape = &self.shapes[prim.shape as usize];
+        let geom = &self.prims[hit.prim as usize];
+        let (shape_id, prim_id) = self.prim_ids[hit.prim as usize];
+        let shape = &self.shapes[shape_id as usize];
         let p_ray = ray.at(hit.t);
-        let (mut sh, triangle) = match (&shape.geometry, &prim.geom) {
-            (ShapeGeometry::Mesh(m), _) => match m.surface(prim.index as usize, hit.b1, hit.b2) {
+        let (mut sh, triangle) = match (&shape.geometry, geom) {
+            (ShapeGeometry::Mesh(m), _) => match m.surface(prim_id as usize, hit.b1, hit.b2) {
                 Some((sh, tv)) => (sh, Some(tv)),
                 // Unreachable for primitives that passed the build; keep a sane record anyway.
                 None => (flat_hit(p_ray, -ray.d), None),
             },
             (_, PrimGeom::Sphere(s)) => (s.surface(p_ray), None),
             (_, PrimGeom::Disk(d)) => (d.surface(p_ray), None),
-            (_, PrimGeom::Triangle { .. }) => (flat_hit(p_ray, -ray.d), None),
+            (_, PrimGeom::Triangle(_)) => (flat_hit(p_ray, -ray.d), None),
         };
         let mut triangle = triangle;
         if shape.flip_normals {
@@ -203,8 +206,8 @@ impl Geometry {
             bary: sh.bary,
             dpdu: sh.dpdu,
             dpdv: sh.dpdv,
-            shape: prim.shape,
-            prim: prim.index,
+            shape: shape_id,
+            prim: prim_id,
             material: shape.material,
             light: shape.light,
             medium_inside: shape.medium_inside,

@@ -76,7 +76,7 @@ fn brute_force(shapes: &[Shape], ray: &Ray) -> Option<(f32, u32, u32)> {
             ShapeGeometry::Mesh(m) => {
                 for (i, tri) in m.indices.iter().enumerate() {
                     let [a, b, c] = tri.map(|k| m.positions[k as usize]);
-                    let h = intersect_triangle(ray.o, ray.d, ray.t_max, a, b - a, c - a);
+                    let h = intersect_triangle(ray.o, ray.d, ray.t_max, a, b, c);
                     consider(h.map(|h| h.0), i as u32);
                 }
             }
@@ -399,6 +399,26 @@ fn empty_and_degenerate_inputs() {
         assert!(!geo.occluded(&ray), "{ray:?}");
     }
 
+    // Tilted triangle, rays lying in its plane (rounding makes the projection non-degenerate).
+    let mut rng = Pcg32::new(3, 3);
+    for _ in 0..1000 {
+        let p = [
+            rand_vec(&mut rng, -1.0, 1.0),
+            rand_vec(&mut rng, -1.0, 1.0),
+            rand_vec(&mut rng, -1.0, 1.0),
+        ];
+        let (a, b) = (rng.next_f32() * 0.5, rng.next_f32() * 0.5);
+        let inside = p[0] * (1.0 - a - b) + p[1] * a + p[2] * b;
+        let o = p[0] - (inside - p[0]) * 2.0;
+        let d = (inside - o).normalize();
+        if let Some((t, _, _)) = intersect_triangle(o, d, f32::INFINITY, p[0], p[1], p[2]) {
+            // Allowed (grazing hit), but then at a point of the triangle's segment on the ray.
+            let q = o + d * t;
+            let seg = (inside - o).length();
+            assert!(t > 0.0 && t < 4.0 * seg, "t {t} seg {seg} q {q:?}");
+        }
+    }
+
     // Bad indices, NaN vertices, zero-area triangles and invalid analytic shapes: no panic,
     // and the valid triangle is still found.
     let bad = TriangleMesh {
@@ -444,4 +464,67 @@ fn empty_and_degenerate_inputs() {
     };
     let geo = Geometry::build(vec![Shape::new(ShapeGeometry::Mesh(same), 0)]);
     assert!(geo.occluded(&Ray::new(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z)));
+}
+
+/// A closed, consistently outward-wound tessellated sphere (`2·n·(n/2 − 1)` triangles).
+fn closed_sphere(n: u32) -> TriangleMesh {
+    let nt = n / 2;
+    let mut m = TriangleMesh::default();
+    for j in 0..=nt {
+        let theta = PI * j as f32 / nt as f32;
+        for i in 0..n {
+            let phi = 2.0 * PI * i as f32 / n as f32;
+            let r = 1.0 + 0.1 * (5.0 * theta).sin() * (3.0 * phi).cos();
+            m.positions.push(
+                r * Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                ),
+            );
+        }
+    }
+    let idx = |i: u32, j: u32| j * n + i % n;
+    for j in 0..nt {
+        for i in 0..n {
+            let (a, b, c, d) = (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1));
+            if j != 0 {
+                m.indices.push([a, c, b]);
+            }
+            if j != nt - 1 {
+                m.indices.push([a, d, c]);
+            }
+        }
+    }
+    m
+}
+
+#[test]
+fn closed_mesh_does_not_leak() {
+    // Rays from inside a closed mesh must all hit it from the inside (ng · d > 0), including
+    // rays aimed exactly at shared vertices and through the pole fans.
+    let mesh = closed_sphere(64);
+    let targets = mesh.positions.clone();
+    let geo = Geometry::build(vec![Shape::new(ShapeGeometry::Mesh(mesh), 0)]);
+    let mut rng = Pcg32::new(5, 9);
+    let mut rays: Vec<Ray> = (0..20_000)
+        .map(|_| Ray::new(rand_vec(&mut rng, -0.3, 0.3), rand_dir(&mut rng)))
+        .collect();
+    for (k, v) in targets.iter().enumerate() {
+        let o = if k % 2 == 0 {
+            Vec3::ZERO
+        } else {
+            Vec3::new(0.01, -0.02, 0.03)
+        };
+        rays.push(Ray::new(o, (*v - o).normalize()));
+    }
+    let mut leaks = 0;
+    for ray in &rays {
+        match geo.intersect(ray) {
+            Some(si) => assert!(si.ng.dot(ray.d) > 0.0, "hit from outside? {ray:?}"),
+            None => leaks += 1,
+        }
+        assert!(geo.occluded(ray) || geo.intersect(ray).is_none());
+    }
+    assert_eq!(leaks, 0, "{leaks} of {} rays escaped", rays.len());
 }

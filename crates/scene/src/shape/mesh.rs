@@ -6,42 +6,87 @@
 use super::Aabb;
 use crate::geometry::ShapeHit;
 use crate::intersection::TriangleVertices;
-use caustica_core::{Affine3A, Frame, Vec2, Vec3};
+use caustica_core::{Affine3A, Frame, Mat3, Vec2, Vec3};
 
-/// Möller–Trumbore ray/triangle test on the precomputed `v0`, `e1 = v1 − v0`, `e2 = v2 − v0`.
-///
-/// Returns `(t, b1, b2)` with `t ∈ (0, t_max)` and barycentrics `b1, b2 ≥ 0`, `b1 + b2 ≤ 1`
-/// (edges inclusive). Rays parallel to the plane (|det| below a relative 1e-10 threshold) and
-/// degenerate triangles miss.
+/// A ray prepared for the watertight ray/triangle test of Woop, Benthin and Wald (2013):
+/// vertices are translated to the ray origin, permuted so the ray's dominant axis is z and
+/// sheared so the ray becomes +z. Each vertex is transformed by the same function whatever
+/// triangle it belongs to, so neighbouring triangles leave no cracks (no leaks through shared
+/// edges or vertices of closed meshes).
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleRay {
+    o: Vec3,
+    /// Permutation + shear + scale: `(x', y', z') = m (v − o)`.
+    m: Mat3,
+}
+
+impl TriangleRay {
+    #[inline]
+    pub fn new(o: Vec3, d: Vec3) -> Self {
+        let kz = d.abs().max_position();
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let e = |k: usize| match k {
+            0 => Vec3::X,
+            1 => Vec3::Y,
+            _ => Vec3::Z,
+        };
+        let (sx, sy, sz) = (d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+        let rows = [e(kx) - e(kz) * sx, e(ky) - e(kz) * sy, e(kz) * sz];
+        Self {
+            o,
+            m: Mat3::from_cols(rows[0], rows[1], rows[2]).transpose(),
+        }
+    }
+
+    /// Hit with triangle `(p0, p1, p2)`: `(t, b1, b2)` with `t ∈ (0, t_max)` and barycentrics
+    /// `b1, b2 ≥ 0`, `b1 + b2 ≤ 1` (edges inclusive). Rays in the triangle's plane and
+    /// degenerate triangles miss.
+    #[inline(always)]
+    pub fn intersect(&self, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<(f32, f32, f32)> {
+        let a = self.m * (p0 - self.o);
+        let b = self.m * (p1 - self.o);
+        let c = self.m * (p2 - self.o);
+        let mut u = c.x * b.y - c.y * b.x;
+        let mut v = a.x * c.y - a.y * c.x;
+        let mut w = b.x * a.y - b.y * a.x;
+        if u == 0.0 || v == 0.0 || w == 0.0 {
+            // Exactly on an edge in single precision: decide in double precision.
+            let (ax, ay, bx, by, cx, cy) = (
+                a.x as f64, a.y as f64, b.x as f64, b.y as f64, c.x as f64, c.y as f64,
+            );
+            u = (cx * by - cy * bx) as f32;
+            v = (ax * cy - ay * cx) as f32;
+            w = (bx * ay - by * ax) as f32;
+        }
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let t = (u * a.z + v * b.z + w * c.z) * inv;
+        (t > 0.0 && t < t_max).then_some((t, v * inv, w * inv))
+    }
+}
+
+/// One-off watertight ray/triangle test (see [`TriangleRay`]; prepare the ray once when
+/// testing many triangles).
 #[inline]
 pub fn intersect_triangle(
     o: Vec3,
     d: Vec3,
     t_max: f32,
-    v0: Vec3,
-    e1: Vec3,
-    e2: Vec3,
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
 ) -> Option<(f32, f32, f32)> {
-    let pv = d.cross(e2);
-    let det = e1.dot(pv);
-    // |det| = |d · (e1 × e2)| ≤ |d| |e1| |e2|; reject (near-)parallel rays scale-invariantly.
-    let scale = d.length_squared() * e1.length_squared() * e2.length_squared();
-    if !(det * det > 1e-20 * scale) {
-        return None;
-    }
-    let inv_det = 1.0 / det;
-    let s = o - v0;
-    let b1 = s.dot(pv) * inv_det;
-    if !(0.0..=1.0).contains(&b1) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let b2 = d.dot(q) * inv_det;
-    if !(b2 >= 0.0 && b1 + b2 <= 1.0) {
-        return None;
-    }
-    let t = e2.dot(q) * inv_det;
-    (t > 0.0 && t < t_max).then_some((t, b1, b2))
+    TriangleRay::new(o, d).intersect(t_max, p0, p1, p2)
 }
 
 /// An indexed triangle mesh in world space.
