@@ -42,6 +42,8 @@ pub struct Sampler {
     index: u32,
     dim: u32,
     rng: Pcg32,
+    /// Four consecutive Sobol dimensions computed at once (`sobol_burley::sample_4d`).
+    cache: [f32; 4],
 }
 
 impl Sampler {
@@ -53,6 +55,7 @@ impl Sampler {
             index: 0,
             dim: 0,
             rng: Pcg32::new(seed, 0),
+            cache: [0.0; 4],
         }
     }
     pub fn kind(&self) -> SamplerKind {
@@ -88,9 +91,13 @@ impl Sampler {
             SamplerKind::Independent => self.rng.next_f32(),
             SamplerKind::Sobol => {
                 if self.dim < SOBOL_DIMS {
-                    let v = sobol_burley::sample(self.index, self.dim, self.stream_seed);
+                    let lane = (self.dim % 4) as usize;
+                    if lane == 0 {
+                        self.cache =
+                            sobol_burley::sample_4d(self.index, self.dim / 4, self.stream_seed);
+                    }
                     self.dim += 1;
-                    v.min(ONE_MINUS_EPSILON)
+                    self.cache[lane].min(ONE_MINUS_EPSILON)
                 } else {
                     self.rng.next_f32()
                 }
