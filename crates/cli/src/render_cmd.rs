@@ -220,5 +220,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         out.stats.nonfinite,
         args.output.display()
     );
+    if STOP.load(Ordering::SeqCst) {
+        // The image so far is written; the exit status tells scripts the render is incomplete.
+        std::process::exit(130);
+    }
     Ok(())
 }

@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 /// Target number of samples per pass (keeps passes short enough for Ctrl-C and checkpoints).
-const SAMPLES_PER_PASS: u64 = 1 << 20;
+const SAMPLES_PER_PASS: u64 = 1 << 18;
 
 /// Renders into `film` by calling `sample(sampler, raster)` for every pixel sample; the closure
 /// returns radiance (W/m²/sr) and must draw all its random numbers from `sampler`.
