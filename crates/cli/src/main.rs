@@ -19,7 +19,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene (a TOML file or a built-in name; the embedded default scene if omitted).
-    Render(render_cmd::RenderArgs),
+    Render(Box<render_cmd::RenderArgs>),
     /// List the built-in scenes.
     Scenes,
 }
@@ -27,7 +27,7 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result: Result<()> = match cli.command {
-        Command::Render(args) => render_cmd::run(args),
+        Command::Render(args) => render_cmd::run(*args),
         Command::Scenes => {
             for name in caustica_scene::loader::builtin_names() {
                 println!("{name}");

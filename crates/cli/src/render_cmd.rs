@@ -15,7 +15,7 @@ use std::time::Duration;
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     /// Scene file (.toml) or built-in scene name (see `caustica scenes`). Default: the embedded
-    /// glass-sphere caustic scene.
+    /// Cornell box.
     pub scene: Option<String>,
     /// Integrator: path (path tracer with NEE and MIS) or lighttrace (light tracer).
     #[arg(long, default_value = "path")]

@@ -5,7 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn caustica(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_caustica")).args(args).output().expect("run caustica")
+    Command::new(env!("CARGO_BIN_EXE_caustica"))
+        .args(args)
+        .output()
+        .expect("run caustica")
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -20,7 +23,10 @@ fn stderr(o: &Output) -> String {
 
 fn assert_clean_failure(o: &Output, must_contain: &[&str]) {
     let err = stderr(o);
-    assert!(!o.status.success(), "expected failure, got success; stderr: {err}");
+    assert!(
+        !o.status.success(),
+        "expected failure, got success; stderr: {err}"
+    );
     assert!(!err.contains("panicked"), "panic: {err}");
     for m in must_contain {
         assert!(err.contains(m), "stderr lacks '{m}': {err}");
@@ -30,15 +36,30 @@ fn assert_clean_failure(o: &Output, must_contain: &[&str]) {
 #[test]
 fn default_scene_renders_exr_and_png_with_summary() {
     let (exr, png) = (tmp("default.exr"), tmp("default.png"));
-    let o = caustica(&["render", "--spp", "1", "-q", "-o", exr.to_str().unwrap(), "--png", png.to_str().unwrap()]);
+    let o = caustica(&[
+        "render",
+        "--spp",
+        "1",
+        "-q",
+        "-o",
+        exr.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     for part in ["samples/s", "rays/s", "NaN/Inf samples discarded"] {
         assert!(out.contains(part), "summary lacks '{part}': {out}");
     }
     let img = caustica_core::image_io::Image::read(&exr).unwrap();
-    assert!(img.width > 0 && img.data.iter().any(|p| p[0] > 0.0), "default image is black");
-    assert_eq!(caustica_core::image_io::Image::read(&png).unwrap().width, img.width);
+    assert!(
+        img.width > 0 && img.data.iter().any(|p| p[0] > 0.0),
+        "default image is black"
+    );
+    assert_eq!(
+        caustica_core::image_io::Image::read(&png).unwrap().width,
+        img.width
+    );
 }
 
 fn write(name: &str, text: &str) -> PathBuf {
@@ -47,23 +68,44 @@ fn write(name: &str, text: &str) -> PathBuf {
     p
 }
 
-const CAMERA: &str = "[camera]\neye = [0, 0, 3]\ntarget = [0, 0, 0]\nfov = 40\nwidth = 8\nheight = 8\n";
+const CAMERA: &str =
+    "[camera]\neye = [0, 0, 3]\ntarget = [0, 0, 0]\nfov = 40\nwidth = 8\nheight = 8\n";
 
 #[test]
 fn malformed_scene_names_file_line_and_expectation() {
     let p = write("malformed.toml", "[camera]\neye = [0, 0, 1\nfov = 40\n");
-    let o = caustica(&["render", p.to_str().unwrap(), "-o", tmp("m.exr").to_str().unwrap()]);
+    let o = caustica(&[
+        "render",
+        p.to_str().unwrap(),
+        "-o",
+        tmp("m.exr").to_str().unwrap(),
+    ]);
     assert_clean_failure(&o, &["malformed.toml:3:", "expected"]);
-    let p = write("wrongtype.toml", &CAMERA.replace("fov = 40", "fov = \"wide\""));
-    let o = caustica(&["render", p.to_str().unwrap(), "-o", tmp("m.exr").to_str().unwrap()]);
+    let p = write(
+        "wrongtype.toml",
+        &CAMERA.replace("fov = 40", "fov = \"wide\""),
+    );
+    let o = caustica(&[
+        "render",
+        p.to_str().unwrap(),
+        "-o",
+        tmp("m.exr").to_str().unwrap(),
+    ]);
     assert_clean_failure(&o, &["wrongtype.toml:4:", "fov"]);
 }
 
 #[test]
 fn missing_mesh_names_the_path() {
-    let text = format!("{CAMERA}[[material]]\nname = \"m\"\ntype = \"diffuse\"\nreflectance = 0.5\n[[shape]]\ntype = \"obj\"\nfilename = \"no-such-mesh.obj\"\nmaterial = \"m\"\n");
+    let text = format!(
+        "{CAMERA}[[material]]\nname = \"m\"\ntype = \"diffuse\"\nreflectance = 0.5\n[[shape]]\ntype = \"obj\"\nfilename = \"no-such-mesh.obj\"\nmaterial = \"m\"\n"
+    );
     let p = write("missing-mesh.toml", &text);
-    let o = caustica(&["render", p.to_str().unwrap(), "-o", tmp("m.exr").to_str().unwrap()]);
+    let o = caustica(&[
+        "render",
+        p.to_str().unwrap(),
+        "-o",
+        tmp("m.exr").to_str().unwrap(),
+    ]);
     assert_clean_failure(&o, &["no-such-mesh.obj"]);
 }
 
@@ -72,31 +114,62 @@ fn invalid_parameters_are_rejected() {
     let out = tmp("p.exr");
     let out = out.to_str().unwrap();
     assert_clean_failure(&caustica(&["render", "--spp", "0", "-o", out]), &["--spp"]);
-    assert_clean_failure(&caustica(&["render", "--max-depth", "0", "-o", out]), &["--max-depth"]);
-    assert_clean_failure(&caustica(&["render", "--threads", "0", "-o", out]), &["--threads"]);
-    assert_clean_failure(&caustica(&["render", "--time", "0", "-o", out]), &["--time"]);
+    assert_clean_failure(
+        &caustica(&["render", "--max-depth", "0", "-o", out]),
+        &["--max-depth"],
+    );
+    assert_clean_failure(
+        &caustica(&["render", "--threads", "0", "-o", out]),
+        &["--threads"],
+    );
+    assert_clean_failure(
+        &caustica(&["render", "--time", "0", "-o", out]),
+        &["--time"],
+    );
     assert_clean_failure(&caustica(&["render", "-o", "out.txt"]), &[".exr"]);
     assert_clean_failure(&caustica(&["render", "no-such-scene"]), &["no-such-scene"]);
     let glass = format!("{CAMERA}[[material]]\nname = \"g\"\ntype = \"dielectric\"\nior = -1.5\n");
     let p = write("bad-ior.toml", &glass);
-    assert_clean_failure(&caustica(&["render", p.to_str().unwrap(), "-o", out]), &["ior"]);
-    let sphere = format!("{CAMERA}[[material]]\nname = \"m\"\ntype = \"diffuse\"\nreflectance = 0.5\n[[shape]]\ntype = \"sphere\"\nmaterial = \"m\"\nradius = -1\n");
+    assert_clean_failure(
+        &caustica(&["render", p.to_str().unwrap(), "-o", out]),
+        &["ior"],
+    );
+    let sphere = format!(
+        "{CAMERA}[[material]]\nname = \"m\"\ntype = \"diffuse\"\nreflectance = 0.5\n[[shape]]\ntype = \"sphere\"\nmaterial = \"m\"\nradius = -1\n"
+    );
     let p = write("bad-radius.toml", &sphere);
-    assert_clean_failure(&caustica(&["render", p.to_str().unwrap(), "-o", out]), &["radius"]);
+    assert_clean_failure(
+        &caustica(&["render", p.to_str().unwrap(), "-o", out]),
+        &["radius"],
+    );
 }
 
 #[test]
 fn nan_and_degenerate_triangles_are_skipped_with_a_warning() {
-    let obj = write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 2 5\n");
+    let obj = write(
+        "bad.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 2 5\n",
+    );
     let text = format!(
         "{CAMERA}[[material]]\nname = \"m\"\ntype = \"diffuse\"\nreflectance = 0.5\n[[shape]]\ntype = \"obj\"\nfilename = \"{}\"\nmaterial = \"m\"\n[[light]]\ntype = \"point\"\nposition = [0, 0, 2]\nintensity = [1, 1, 1]\n",
         obj.file_name().unwrap().to_str().unwrap()
     );
     let p = write("nan-mesh.toml", &text);
-    let o = caustica(&["render", p.to_str().unwrap(), "--spp", "1", "-q", "-o", tmp("n.exr").to_str().unwrap()]);
+    let o = caustica(&[
+        "render",
+        p.to_str().unwrap(),
+        "--spp",
+        "1",
+        "-q",
+        "-o",
+        tmp("n.exr").to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let err = stderr(&o);
-    assert!(err.contains("warning") && err.contains("2 triangles"), "no skip warning: {err}");
+    assert!(
+        err.contains("warning") && err.contains("2 triangles"),
+        "no skip warning: {err}"
+    );
 }
 
 #[test]
@@ -104,13 +177,24 @@ fn interrupt_writes_the_image_so_far() {
     let out = tmp("interrupted.exr");
     let _ = std::fs::remove_file(&out);
     let child = Command::new(env!("CARGO_BIN_EXE_caustica"))
-        .args(["render", "cornell-box", "--spp", "1000000", "-q", "-o", out.to_str().unwrap()])
+        .args([
+            "render",
+            "cornell-box",
+            "--spp",
+            "1000000",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ])
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
     std::thread::sleep(std::time::Duration::from_millis(1500));
-    let killed = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
     assert!(killed.success());
     let o = child.wait_with_output().unwrap();
     assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
@@ -124,7 +208,17 @@ fn checkpoints_are_written_during_the_render() {
     let out = tmp("checkpoint.exr");
     let _ = std::fs::remove_file(&out);
     let mut child = Command::new(env!("CARGO_BIN_EXE_caustica"))
-        .args(["render", "cornell-box", "--time", "4", "--checkpoint", "0.5", "-q", "-o", out.to_str().unwrap()])
+        .args([
+            "render",
+            "cornell-box",
+            "--time",
+            "4",
+            "--checkpoint",
+            "0.5",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ])
         .stdout(std::process::Stdio::null())
         .spawn()
         .unwrap();
@@ -138,5 +232,8 @@ fn checkpoints_are_written_during_the_render() {
         }
     }
     assert!(child.wait().unwrap().success());
-    assert!(seen, "no checkpoint image appeared before the render finished");
+    assert!(
+        seen,
+        "no checkpoint image appeared before the render finished"
+    );
 }

@@ -57,13 +57,9 @@ impl Film {
         };
         for (i, px) in img.data.iter_mut().enumerate() {
             let c = self.count[i];
-            for k in 0..3 {
-                let cam = if c > 0 {
-                    self.sum[i][k] / c as f64
-                } else {
-                    0.0
-                };
-                px[k] = (cam + self.splat[i][k] * inv_paths) as f32;
+            let inv_count = if c > 0 { 1.0 / c as f64 } else { 0.0 };
+            for (k, out) in px.iter_mut().enumerate() {
+                *out = (self.sum[i][k] * inv_count + self.splat[i][k] * inv_paths) as f32;
             }
         }
         img
@@ -108,8 +104,8 @@ impl SplatBuffer {
             let (x, y) = (p.x.floor() as usize, p.y.floor() as usize);
             if x < self.width && y < self.height {
                 let d = &mut self.data[y * self.width + x];
-                for k in 0..3 {
-                    d[k] += v.c[k];
+                for (d, v) in d.iter_mut().zip(v.c) {
+                    *d += v;
                 }
             }
             return;
@@ -128,8 +124,8 @@ impl SplatBuffer {
                 let w = filter.eval(p - Vec2::new(x as f32 + 0.5, y as f32 + 0.5)) / total;
                 if w > 0.0 {
                     let d = &mut self.data[y * self.width + x];
-                    for k in 0..3 {
-                        d[k] += w * v.c[k];
+                    for (d, v) in d.iter_mut().zip(v.c) {
+                        *d += w * v;
                     }
                 }
             }

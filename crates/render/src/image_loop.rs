@@ -60,8 +60,8 @@ where
                         let raster = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                         let l = sample(&mut sampler, raster, &mut st);
                         if l.is_finite() {
-                            for k in 0..3 {
-                                sum_row[x][k] += l.c[k] as f64;
+                            for (acc, v) in sum_row[x].iter_mut().zip(l.c) {
+                                *acc += v as f64;
                             }
                         } else {
                             st.nonfinite += 1;
