@@ -48,20 +48,12 @@ impl LightSource for BeamLight {
         if perp.length_squared() > self.radius * self.radius {
             return None;
         }
-        Some(LightSample {
-            wi: -d,
-            dist: along,
-            p: self.center + perp,
-            weight: self.irradiance,
-            pdf: 1.0,
-            delta: true,
-        })
-    }
-    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _light_p: Vec3, _light_n: Vec3) -> f32 {
-        0.0
-    }
-    fn le(&self, _n: Vec3, _w: Vec3) -> Spectrum {
-        Spectrum::ZERO
+        Some(LightSample::delta(
+            -d,
+            along,
+            self.center + perp,
+            self.irradiance,
+        ))
     }
     /// Origin uniform on the aperture disk (`pdf_pos` = 1/(π r²)), delta direction, `weight` =
     /// E π r², `normal` = beam direction.

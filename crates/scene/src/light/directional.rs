@@ -37,20 +37,8 @@ impl LightSource for DirectionalLight {
     /// light (outside the scene).
     fn sample_li(&self, p: Vec3, _u: Vec2) -> Option<LightSample> {
         let wi = -self.direction;
-        Some(LightSample {
-            wi,
-            dist: f32::INFINITY,
-            p: p + wi * (2.0 * self.scene_radius.max(1.0)),
-            weight: self.irradiance,
-            pdf: 1.0,
-            delta: true,
-        })
-    }
-    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _light_p: Vec3, _light_n: Vec3) -> f32 {
-        0.0
-    }
-    fn le(&self, _n: Vec3, _w: Vec3) -> Spectrum {
-        Spectrum::ZERO
+        let far = p + wi * (2.0 * self.scene_radius.max(1.0));
+        Some(LightSample::delta(wi, f32::INFINITY, far, self.irradiance))
     }
     /// Origin uniform on the disk of the bounding radius r perpendicular to `direction`,
     /// centred one radius upstream of the scene centre (outside the bounding sphere);

@@ -43,6 +43,22 @@ pub struct LightSample {
     pub delta: bool,
 }
 
+impl LightSample {
+    /// Sample of a delta light (point, spot, directional, beam): `weight` is the incident
+    /// radiance-times-solid-angle factor (e.g. I/d² for a point light), `pdf` is 1.
+    #[inline]
+    pub fn delta(wi: Vec3, dist: f32, p: Vec3, weight: Spectrum) -> Self {
+        Self {
+            wi,
+            dist,
+            p,
+            weight,
+            pdf: 1.0,
+            delta: true,
+        }
+    }
+}
+
 /// An emitted ray, sampled for photon or light tracing.
 #[derive(Clone, Copy, Debug)]
 pub struct EmissionSample {
@@ -70,10 +86,16 @@ pub trait LightSource {
     fn sample_li(&self, p: Vec3, u: Vec2) -> Option<LightSample>;
     /// Solid-angle density with which `sample_li(p, ·)` returns direction `wi` hitting the light
     /// at `light_p` with light normal `light_n` (non-delta lights only; 0 otherwise).
-    fn pdf_li(&self, p: Vec3, wi: Vec3, light_p: Vec3, light_n: Vec3) -> f32;
+    fn pdf_li(&self, p: Vec3, wi: Vec3, light_p: Vec3, light_n: Vec3) -> f32 {
+        let _ = (p, wi, light_p, light_n);
+        0.0
+    }
     /// Emitted radiance (W/m²/sr) leaving a point with normal `n` on an area light in direction
     /// `w`; for the environment, radiance arriving from direction `-w`. Zero for delta lights.
-    fn le(&self, n: Vec3, w: Vec3) -> Spectrum;
+    fn le(&self, n: Vec3, w: Vec3) -> Spectrum {
+        let _ = (n, w);
+        Spectrum::ZERO
+    }
     fn sample_emission(&self, u_pos: Vec2, u_dir: Vec2) -> EmissionSample;
     /// Total emitted power (W). For infinite lights it is the power crossing the scene's
     /// bounding disk, which requires `preprocess`.

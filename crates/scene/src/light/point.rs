@@ -30,20 +30,12 @@ impl LightSource for PointLight {
             return None;
         }
         let dist = d2.sqrt();
-        Some(LightSample {
-            wi: v / dist,
+        Some(LightSample::delta(
+            v / dist,
             dist,
-            p: self.position,
-            weight: self.intensity / d2,
-            pdf: 1.0,
-            delta: true,
-        })
-    }
-    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _light_p: Vec3, _light_n: Vec3) -> f32 {
-        0.0
-    }
-    fn le(&self, _n: Vec3, _w: Vec3) -> Spectrum {
-        Spectrum::ZERO
+            self.position,
+            self.intensity / d2,
+        ))
     }
     /// Uniform direction on the sphere: `weight` = 4π I (W), `pdf_dir` = 1/(4π).
     fn sample_emission(&self, _u_pos: Vec2, u_dir: Vec2) -> EmissionSample {

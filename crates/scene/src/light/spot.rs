@@ -97,20 +97,7 @@ impl LightSource for SpotLight {
         if i.is_black() {
             return None;
         }
-        Some(LightSample {
-            wi,
-            dist,
-            p: self.position,
-            weight: i / d2,
-            pdf: 1.0,
-            delta: true,
-        })
-    }
-    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _light_p: Vec3, _light_n: Vec3) -> f32 {
-        0.0
-    }
-    fn le(&self, _n: Vec3, _w: Vec3) -> Spectrum {
-        Spectrum::ZERO
+        Some(LightSample::delta(wi, dist, self.position, i / d2))
     }
     /// Direction uniform in the cutoff cone: `pdf_dir` = 1/(2π(1 − cos cutoff)),
     /// `weight` = I(θ)/pdf_dir.
