@@ -77,6 +77,16 @@ pub struct EmissionSample {
     pub delta_dir: bool,
 }
 
+impl EmissionSample {
+    /// Local frame at the origin: around the surface normal where the light has one, else
+    /// around the emitted direction. Photon differentials (seed 002 eq. 2–3) choose their
+    /// positional (u, v) and directional (θ, φ) bases in the planes of this frame's normal and
+    /// of the direction.
+    pub fn frame(&self) -> caustica_core::Frame {
+        caustica_core::Frame::from_normal(self.normal.unwrap_or(self.ray.d))
+    }
+}
+
 /// Interface of one light type; [`Light`] dispatches.
 pub trait LightSource {
     /// Called once with the scene's bounding sphere (centre, radius, m) before rendering.
