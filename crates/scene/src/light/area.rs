@@ -18,6 +18,9 @@ pub struct AreaLight {
     area: f32,
     /// Triangle selection proportional to area (triangle lists only).
     tri_dist: Option<Distribution1D>,
+    /// Unit winding normal of each triangle (zero for degenerate ones), precomputed for
+    /// sampling.
+    tri_normals: Vec<Vec3>,
 }
 
 /// The surface an area light emits from (world space).
@@ -54,6 +57,13 @@ impl AreaLight {
             AreaShape::Sphere(s) => (4.0 * PI * s.radius * s.radius, None),
             AreaShape::Disk(d) => (PI * d.radius * d.radius, None),
         };
+        let tri_normals = match &shape {
+            AreaShape::Triangles(tris) => tris
+                .iter()
+                .map(|t| (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero())
+                .collect(),
+            _ => Vec::new(),
+        };
         let area = if area.is_finite() && area > 0.0 {
             area
         } else {
@@ -65,6 +75,7 @@ impl AreaLight {
             two_sided,
             area,
             tri_dist,
+            tri_normals,
         }
     }
 
@@ -74,6 +85,7 @@ impl AreaLight {
     }
 
     /// Uniform point by area; `None` for an empty or degenerate shape.
+    #[inline]
     fn sample_area(&self, u: Vec2) -> Option<AreaPoint> {
         if self.area <= 0.0 {
             return None;
@@ -85,7 +97,10 @@ impl AreaLight {
                 let t = tris.get(i)?;
                 let b = warp::square_to_uniform_triangle(Vec2::new(ux, u.y));
                 let p = t[0] * (1.0 - b.x - b.y) + t[1] * b.x + t[2] * b.y;
-                let n = (t[1] - t[0]).cross(t[2] - t[0]).try_normalize()?;
+                let n = *self.tri_normals.get(i)?;
+                if n == Vec3::ZERO {
+                    return None;
+                }
                 Some(AreaPoint { p, n })
             }
             AreaShape::Sphere(s) => {
@@ -189,8 +204,31 @@ impl LightSource for AreaLight {
                 Self::sample_sphere_cone(s, p, u)?
             }
             _ => {
+                // Area sampling: d² / (|cos θ_l| A), sharing d with the returned sample.
                 let a = self.sample_area(u)?;
-                (a.p, a.n, self.area_to_solid_angle(p, a.p, a.n))
+                let v = a.p - p;
+                let d2 = v.length_squared();
+                if d2 <= 0.0 || d2.is_nan() {
+                    return None;
+                }
+                let dist = d2.sqrt();
+                let wi = v / dist;
+                let cos = a.n.dot(wi).abs();
+                if cos <= 0.0 || cos.is_nan() || !self.emits(a.n, -wi) {
+                    return None;
+                }
+                let pdf = d2 / (cos * self.area);
+                if pdf <= 0.0 || !pdf.is_finite() {
+                    return None;
+                }
+                return Some(LightSample {
+                    wi,
+                    dist,
+                    p: a.p,
+                    weight: self.radiance / pdf,
+                    pdf,
+                    delta: false,
+                });
             }
         };
         let v = lp - p;

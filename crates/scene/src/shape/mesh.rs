@@ -6,7 +6,7 @@
 use super::Aabb;
 use crate::geometry::ShapeHit;
 use crate::intersection::TriangleVertices;
-use caustica_core::{Affine3A, Frame, Mat3, Vec2, Vec3};
+use caustica_core::{Affine3A, Frame, Vec2, Vec3};
 
 /// A ray prepared for the watertight ray/triangle test of Woop, Benthin and Wald (2013):
 /// vertices are translated to the ray origin, permuted so the ray's dominant axis is z and
@@ -16,47 +16,62 @@ use caustica_core::{Affine3A, Frame, Mat3, Vec2, Vec3};
 #[derive(Clone, Copy, Debug)]
 pub struct TriangleRay {
     o: Vec3,
-    /// Permutation + shear + scale: `(x', y', z') = m (v − o)`.
-    m: Mat3,
+    /// Axis permutation: the ray's dominant axis is `kz`; `kx`, `ky` keep a right-handed order.
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    /// Shear `(−d_kx/d_kz, −d_ky/d_kz)` and scale `1/d_kz` (Woop et al. 2013, eq. 2).
+    sx: f32,
+    sy: f32,
+    sz: f32,
 }
 
 impl TriangleRay {
     #[inline]
     pub fn new(o: Vec3, d: Vec3) -> Self {
         let kz = d.abs().max_position();
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if d[kz] < 0.0 {
+        let mut kx = if kz == 2 { 0 } else { kz + 1 };
+        let mut ky = if kx == 2 { 0 } else { kx + 1 };
+        let da = d.to_array();
+        if da[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let e = |k: usize| match k {
-            0 => Vec3::X,
-            1 => Vec3::Y,
-            _ => Vec3::Z,
-        };
-        let (sx, sy, sz) = (d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
-        let rows = [e(kx) - e(kz) * sx, e(ky) - e(kz) * sy, e(kz) * sz];
+        let sz = 1.0 / da[kz];
         Self {
             o,
-            m: Mat3::from_cols(rows[0], rows[1], rows[2]).transpose(),
+            kx,
+            ky,
+            kz,
+            sx: da[kx] * sz,
+            sy: da[ky] * sz,
+            sz,
         }
     }
 
     /// Hit with triangle `(p0, p1, p2)`: `(t, b1, b2)` with `t ∈ (0, t_max)` and barycentrics
     /// `b1, b2 ≥ 0`, `b1 + b2 ≤ 1` (edges inclusive). Rays in the triangle's plane and
     /// degenerate triangles miss.
+    ///
+    /// Each vertex `v` maps to `x' = (v − o)_kx − sx (v − o)_kz`, `y' = (v − o)_ky − sy (v − o)_kz`,
+    /// `z' = sz (v − o)_kz`, the same function whatever triangle it belongs to (watertight).
     #[inline(always)]
     pub fn intersect(&self, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<(f32, f32, f32)> {
-        let a = self.m * (p0 - self.o);
-        let b = self.m * (p1 - self.o);
-        let c = self.m * (p2 - self.o);
-        let mut u = c.x * b.y - c.y * b.x;
-        let mut v = a.x * c.y - a.y * c.x;
-        let mut w = b.x * a.y - b.y * a.x;
+        // `& 3` on 4-lane arrays proves the indices in range without a bounds check.
+        let (kx, ky, kz) = (self.kx & 3, self.ky & 3, self.kz & 3);
+        let a = (p0 - self.o).extend(0.0).to_array();
+        let b = (p1 - self.o).extend(0.0).to_array();
+        let c = (p2 - self.o).extend(0.0).to_array();
+        let (az, bz, cz) = (a[kz], b[kz], c[kz]);
+        let (ax, ay) = (a[kx] - self.sx * az, a[ky] - self.sy * az);
+        let (bx, by) = (b[kx] - self.sx * bz, b[ky] - self.sy * bz);
+        let (cx, cy) = (c[kx] - self.sx * cz, c[ky] - self.sy * cz);
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
         if u == 0.0 || v == 0.0 || w == 0.0 {
             // Exactly on an edge in single precision: decide in double precision.
             let (ax, ay, bx, by, cx, cy) = (
-                a.x as f64, a.y as f64, b.x as f64, b.y as f64, c.x as f64, c.y as f64,
+                ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64,
             );
             u = (cx * by - cy * bx) as f32;
             v = (ax * cy - ay * cx) as f32;
@@ -70,7 +85,7 @@ impl TriangleRay {
             return None;
         }
         let inv = 1.0 / det;
-        let t = (u * a.z + v * b.z + w * c.z) * inv;
+        let t = self.sz * (u * az + v * bz + w * cz) * inv;
         (t > 0.0 && t < t_max).then_some((t, v * inv, w * inv))
     }
 }
