@@ -5,13 +5,12 @@
 
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::options::{Progress, RenderControl, RenderOptions};
+use crate::options::{PassClock, Progress, RenderControl, RenderOptions};
 use crate::stats::RenderStats;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec2};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::Instant;
 
 /// Target number of samples per pass (keeps passes short enough for Ctrl-C and checkpoints).
 const SAMPLES_PER_PASS: u64 = 1 << 18;
@@ -30,8 +29,7 @@ where
 {
     let (w, h) = (film.width, film.height);
     let pixels = (w * h) as u64;
-    let start = Instant::now();
-    let mut last_checkpoint = Instant::now();
+    let mut clock = PassClock::new();
     let per_pass = (SAMPLES_PER_PASS / pixels.max(1)).clamp(1, 64) as u32;
     let mut done_spp = 0u32;
     let mut stats = RenderStats::default();
@@ -72,12 +70,8 @@ where
                 st.samples += (w as u64) * pass_spp as u64;
                 let total = samples_done.fetch_add(w as u64 * pass_spp as u64, Ordering::Relaxed)
                     + w as u64 * pass_spp as u64;
-                let fraction = match opts.time_limit {
-                    Some(t) => start.elapsed().as_secs_f64() / t.as_secs_f64(),
-                    None => total as f64 / (pixels * opts.spp as u64) as f64,
-                };
                 (ctl.on_progress)(Progress {
-                    fraction: fraction.min(1.0),
+                    fraction: clock.fraction(opts, total as f64, (pixels * opts.spp as u64) as f64),
                     samples: total,
                 });
                 st
@@ -87,19 +81,8 @@ where
             stats += r;
         }
         done_spp += pass_spp;
-        if ctl.stop.load(Ordering::Relaxed) {
+        if clock.end_of_pass(opts, ctl, film) {
             break;
-        }
-        if let Some(t) = opts.time_limit
-            && start.elapsed() >= t
-        {
-            break;
-        }
-        if let Some(iv) = opts.checkpoint_interval
-            && last_checkpoint.elapsed() >= iv
-        {
-            (ctl.on_checkpoint)(film);
-            last_checkpoint = Instant::now();
         }
     }
     stats

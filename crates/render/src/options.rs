@@ -3,7 +3,8 @@
 use crate::film::Film;
 use caustica_core::sampling::SamplerKind;
 use std::sync::atomic::AtomicBool;
-use std::time::Duration;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
 
 /// Parameters shared by all integrators.
 #[derive(Clone, Debug)]
@@ -65,5 +66,55 @@ impl RenderControl<'_> {
             on_progress: &|_| {},
             on_checkpoint: &|_| {},
         }
+    }
+}
+
+/// Between-pass bookkeeping shared by the render drivers: progress fraction, checkpoints, and
+/// whether to stop (Ctrl-C flag or time budget).
+pub(crate) struct PassClock {
+    start: Instant,
+    last_checkpoint: Instant,
+}
+
+impl PassClock {
+    pub(crate) fn new() -> Self {
+        Self {
+            start: Instant::now(),
+            last_checkpoint: Instant::now(),
+        }
+    }
+
+    /// Fraction done: by time under a budget, else `done / total` work units.
+    pub(crate) fn fraction(&self, opts: &RenderOptions, done: f64, total: f64) -> f64 {
+        let f = match opts.time_limit {
+            Some(t) => self.start.elapsed().as_secs_f64() / t.as_secs_f64(),
+            None => done / total.max(1.0),
+        };
+        f.min(1.0)
+    }
+
+    /// Called after each pass: writes a checkpoint when one is due and tells whether the render
+    /// must stop now.
+    pub(crate) fn end_of_pass(
+        &mut self,
+        opts: &RenderOptions,
+        ctl: &RenderControl,
+        film: &Film,
+    ) -> bool {
+        if ctl.stop.load(Ordering::Relaxed) {
+            return true;
+        }
+        if let Some(t) = opts.time_limit
+            && self.start.elapsed() >= t
+        {
+            return true;
+        }
+        if let Some(iv) = opts.checkpoint_interval
+            && self.last_checkpoint.elapsed() >= iv
+        {
+            (ctl.on_checkpoint)(film);
+            self.last_checkpoint = Instant::now();
+        }
+        false
     }
 }

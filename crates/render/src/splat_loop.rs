@@ -3,12 +3,10 @@
 //! neither the chunking nor the merge order depends on the thread count, neither does the image.
 
 use crate::film::{Film, SplatBuffer};
-use crate::options::{Progress, RenderControl, RenderOptions};
+use crate::options::{PassClock, Progress, RenderControl, RenderOptions};
 use crate::stats::RenderStats;
 use caustica_core::sampling::Sampler;
 use rayon::prelude::*;
-use std::sync::atomic::Ordering;
-use std::time::Instant;
 
 /// Light paths per chunk.
 pub const CHUNK: u64 = 1 << 14;
@@ -27,8 +25,7 @@ pub fn render_paths<F>(
 where
     F: Fn(&mut Sampler, &mut SplatBuffer, &mut RenderStats) + Sync,
 {
-    let start = Instant::now();
-    let mut last_checkpoint = Instant::now();
+    let mut clock = PassClock::new();
     let mut buffers: Vec<SplatBuffer> = (0..WAVE)
         .map(|_| SplatBuffer::new(film.width, film.height))
         .collect();
@@ -68,27 +65,12 @@ where
             next_path += n;
             stats += st;
         }
-        let fraction = match opts.time_limit {
-            Some(t) => start.elapsed().as_secs_f64() / t.as_secs_f64(),
-            None => next_path as f64 / total_paths.max(1) as f64,
-        };
         (ctl.on_progress)(Progress {
-            fraction: fraction.min(1.0),
+            fraction: clock.fraction(opts, next_path as f64, total_paths as f64),
             samples: next_path,
         });
-        if ctl.stop.load(Ordering::Relaxed) {
+        if clock.end_of_pass(opts, ctl, film) {
             break;
-        }
-        if let Some(t) = opts.time_limit
-            && start.elapsed() >= t
-        {
-            break;
-        }
-        if let Some(iv) = opts.checkpoint_interval
-            && last_checkpoint.elapsed() >= iv
-        {
-            (ctl.on_checkpoint)(film);
-            last_checkpoint = Instant::now();
         }
     }
     stats

@@ -81,9 +81,18 @@ pub fn emission_ray(es: &EmissionSample) -> Ray {
     }
 }
 
-/// Russian roulette survival probability for throughput `beta` (Mitsuba's rule: the largest
-/// channel, capped at 0.95).
+/// Russian roulette after `depth` edges: from `rr_depth` on, a path survives with probability
+/// q = min(max channel of `beta`, 0.95) (Mitsuba's rule) and its throughput is divided by q.
+/// Returns false when the path ends. `u` is the uniform number reserved for the decision.
 #[inline]
-pub fn rr_survival(beta: Spectrum) -> f32 {
-    beta.max_component().min(0.95)
+pub fn russian_roulette(beta: &mut Spectrum, depth: u32, rr_depth: u32, u: f32) -> bool {
+    if depth < rr_depth {
+        return true;
+    }
+    let q = beta.max_component().min(0.95);
+    if u >= q {
+        return false;
+    }
+    *beta /= q;
+    true
 }

@@ -7,7 +7,9 @@ use crate::film::SplatBuffer;
 use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
-use crate::surface::{Vertex, emission_ray, interior_transmittance, offset_origin, rr_survival};
+use crate::surface::{
+    Vertex, emission_ray, interior_transmittance, offset_origin, russian_roulette,
+};
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum};
 use caustica_scene::Scene;
@@ -120,12 +122,8 @@ pub fn trace_light_path(
             break;
         }
         depth += 1;
-        if depth >= opts.rr_depth {
-            let q = rr_survival(beta);
-            if u_rr >= q {
-                break;
-            }
-            beta /= q;
+        if !russian_roulette(&mut beta, depth, opts.rr_depth, u_rr) {
+            break;
         }
         ray = v.si.spawn_ray(wi);
     }

@@ -4,7 +4,7 @@
 use crate::direct::sample_direct;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
-use crate::surface::{Vertex, interior_transmittance, rr_survival};
+use crate::surface::{Vertex, interior_transmittance, russian_roulette};
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
 use caustica_core::{Ray, Spectrum, Vec3};
@@ -91,12 +91,8 @@ pub fn radiance(
         if beta.is_black() {
             break;
         }
-        if depth >= opts.rr_depth {
-            let q = rr_survival(beta);
-            if u_rr >= q {
-                break;
-            }
-            beta /= q;
+        if !russian_roulette(&mut beta, depth, opts.rr_depth, u_rr) {
+            break;
         }
         ray = v.si.spawn_ray(wi);
     }
