@@ -26,6 +26,8 @@ pub struct SceneSettings {
     pub spp: Option<u32>,
     pub filter: FilterKind,
     pub max_depth: Option<u32>,
+    /// Integrator the scene file asks for (e.g. Mitsuba's `path` or `ptracer`), if any.
+    pub integrator: Option<String>,
 }
 
 /// An immutable, ready-to-render scene.

@@ -1,0 +1,606 @@
+use super::*;
+use crate::camera::FovAxis;
+use crate::light::Light;
+use crate::material::{Material, conductor_preset};
+use crate::scene::FilterKind;
+use crate::shape::ShapeGeometry;
+use crate::texture::Texture;
+
+const CAM: &str = r#"<sensor type="perspective"><float name="fov" value="40"/>
+<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+
+fn path() -> PathBuf {
+    PathBuf::from("/virtual/dir/scene.xml")
+}
+
+fn parse(body: &str) -> Result<SceneBuilder, SceneError> {
+    parse_defs(body, &[])
+}
+
+fn parse_defs(body: &str, defs: &[(&str, &str)]) -> Result<SceneBuilder, SceneError> {
+    let text = format!("<scene version=\"3.0.0\">\n{body}\n</scene>\n");
+    let defs: Vec<(String, String)> = defs
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+    parse_mitsuba(&text, &path(), &defs)
+}
+
+/// Expects a parse error at `line` (1-based, the `<scene>` tag is line 1) and `column`
+/// (`None`: any column) whose message contains every word of `words`.
+fn expect_err(
+    r: Result<SceneBuilder, SceneError>,
+    line: usize,
+    column: Option<usize>,
+    words: &[&str],
+) {
+    match r {
+        Err(SceneError::Parse {
+            line: l,
+            column: c,
+            message,
+            ..
+        }) => {
+            assert_eq!(l, line, "line of: {message}");
+            if let Some(col) = column {
+                assert_eq!(c, col, "column of: {message}");
+            }
+            for w in words {
+                assert!(message.contains(w), "'{w}' not in: {message}");
+            }
+        }
+        Err(e) => panic!("expected a parse error, got {e}"),
+        Ok(_) => panic!("expected a parse error"),
+    }
+}
+
+fn only_material(b: &SceneBuilder) -> &Material {
+    b.materials().last().unwrap()
+}
+
+fn sphere_centre(b: &SceneBuilder, i: usize) -> Vec3 {
+    match &b.shapes()[i].geometry {
+        ShapeGeometry::Sphere(s) => s.center,
+        _ => panic!("not a sphere"),
+    }
+}
+
+#[test]
+fn substitution_defaults_and_defines() {
+    let body = r#"<default name="r" value="0.25"/>
+<default name="g" value="0.5"/>
+<bsdf type="diffuse" id="a"><rgb name="reflectance" value="$r, $g $r"/></bsdf>"#;
+    let b = parse(body).unwrap();
+    let Material::Diffuse {
+        reflectance: Texture::Constant(c),
+    } = only_material(&b)
+    else {
+        panic!()
+    };
+    assert_eq!(c.to_rgb(), [0.25, 0.5, 0.25]);
+    // A define overrides the default; the other default still applies.
+    let b = parse_defs(body, &[("r", "0.125")]).unwrap();
+    let Material::Diffuse {
+        reflectance: Texture::Constant(c),
+    } = only_material(&b)
+    else {
+        panic!()
+    };
+    assert_eq!(c.to_rgb(), [0.125, 0.5, 0.125]);
+    // An undefined parameter is an error at the attribute value.
+    expect_err(
+        parse(r#"<bsdf type="diffuse"><float name="reflectance" value="$nope"/></bsdf>"#),
+        2,
+        Some(55),
+        &["$nope"],
+    );
+}
+
+#[test]
+fn references_resolve_including_nested_ones() {
+    let body = r#"<bsdf type="conductor" id="gold"><string name="material" value="Au"/></bsdf>
+<bsdf type="twosided" id="two"><ref id="gold"/></bsdf>
+<shape type="sphere"><ref id="gold"/></shape>
+<shape type="sphere"><ref name="bsdf" id="two"/></shape>"#;
+    let b = parse(body).unwrap();
+    let (eta, k) = conductor_preset("Au").unwrap();
+    assert_eq!(b.materials().len(), 2);
+    for s in b.shapes() {
+        let m = &b.materials()[s.material as usize];
+        assert!(matches!(m, Material::Conductor { eta: e, k: kk, .. } if *e == eta && *kk == k));
+    }
+    assert_eq!(b.material_names(), ["gold", "two"]);
+    assert_eq!(b.shapes()[0].material, 0);
+    assert_eq!(b.shapes()[1].material, 1);
+    expect_err(
+        parse(r#"<shape type="sphere"><ref id="missing"/></shape>"#),
+        2,
+        Some(31),
+        &["missing"],
+    );
+    expect_err(
+        parse(r#"<bsdf type="diffuse" id="a"/><bsdf type="diffuse" id="a"/>"#),
+        2,
+        Some(55),
+        &["duplicate"],
+    );
+}
+
+#[test]
+fn transforms_compose_in_mitsuba_order() {
+    // Sphere at the origin moved to (1, 0, 0), then rotated 90° about z → (0, 1, 0).
+    let tr = r#"<translate x="1"/><rotate z="1" angle="90"/>"#;
+    // Rotated first (origin stays), then moved → (1, 0, 0).
+    let rt = r#"<rotate z="1" angle="90"/><translate value="1 0 0"/>"#;
+    // Scale 2 then translate: centre (0.5,0,0) → (1,0,0) → (1,0,3); radius 0.5 → 1.
+    let st = r#"<scale value="2"/><translate x="0" y="0" z="3"/>"#;
+    let body = format!(
+        r#"<shape type="sphere"><transform name="to_world">{tr}</transform></shape>
+<shape type="sphere"><transform name="to_world">{rt}</transform></shape>
+<shape type="sphere"><point name="center" x="0.5" y="0" z="0"/><float name="radius" value="0.5"/>
+<transform name="to_world">{st}</transform></shape>
+<shape type="sphere"><transform name="to_world"><matrix value="1 0 0 4  0 1 0 5  0 0 1 6  0 0 0 1"/></transform></shape>"#
+    );
+    let b = parse(&body).unwrap();
+    assert!(sphere_centre(&b, 0).abs_diff_eq(Vec3::new(0.0, 1.0, 0.0), 1e-6));
+    assert!(sphere_centre(&b, 1).abs_diff_eq(Vec3::new(1.0, 0.0, 0.0), 1e-6));
+    assert!(sphere_centre(&b, 2).abs_diff_eq(Vec3::new(1.0, 0.0, 3.0), 1e-6));
+    let ShapeGeometry::Sphere(s) = &b.shapes()[2].geometry else {
+        panic!()
+    };
+    assert!((s.radius - 1.0).abs() < 1e-6);
+    // Row-major matrix: the last column is the translation.
+    assert_eq!(sphere_centre(&b, 3), Vec3::new(4.0, 5.0, 6.0));
+    // Non-uniform scale on a sphere is an error.
+    expect_err(
+        parse(
+            r#"<shape type="sphere"><transform name="to_world"><scale x="2"/></transform></shape>"#,
+        ),
+        2,
+        Some(1),
+        &["uniform"],
+    );
+}
+
+#[test]
+fn bsdfs_convert() {
+    let body = r#"<bsdf type="diffuse" id="d"><float name="reflectance" value="0.3"/></bsdf>
+<bsdf type="dielectric" id="water"><string name="int_ior" value="water"/><string name="ext_ior" value="vacuum"/></bsdf>
+<bsdf type="dielectric" id="bk7"/>
+<bsdf type="dielectric" id="num"><float name="int_ior" value="1.6"/><float name="ext_ior" value="1.2"/></bsdf>
+<bsdf type="roughdielectric" id="rd"><float name="alpha" value="0.2"/><string name="distribution" value="ggx"/></bsdf>
+<bsdf type="thindielectric" id="thin"/>
+<bsdf type="conductor" id="mirror"/>
+<bsdf type="conductor" id="explicit"><rgb name="eta" value="0.2 0.3 0.4"/><rgb name="k" value="3 2 1"/></bsdf>
+<bsdf type="roughconductor" id="rc"><string name="material" value="Cu"/><float name="alpha" value="0.3"/><spectrum name="specular_reflectance" value="0.5"/></bsdf>
+<bsdf type="twosided" id="ts"><bsdf type="diffuse"><rgb name="reflectance" value="0.1, 0.2, 0.3"/></bsdf></bsdf>
+<bsdf type="plastic" id="pl"><rgb name="diffuse_reflectance" value="0.5 0.5 0.5"/></bsdf>"#;
+    let b = parse(body).unwrap();
+    let m = |n: &str| &b.materials()[b.material_index(n).unwrap() as usize];
+    assert!(
+        matches!(m("d"), Material::Diffuse { reflectance: Texture::Constant(c) } if c.to_rgb() == [0.3; 3])
+    );
+    assert!(matches!(m("water"), Material::Dielectric { ior, .. } if *ior == 1.333));
+    assert!(
+        matches!(m("bk7"), Material::Dielectric { ior, .. } if (*ior - 1.5046 / 1.000277).abs() < 1e-6)
+    );
+    assert!(
+        matches!(m("num"), Material::Dielectric { ior, .. } if (*ior - 1.6 / 1.2).abs() < 1e-6)
+    );
+    assert!(
+        matches!(m("rd"), Material::RoughDielectric { ior, alpha, .. } if *alpha == 0.2 && (*ior - 1.5046 / 1.000277).abs() < 1e-6)
+    );
+    assert!(matches!(m("thin"), Material::Dielectric { ior, .. } if *ior == 1.0));
+    assert!(
+        matches!(m("mirror"), Material::Mirror { reflectance } if *reflectance == Spectrum::ONE)
+    );
+    assert!(matches!(m("explicit"), Material::Conductor { eta, k, .. }
+        if eta.to_rgb() == [0.2, 0.3, 0.4] && k.to_rgb() == [3.0, 2.0, 1.0]));
+    let (eta_cu, k_cu) = conductor_preset("Cu").unwrap();
+    assert!(
+        matches!(m("rc"), Material::RoughConductor { eta, k, alpha, specular }
+        if *eta == eta_cu && *k == k_cu && *alpha == 0.3 && specular.to_rgb() == [0.5; 3])
+    );
+    assert!(
+        matches!(m("ts"), Material::Diffuse { reflectance: Texture::Constant(c) } if c.to_rgb() == [0.1, 0.2, 0.3])
+    );
+    // Plastic: F0 of ior 1.49/1.000277 ≈ 0.0386 (hand-computed: ((1.4896-1)/(2.4896))² = 0.03868).
+    let Material::Phong {
+        diffuse: Texture::Constant(kd),
+        specular,
+        ..
+    } = m("pl")
+    else {
+        panic!()
+    };
+    assert!(
+        (specular.to_rgb()[0] - 0.03868).abs() < 2e-4,
+        "{specular:?}"
+    );
+    assert!((kd.to_rgb()[0] - 0.5 * (1.0 - 0.03868)).abs() < 2e-4);
+    // Approximations are reported in one warning naming lines.
+    let w = b.pending_warnings();
+    let approx: Vec<_> = w.iter().filter(|w| w.contains("approximated")).collect();
+    assert_eq!(approx.len(), 1, "{w:?}");
+    assert!(
+        approx[0].contains("thindielectric") && approx[0].contains("scene.xml:7"),
+        "{w:?}"
+    );
+    assert!(
+        approx[0].contains("Phong") && approx[0].contains("scene.xml:12"),
+        "{w:?}"
+    );
+    // Unknown names are errors at the attribute value.
+    expect_err(
+        parse(r#"<bsdf type="dielectric"><string name="int_ior" value="unobtainium"/></bsdf>"#),
+        2,
+        Some(55),
+        &["unobtainium"],
+    );
+    expect_err(
+        parse(r#"<bsdf type="conductor"><string name="material" value="Xx"/></bsdf>"#),
+        2,
+        Some(55),
+        &["Xx"],
+    );
+    expect_err(parse(r#"<bsdf type="velvet"/>"#), 2, Some(13), &["velvet"]);
+    // Albedo above one is rejected with the element's position.
+    expect_err(
+        parse(r#"<bsdf type="diffuse"><float name="reflectance" value="1.5"/></bsdf>"#),
+        2,
+        Some(1),
+        &["reflectance"],
+    );
+}
+
+#[test]
+fn shapes_convert() {
+    let body = r#"<shape type="disk"><transform name="to_world"><scale value="2"/><rotate x="1" angle="90"/><translate y="1"/></transform>
+  <boolean name="flip_normals" value="true"/></shape>
+<shape type="rectangle"><transform name="to_world"><scale x="2" y="3"/></transform>
+  <emitter type="area"><rgb name="radiance" value="1 2 3"/></emitter></shape>
+<shape type="cube"/>
+<shape type="cylinder"><float name="radius" value="0.5"/><point name="p1" x="0" y="2" z="0"/></shape>"#;
+    let b = parse(body).unwrap();
+    assert_eq!(b.shape_count(), 4);
+    // Disk: +z rotated 90° about x → −y... then flipped → +y; radius 2 at (0, 1, 0).
+    let ShapeGeometry::Disk(d) = &b.shapes()[0].geometry else {
+        panic!()
+    };
+    assert!(d.center.abs_diff_eq(Vec3::new(0.0, 1.0, 0.0), 1e-6));
+    assert!(d.normal.abs_diff_eq(Vec3::Y, 1e-6), "{:?}", d.normal);
+    assert!((d.radius - 2.0).abs() < 1e-6);
+    // Rectangle 4 × 6 emitting (1, 2, 3): power π·A·L.
+    let ShapeGeometry::Mesh(r) = &b.shapes()[1].geometry else {
+        panic!()
+    };
+    assert!((r.triangle_area(0) + r.triangle_area(1) - 24.0).abs() < 1e-4);
+    assert_eq!(b.lights().len(), 1);
+    let p = b.lights()[0].power().to_rgb();
+    let pi = std::f32::consts::PI;
+    for (c, l) in p.iter().zip([1.0, 2.0, 3.0]) {
+        assert!((c - pi * 24.0 * l).abs() < 1e-3 * c, "{p:?}");
+    }
+    // Cube: area 6 · 4.
+    let ShapeGeometry::Mesh(c) = &b.shapes()[2].geometry else {
+        panic!()
+    };
+    let area: f32 = (0..12).map(|i| c.triangle_area(i)).sum();
+    assert!((area - 24.0).abs() < 1e-4);
+    // Cylinder along y, radius 0.5, length 2: lateral area 2π·0.5·2 = 2π within tessellation
+    // error (64 segments: factor sin(π/64)/(π/64) ≈ 0.9996).
+    let ShapeGeometry::Mesh(cy) = &b.shapes()[3].geometry else {
+        panic!()
+    };
+    let area: f32 = (0..cy.indices.len()).map(|i| cy.triangle_area(i)).sum();
+    assert!((area - 2.0 * pi).abs() < 2e-3 * 2.0 * pi, "{area}");
+    assert!(cy.positions.iter().all(|p| p.y > -1e-6 && p.y < 2.0 + 1e-6));
+    assert!(
+        cy.positions
+            .iter()
+            .all(|p| ((p.x * p.x + p.z * p.z).sqrt() - 0.5).abs() < 1e-5)
+    );
+    // Unknown shape type, missing mesh.
+    expect_err(parse(r#"<shape type="teapot"/>"#), 2, Some(14), &["teapot"]);
+    match parse(r#"<shape type="obj"><string name="filename" value="meshes/none.obj"/></shape>"#) {
+        Err(SceneError::File { path, .. }) => assert!(path.ends_with("dir/meshes/none.obj")),
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("missing mesh accepted"),
+    }
+    // An OBJ mesh with face_normals drops its vertex normals and is transformed.
+    let dir = std::env::temp_dir().join(format!("caustica-mitsuba-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n",
+    )
+    .unwrap();
+    let text = r#"<scene version="3.0.0"><shape type="obj"><string name="filename" value="tri.obj"/>
+<boolean name="face_normals" value="true"/><transform name="to_world"><translate z="2"/></transform></shape></scene>"#;
+    let b = parse_mitsuba(text, &dir.join("s.xml"), &[]).unwrap();
+    let ShapeGeometry::Mesh(m) = &b.shapes()[0].geometry else {
+        panic!()
+    };
+    assert!(m.normals.is_none());
+    assert!(m.positions.iter().all(|p| p.z == 2.0));
+}
+
+#[test]
+fn emitters_convert() {
+    let body = r#"<emitter type="point"><rgb name="intensity" value="1 2 3"/><point name="position" x="0" y="4" z="0"/></emitter>
+<emitter type="point"><transform name="to_world"><translate x="5"/></transform></emitter>
+<emitter type="spot"><float name="intensity" value="7"/><float name="cutoff_angle" value="40"/>
+  <transform name="to_world"><lookat origin="0 3 0" target="0 0 0" up="0 0 1"/></transform></emitter>
+<emitter type="directional"><vector name="direction" value="0, -2, 0"/><spectrum name="irradiance" value="3"/></emitter>
+<emitter type="constant"><rgb name="radiance" value="0.5 0.5 0.5"/></emitter>"#;
+    let b = parse(body).unwrap();
+    let l = b.lights();
+    assert_eq!(l.len(), 5);
+    let Light::Point(p) = &l[0] else { panic!() };
+    assert_eq!(p.position, Vec3::new(0.0, 4.0, 0.0));
+    assert_eq!(p.intensity.to_rgb(), [1.0, 2.0, 3.0]);
+    let Light::Point(p) = &l[1] else { panic!() };
+    assert_eq!(p.position, Vec3::new(5.0, 0.0, 0.0));
+    assert_eq!(p.intensity, Spectrum::ONE);
+    let Light::Spot(s) = &l[2] else { panic!() };
+    assert!(s.position.abs_diff_eq(Vec3::new(0.0, 3.0, 0.0), 1e-6));
+    assert!(s.frame.n.abs_diff_eq(-Vec3::Y, 1e-6));
+    assert!((s.cutoff_angle - 40f32.to_radians()).abs() < 1e-6);
+    assert!((s.beam_width - 30f32.to_radians()).abs() < 1e-6);
+    let Light::Directional(dl) = &l[3] else {
+        panic!()
+    };
+    assert!(dl.direction.abs_diff_eq(-Vec3::Y, 1e-6));
+    assert!(matches!(&l[4], Light::Environment(_)));
+    expect_err(
+        parse(r#"<emitter type="envmap"/>"#),
+        2,
+        Some(16),
+        &["envmap"],
+    );
+    expect_err(
+        parse(r#"<shape type="sphere"><emitter type="point"/></shape>"#),
+        2,
+        Some(37),
+        &["point"],
+    );
+}
+
+#[test]
+fn sensor_film_sampler_integrator() {
+    let body = r#"<integrator type="ptracer"><integer name="max_depth" value="5"/></integrator>
+<sensor type="perspective"><float name="fov" value="30"/><string name="fov_axis" value="y"/>
+  <float name="near_clip" value="0.1"/>
+  <transform name="to_world"><lookat origin="1, 2, 3" target="1, 2, -1" up="0, 1, 0"/></transform>
+  <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+  <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="32"/>
+    <rfilter type="gaussian"><float name="stddev" value="0.25"/></rfilter></film></sensor>"#;
+    let b = parse(body).unwrap();
+    let c = b.camera().unwrap();
+    assert_eq!(
+        (c.width, c.height, c.fov_deg, c.fov_axis),
+        (64, 32, 30.0, FovAxis::Y)
+    );
+    assert_eq!(c.near_clip, 0.1);
+    // Looking down −z: camera +x (image left) is world −x.
+    assert!(Vec3::from(c.to_world.matrix3.x_axis).abs_diff_eq(-Vec3::X, 1e-6));
+    assert!(Vec3::from(c.to_world.matrix3.z_axis).abs_diff_eq(-Vec3::Z, 1e-6));
+    assert_eq!(c.position(), Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(b.settings.spp, Some(16));
+    assert_eq!(b.settings.max_depth, Some(5));
+    assert_eq!(b.settings.integrator.as_deref(), Some("ptracer"));
+    assert_eq!(
+        b.settings.filter,
+        FilterKind::Gaussian {
+            stddev: 0.25,
+            radius: 1.0
+        }
+    );
+    // Diagonal fov converts exactly: 4:3 image, diagonal 90° → tan(x/2) = 0.8.
+    let body = r#"<sensor type="perspective"><float name="fov" value="90"/><string name="fov_axis" value="diagonal"/>
+<film type="hdrfilm"><integer name="width" value="400"/><integer name="height" value="300"/></film></sensor>"#;
+    let b = parse(body).unwrap();
+    let c = b.camera().unwrap();
+    assert!((c.fov_deg - 2.0 * 0.8f32.atan().to_degrees()).abs() < 1e-4);
+    expect_err(
+        parse(
+            r#"<sensor type="perspective"><float name="fov" value="30"/><string name="fov_axis" value="z"/></sensor>"#,
+        ),
+        2,
+        Some(89),
+        &["fov_axis", "'z'"],
+    );
+}
+
+#[test]
+fn cornell_box_matches_builtin() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mitsuba/cornell-box.xml");
+    let b = load_mitsuba(&file, &[]).unwrap();
+    let reference = crate::loader::builtin_scene("cornell-box").unwrap();
+    assert_eq!(b.shape_count(), reference.shape_count());
+    assert_eq!(b.lights().len(), 1);
+    assert_eq!(b.settings.spp, Some(64));
+    assert_eq!(b.settings.max_depth, Some(8));
+    assert_eq!(
+        b.settings.filter,
+        FilterKind::Gaussian {
+            stddev: 0.5,
+            radius: 2.0
+        }
+    );
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
+    let (c, rc) = (b.camera().unwrap(), reference.camera().unwrap());
+    assert!(c.to_world.abs_diff_eq(rc.to_world, 1e-6));
+    assert_eq!(
+        (c.width, c.height, c.fov_deg),
+        (rc.width, rc.height, rc.fov_deg)
+    );
+    assert_eq!(c.fov_axis, FovAxis::Smaller);
+    let scene = b.build().unwrap();
+    let reference = reference.build().unwrap();
+    let (p, q) = (
+        scene.total_power().to_rgb(),
+        reference.total_power().to_rgb(),
+    );
+    for (a, e) in p.iter().zip(q) {
+        assert!((a - e).abs() <= 1e-4 * e, "{p:?} vs {q:?}");
+    }
+    // Same geometry: equal bounds and equal per-shape areas.
+    assert!(scene.bounds().min.abs_diff_eq(reference.bounds().min, 1e-5));
+    assert!(scene.bounds().max.abs_diff_eq(reference.bounds().max, 1e-5));
+    // Defines override the defaults.
+    let b = load_mitsuba(
+        &file,
+        &[("spp".into(), "4".into()), ("res".into(), "32".into())],
+    )
+    .unwrap();
+    assert_eq!(b.settings.spp, Some(4));
+    assert_eq!(b.camera().unwrap().width, 32);
+}
+
+#[test]
+fn malformed_input_names_line_and_column() {
+    // Unclosed tag.
+    let text = "<scene version=\"3.0.0\">\n  <bsdf type=\"diffuse\">\n</scene>\n";
+    match parse_mitsuba(text, &path(), &[]) {
+        Err(SceneError::Parse {
+            line,
+            column,
+            message,
+            ..
+        }) => {
+            assert_eq!((line, column), (3, 1), "{message}"); // at the mismatched </scene>
+            assert!(message.contains("malformed XML"), "{message}");
+        }
+        other => panic!("{:?}", other.err()),
+    }
+    // Bad numbers.
+    for (v, col) in [("1.0.0", 50), ("nan", 50), ("1e999", 50), ("1e39", 50)] {
+        expect_err(
+            parse(&format!(
+                r#"<shape type="sphere"><float name="radius" value="{v}"/></shape>"#
+            )),
+            2,
+            Some(col),
+            &[v],
+        );
+    }
+    // Unknown attribute value.
+    expect_err(
+        parse(r#"<shape type="sphere"><boolean name="flip_normals" value="maybe"/></shape>"#),
+        2,
+        Some(58),
+        &["maybe"],
+    );
+    expect_err(parse("<bsdf/>"), 2, Some(1), &["type"]);
+    match parse_mitsuba("<scene version=\"0.6.0\"/>", &path(), &[]) {
+        Err(SceneError::Parse { message, .. }) => assert!(message.contains("0.6.0")),
+        other => panic!("{:?}", other.err()),
+    }
+}
+
+#[test]
+fn unsupported_elements_give_one_warning_with_lines() {
+    let body = r#"<texture type="checkerboard" id="t"/>
+<bsdf type="diffuse"><float name="sheen" value="1"/></bsdf>
+<medium type="homogeneous"/>"#;
+    let b = parse(body).unwrap();
+    let w = b.pending_warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("3 unsupported"), "{w:?}");
+    for needle in [
+        "checkerboard",
+        "scene.xml:2",
+        "sheen",
+        "scene.xml:3",
+        "homogeneous",
+        "scene.xml:4",
+    ] {
+        assert!(w[0].contains(needle), "'{needle}' missing: {w:?}");
+    }
+}
+
+#[test]
+fn includes_resolve_and_cycles_fail() {
+    let dir = std::env::temp_dir().join(format!("caustica-mitsuba-inc-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    std::fs::write(
+        dir.join("sub/mat.xml"),
+        r#"<scene version="3.0.0"><bsdf type="diffuse" id="m"/></scene>"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("main.xml"),
+        format!("<scene version=\"3.0.0\">{CAM}<include filename=\"sub/mat.xml\"/><shape type=\"sphere\"><ref id=\"m\"/></shape></scene>"),
+    )
+    .unwrap();
+    let b = load_mitsuba(&dir.join("main.xml"), &[]).unwrap();
+    assert_eq!(b.material_names(), ["m"]);
+    assert!(b.build().is_ok());
+    // a → b → a.
+    std::fs::write(
+        dir.join("a.xml"),
+        r#"<scene version="3.0.0"><include filename="b.xml"/></scene>"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("b.xml"),
+        "<scene version=\"3.0.0\">\n<include filename=\"a.xml\"/></scene>",
+    )
+    .unwrap();
+    match load_mitsuba(&dir.join("a.xml"), &[]) {
+        Err(SceneError::Parse {
+            path,
+            line,
+            message,
+            ..
+        }) => {
+            assert!(path.ends_with("b.xml"), "{path:?}");
+            assert_eq!(line, 2);
+            assert!(message.contains("cyclic"), "{message}");
+        }
+        other => panic!("{:?}", other.err()),
+    }
+    // Self-include.
+    std::fs::write(
+        dir.join("self.xml"),
+        r#"<scene version="3.0.0"><include filename="self.xml"/></scene>"#,
+    )
+    .unwrap();
+    assert!(matches!(
+        load_mitsuba(&dir.join("self.xml"), &[]),
+        Err(SceneError::Parse { .. })
+    ));
+}
+
+#[test]
+fn hostile_input_does_not_panic() {
+    // Deeply nested elements and twosided BSDFs.
+    let deep = format!(
+        "<scene version=\"3.0.0\">{}{}</scene>",
+        "<a>".repeat(20000),
+        "</a>".repeat(20000)
+    );
+    let b = parse_mitsuba(&deep, &path(), &[]).unwrap();
+    assert_eq!(b.pending_warnings().len(), 1);
+    let nested = format!(
+        "<bsdf type=\"twosided\" id=\"x\">{}<bsdf type=\"diffuse\"/>{}</bsdf>",
+        "<bsdf type=\"twosided\">".repeat(100),
+        "</bsdf>".repeat(100)
+    );
+    assert!(matches!(parse(&nested), Err(SceneError::Parse { .. })));
+    // Huge and odd values.
+    assert!(parse(r#"<shape type="sphere"><float name="radius" value="-1"/></shape>"#).is_err());
+    assert!(
+        parse(r#"<emitter type="point"><rgb name="intensity" value="1 2"/></emitter>"#).is_err()
+    );
+    assert!(parse(r#"<sensor type="perspective"><float name="fov" value="30"/><film type="hdrfilm"><integer name="width" value="99999999999"/></film></sensor>"#).is_err());
+    assert!(parse(r#"<shape type="cube"><transform name="to_world"><rotate angle="3"/></transform></shape>"#).is_err());
+    assert!(parse("").is_ok());
+    assert!(parse_mitsuba("", &path(), &[]).is_err());
+    assert!(parse_mitsuba("<notascene/>", &path(), &[]).is_err());
+}
