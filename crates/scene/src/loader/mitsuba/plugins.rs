@@ -472,11 +472,13 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError>
                     material = Some(bsdf_ref(lo, d, c)?.1);
                 } else {
                     let mat = bsdf(lo, d, c, 1)?;
-                    let name = match lo.attr(d, c, "id")? {
-                        Some(_) => lo.declare_id(d, c)?.unwrap_or_default(),
-                        None => lo.anonymous_name("bsdf"),
-                    };
-                    material = Some(lo.add_material(d, c, &name, mat)?);
+                    let id = lo.declare_id(d, c)?;
+                    let name = id.clone().unwrap_or_else(|| lo.anonymous_name("bsdf"));
+                    let idx = lo.add_material(d, c, &name, mat.clone())?;
+                    if let Some(id) = id {
+                        lo.bsdfs.insert(id, (mat, idx));
+                    }
+                    material = Some(idx);
                 }
             }
             "emitter" => {

@@ -440,6 +440,20 @@ fn cornell_box_matches_builtin() {
         (rc.width, rc.height, rc.fov_deg)
     );
     assert_eq!(c.fov_axis, FovAxis::Smaller);
+    // Same geometry, shape by shape (same order as the built-in scene).
+    for (s, r) in b.shapes().iter().zip(reference.shapes()) {
+        let (ShapeGeometry::Mesh(m), ShapeGeometry::Mesh(rm)) = (&s.geometry, &r.geometry) else {
+            panic!("walls and boxes are meshes")
+        };
+        assert_eq!(m.indices, rm.indices);
+        for (p, q) in m.positions.iter().zip(&rm.positions) {
+            assert!(p.abs_diff_eq(*q, 1e-5), "{p} vs {q}");
+        }
+        assert_eq!(
+            b.material_names()[s.material as usize],
+            reference.material_names()[r.material as usize]
+        );
+    }
     let scene = b.build().unwrap();
     let reference = reference.build().unwrap();
     let (p, q) = (
@@ -449,7 +463,7 @@ fn cornell_box_matches_builtin() {
     for (a, e) in p.iter().zip(q) {
         assert!((a - e).abs() <= 1e-4 * e, "{p:?} vs {q:?}");
     }
-    // Same geometry: equal bounds and equal per-shape areas.
+    // Same power and bounds.
     assert!(scene.bounds().min.abs_diff_eq(reference.bounds().min, 1e-5));
     assert!(scene.bounds().max.abs_diff_eq(reference.bounds().max, 1e-5));
     // Defines override the defaults.
@@ -565,6 +579,31 @@ fn includes_resolve_and_cycles_fail() {
         }
         other => panic!("{:?}", other.err()),
     }
+    // A nested bsdf with an id can be referenced later.
+    let b = parse(
+        r#"<shape type="sphere"><bsdf type="diffuse" id="inner"/></shape>
+<shape type="sphere"><ref id="inner"/></shape>"#,
+    )
+    .unwrap();
+    assert_eq!(b.shapes()[0].material, b.shapes()[1].material);
+    // A chain of 40 distinct includes exceeds the depth limit.
+    for i in 0..40 {
+        std::fs::write(
+            dir.join(format!("chain{i}.xml")),
+            format!(
+                "<scene version=\"3.0.0\"><include filename=\"chain{}.xml\"/></scene>",
+                i + 1
+            ),
+        )
+        .unwrap();
+    }
+    std::fs::write(dir.join("chain40.xml"), "<scene version=\"3.0.0\"/>").unwrap();
+    match load_mitsuba(&dir.join("chain0.xml"), &[]) {
+        Err(SceneError::Parse { message, .. }) => assert!(message.contains("deeper"), "{message}"),
+        other => panic!("{:?}", other.err()),
+    }
+    std::fs::write(dir.join("chain8.xml"), "<scene version=\"3.0.0\"/>").unwrap();
+    assert!(load_mitsuba(&dir.join("chain0.xml"), &[]).is_ok());
     // Self-include.
     std::fs::write(
         dir.join("self.xml"),
