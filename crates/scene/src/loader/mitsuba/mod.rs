@@ -46,6 +46,7 @@ pub fn parse_mitsuba(
         b: SceneBuilder::new(name),
         params: defines.iter().cloned().collect(),
         bsdfs: HashMap::new(),
+        textures: HashMap::new(),
         ids: HashSet::new(),
         unsupported: Vec::new(),
         approximations: Vec::new(),
@@ -180,6 +181,8 @@ pub(crate) struct Loader {
     params: HashMap<String, String>,
     /// BSDFs declared with an `id`: (material, index in the builder).
     bsdfs: HashMap<String, (crate::material::Material, u32)>,
+    /// Textures declared with an `id` at the top level.
+    textures: HashMap<String, crate::texture::Texture>,
     /// Every `id` declared so far (all kinds).
     ids: HashSet<String>,
     unsupported: Vec<String>,
@@ -313,6 +316,13 @@ impl Loader {
             "emitter" => {
                 self.declare_id(d, c)?;
                 plugins::emitter(self, d, c)?;
+            }
+            "texture" if c.attribute("type") == Some("bitmap") => {
+                let id = self.declare_id(d, c)?;
+                let t = plugins::bitmap(self, d, c)?;
+                if let Some(id) = id {
+                    self.textures.insert(id, t);
+                }
             }
             "sensor" => plugins::sensor(self, d, c)?,
             "integrator" => plugins::integrator(self, d, c)?,

@@ -9,9 +9,10 @@ use crate::loader::{load_obj, load_ply};
 use crate::material::{Material, conductor_preset};
 use crate::scene::FilterKind;
 use crate::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
-use crate::texture::Texture;
+use crate::texture::{ImageTexture, Texture};
 use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
 use roxmltree::Node;
+use std::sync::Arc;
 
 /// Segments around the axis of a tessellated `cylinder`.
 pub const CYLINDER_SEGMENTS: u32 = 64;
@@ -153,6 +154,70 @@ fn conductor_eta_k(
     }
 }
 
+/// A `<texture type="bitmap">`: `filename` (PNG decoded from sRGB, EXR/PFM linear).
+pub(super) fn bitmap(lo: &mut Loader, d: &Doc, n: Node) -> Result<Texture, SceneError> {
+    let (t, tpos) = ty(lo, d, n)?;
+    if t != "bitmap" {
+        return Err(d.err_at(
+            tpos,
+            format!("unsupported texture type '{t}' (only bitmap)"),
+        ));
+    }
+    let mut p = lo.props(d, n)?;
+    let (file, _) = p
+        .string(d, "filename")?
+        .ok_or_else(|| d.err_at(d.pos(n), "bitmap needs a 'filename' string"))?;
+    let path = d.resolve(&file);
+    let img = ImageTexture::load(&path).map_err(|e| SceneError::File {
+        path: path.clone(),
+        message: format!("cannot load texture: {e}"),
+    })?;
+    if p.bool(d, "raw")? == Some(true) {
+        lo.approximated(
+            d,
+            n,
+            "bitmap raw=true ignored (8-bit images are decoded from sRGB)",
+        );
+    }
+    let _ = p.string(d, "filter_type")?;
+    if let Some((w, _)) = p.string(d, "wrap_mode")?
+        && w != "repeat"
+    {
+        lo.approximated(d, n, format!("bitmap wrap_mode '{w}' replaced by repeat"));
+    }
+    for c in std::mem::take(&mut p.children) {
+        lo.unsupported(d, c, format!("<{}> inside {}", c.tag_name().name(), p.desc));
+    }
+    lo.leftovers(d, p);
+    Ok(Texture::Image(Arc::new(img)))
+}
+
+/// A texture-or-colour parameter: a nested `<texture name=…>`, a `<ref name=… id=…>` to a
+/// declared texture, or a colour value.
+fn texture_param(
+    lo: &mut Loader,
+    d: &Doc,
+    p: &mut Props,
+    name: &str,
+) -> Result<Option<Texture>, SceneError> {
+    let found = p.children.iter().position(|c| {
+        matches!(c.tag_name().name(), "texture" | "ref") && c.attribute("name") == Some(name)
+    });
+    let Some(i) = found else {
+        return Ok(p.spectrum(d, name)?.map(Texture::Constant));
+    };
+    let c = p.children.remove(i);
+    if c.tag_name().name() == "texture" {
+        return bitmap(lo, d, c).map(Some);
+    }
+    let (id, pos) = lo.req_attr(d, c, "id")?;
+    lo.textures
+        .get(&id)
+        .cloned()
+        .map(Some)
+        .ok_or_else(|| d.err_at(pos, format!("'{id}' is not a declared bitmap texture")))
+}
+
 /// Converts a `<bsdf>` element (nesting depth `depth`).
 pub(super) fn bsdf(
     lo: &mut Loader,
@@ -168,9 +233,9 @@ pub(super) fn bsdf(
     let grey = Spectrum::splat;
     let m = match t.as_str() {
         "diffuse" => {
-            let r = p.spectrum(d, "reflectance")?.unwrap_or(grey(0.5));
+            let r = texture_param(lo, d, &mut p, "reflectance")?;
             Material::Diffuse {
-                reflectance: Texture::Constant(r),
+                reflectance: r.unwrap_or(Texture::Constant(grey(0.5))),
             }
         }
         "dielectric" | "roughdielectric" | "thindielectric" => {

@@ -643,3 +643,41 @@ fn hostile_input_does_not_panic() {
     assert!(parse_mitsuba("", &path(), &[]).is_err());
     assert!(parse_mitsuba("<notascene/>", &path(), &[]).is_err());
 }
+
+#[test]
+fn bitmap_textures_nested_and_referenced() {
+    let dir = std::env::temp_dir().join(format!("caustica-mitsuba-tex-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut img = caustica_core::image_io::Image::new(2, 1);
+    img.set(0, 0, [0.25, 0.5, 0.75]);
+    img.set(1, 0, [0.125, 0.125, 0.125]);
+    img.write_pfm(&dir.join("t.pfm")).unwrap();
+    let text = r#"<scene version="3.0.0">
+<texture type="bitmap" id="tex"><string name="filename" value="t.pfm"/></texture>
+<bsdf type="diffuse" id="a"><ref name="reflectance" id="tex"/></bsdf>
+<bsdf type="diffuse" id="b"><texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/></texture></bsdf>
+</scene>"#;
+    let b = parse_mitsuba(text, &dir.join("s.xml"), &[]).unwrap();
+    for m in b.materials() {
+        let Material::Diffuse { reflectance: t } = m else {
+            panic!()
+        };
+        assert!(matches!(t, Texture::Image(_)));
+        // Texel centre (0.25, 0.5) of the 2×1 image is the first pixel.
+        let v = t.eval(caustica_core::Vec2::new(0.25, 0.5)).to_rgb();
+        assert!(
+            (v[0] - 0.25).abs() < 1e-6 && (v[2] - 0.75).abs() < 1e-6,
+            "{v:?}"
+        );
+    }
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
+    let missing = r#"<scene version="3.0.0"><texture type="bitmap" id="t"><string name="filename" value="none.png"/></texture></scene>"#;
+    assert!(matches!(
+        parse_mitsuba(missing, &dir.join("s.xml"), &[]),
+        Err(SceneError::File { .. })
+    ));
+}
