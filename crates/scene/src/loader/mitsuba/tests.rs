@@ -681,3 +681,64 @@ fn bitmap_textures_nested_and_referenced() {
         Err(SceneError::File { .. })
     ));
 }
+
+/// Random edits of a valid scene (deleting, duplicating or replacing short spans with
+/// XML-significant tokens) must give a scene or an error, never a panic.
+#[test]
+fn random_edits_never_panic() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mitsuba/cornell-box.xml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let tokens = [
+        "<",
+        ">",
+        "/>",
+        "\"",
+        "$spp",
+        "-1",
+        "1e999",
+        "nan",
+        "0",
+        "<ref id=\"white\"/>",
+        "<bsdf type=\"twosided\">",
+        "</shape>",
+        "<transform name=\"to_world\">",
+        "&amp;",
+        "&#0;",
+        "<!--",
+        "<include filename=\"cornell-box.xml\"/>",
+        "inf",
+        ",",
+        " ",
+    ];
+    let mut rng = caustica_core::sampling::Pcg32::new(7, 3);
+    let (mut ok, mut errors) = (0, 0);
+    for _ in 0..1500 {
+        let mut t = text.clone().into_bytes();
+        for _ in 0..1 + rng.next_u32() % 3 {
+            let at = rng.next_u32() as usize % t.len();
+            let len = (rng.next_u32() as usize % 8).min(t.len() - at);
+            match rng.next_u32() % 3 {
+                0 => {
+                    t.drain(at..at + len);
+                }
+                1 => {
+                    let dup: Vec<u8> = t[at..at + len].to_vec();
+                    t.splice(at..at, dup);
+                }
+                _ => {
+                    let tok = tokens[rng.next_u32() as usize % tokens.len()];
+                    t.splice(at..at + len, tok.bytes());
+                }
+            }
+        }
+        let Ok(s) = String::from_utf8(t) else {
+            continue;
+        };
+        match parse_mitsuba(&s, &file, &[]) {
+            Ok(_) => ok += 1,
+            Err(_) => errors += 1,
+        }
+    }
+    // Both outcomes occur (the edits are neither all harmless nor all fatal).
+    assert!(ok > 0 && errors > 0, "{ok} ok, {errors} errors");
+}
