@@ -17,9 +17,13 @@ pub struct RenderArgs {
     /// Scene file (.toml) or built-in scene name (see `caustica scenes`). Default: the embedded
     /// Cornell box.
     pub scene: Option<String>,
-    /// Integrator: path (path tracer with NEE and MIS) or lighttrace (light tracer).
-    #[arg(long, default_value = "path")]
-    pub integrator: String,
+    /// Integrator: path (path tracer with NEE and MIS) or lighttrace (light tracer). Default:
+    /// the scene's suggestion (Mitsuba `ptracer` maps to lighttrace), else path.
+    #[arg(long)]
+    pub integrator: Option<String>,
+    /// Mitsuba scene parameter overriding a `<default>`: `-D name=value` (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    pub define: Vec<String>,
     /// Samples per pixel (path) or light paths per pixel (lighttrace). Default: the scene's
     /// suggestion, else 16.
     #[arg(long, conflicts_with = "time")]
@@ -56,13 +60,13 @@ pub struct RenderArgs {
     pub quiet: bool,
 }
 
-/// Loads a scene given as a path or built-in name.
-pub fn load(scene: Option<&str>) -> Result<Scene> {
+/// Loads a scene given as a path or built-in name; `defines` override Mitsuba `<default>`s.
+pub fn load(scene: Option<&str>, defines: &[(String, String)]) -> Result<Scene> {
     let name = scene.unwrap_or(loader::DEFAULT_SCENE);
     let path = Path::new(name);
     let builder = if path.extension().is_some() || path.exists() {
-        return loader::load_scene(path)
-            .with_context(|| format!("cannot load scene {}", path.display()));
+        loader::parse_scene_file_with_defines(path, defines)
+            .with_context(|| format!("cannot load scene {}", path.display()))?
     } else {
         loader::builtin_scene(name).with_context(|| {
             format!(
@@ -99,7 +103,6 @@ fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
-    let kind: IntegratorKind = args.integrator.parse().map_err(anyhow::Error::msg)?;
     let sampler: SamplerKind = args.sampler.parse().map_err(anyhow::Error::msg)?;
     if let Some(t) = args.threads {
         if t == 0 {
@@ -132,7 +135,23 @@ pub fn run(args: RenderArgs) -> Result<()> {
             args.output.display()
         );
     }
-    let scene = load(args.scene.as_deref())?;
+    let defines = args
+        .define
+        .iter()
+        .map(|d| match d.split_once('=') {
+            Some((k, v)) if !k.is_empty() => Ok((k.to_string(), v.to_string())),
+            _ => bail!("-D expects NAME=VALUE, got '{d}'"),
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let scene = load(args.scene.as_deref(), &defines)?;
+    let kind: IntegratorKind = match (&args.integrator, &scene.settings.integrator) {
+        (Some(name), _) => name.parse().map_err(anyhow::Error::msg)?,
+        (None, Some(suggested)) => suggested.parse().unwrap_or_else(|_| {
+            eprintln!("warning: the scene asks for integrator '{suggested}', which caustica does not have; using path");
+            IntegratorKind::Path
+        }),
+        (None, None) => IntegratorKind::Path,
+    };
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }

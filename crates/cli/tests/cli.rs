@@ -237,3 +237,26 @@ fn checkpoints_are_written_during_the_render() {
         "no checkpoint image appeared before the render finished"
     );
 }
+
+#[test]
+fn mitsuba_xml_scene_renders_with_defines() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mitsuba/cornell-box.xml");
+    let out = tmp("xml.exr");
+    let o = caustica(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        "1",
+        "-q",
+        "-D",
+        "unused=1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with("cornell-box: path"));
+    assert_clean_failure(
+        &caustica(&["render", scene.to_str().unwrap(), "-D", "novalue"]),
+        &["NAME=VALUE"],
+    );
+}
