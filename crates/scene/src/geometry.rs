@@ -61,6 +61,16 @@ pub struct Geometry {
     prim_ids: Vec<(u32, u32)>,
 }
 
+/// How far (in units of `t`) behind the ray origin the obvhs traversal ray starts: more than
+/// obvhs's node-entry cutoff of `1e-4`.
+const T_SHIFT: f32 = 1.0 / 4096.0;
+
+/// A distance along our ray as a (never smaller) distance along the shifted traversal ray.
+#[inline(always)]
+fn to_cw(t: f32) -> f32 {
+    (t + T_SHIFT).next_up()
+}
+
 /// Everything the traversal keeps about the current closest hit.
 #[derive(Clone, Copy)]
 struct Hit {
@@ -171,6 +181,11 @@ impl Geometry {
     }
 
     /// The traversal ray, or `None` when nothing can be hit.
+    ///
+    /// obvhs skips every node entered before `t = 1e-4` (an absolute distance), which would lose
+    /// short hits (contact shadows, small scenes). The traversal ray therefore starts
+    /// [`T_SHIFT`] behind `ray.o`: traversal distances are ours plus `T_SHIFT`. Primitive tests
+    /// still use the exact `ray.o`.
     #[inline(always)]
     fn cw_ray(&self, ray: &Ray) -> Option<obvhs::ray::Ray> {
         if self.prims.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
@@ -178,11 +193,12 @@ impl Geometry {
         }
         // `+ 0.0` turns −0 into +0: obvhs takes the octant from the sign bits but the slab
         // order from `d < 0`, which disagree for −0 components (the ray would miss everything).
+        let d = Vec3A::from(ray.d) + Vec3A::ZERO;
         Some(obvhs::ray::Ray::new(
-            Vec3A::from(ray.o),
-            Vec3A::from(ray.d) + Vec3A::ZERO,
+            Vec3A::from(ray.o) - d * T_SHIFT,
+            d,
             0.0,
-            ray.t_max,
+            to_cw(ray.t_max),
         ))
     }
 
@@ -192,18 +208,20 @@ impl Geometry {
         let mut best: Option<Hit> = None;
         let (o, d) = (ray.o, ray.d);
         let tr = TriangleRay::new(o, d);
+        let mut t_max = ray.t_max;
         self.bvh.ray_traverse(
             cw_ray,
             &mut obvhs::ray::RayHit::none(),
-            |r: &obvhs::ray::Ray, k: usize| match self.prims[k].intersect(&tr, o, d, r.tmax) {
+            |_: &obvhs::ray::Ray, k: usize| match self.prims[k].intersect(&tr, o, d, t_max) {
                 Some((t, b1, b2)) => {
+                    t_max = t;
                     best = Some(Hit {
                         t,
                         prim: k as u32,
                         b1,
                         b2,
                     });
-                    t
+                    to_cw(t)
                 }
                 None => f32::INFINITY,
             },
@@ -232,9 +250,9 @@ impl Geometry {
         let tr = TriangleRay::new(o, d);
         !self
             .bvh
-            .ray_traverse_miss(cw_ray, |r: &obvhs::ray::Ray, k: usize| {
-                match self.prims[k].intersect(&tr, o, d, r.tmax) {
-                    Some((t, _, _)) => t,
+            .ray_traverse_miss(cw_ray, |_: &obvhs::ray::Ray, k: usize| {
+                match self.prims[k].intersect(&tr, o, d, ray.t_max) {
+                    Some(_) => f32::NEG_INFINITY,
                     None => f32::INFINITY,
                 }
             })

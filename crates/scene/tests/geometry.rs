@@ -588,3 +588,30 @@ fn closed_mesh_does_not_leak() {
     }
     assert_eq!(leaks, 0, "{leaks} of {} rays escaped", rays.len());
 }
+
+#[test]
+fn tiny_scenes_and_short_hits_are_found() {
+    // Hit distances far below 1e-4 (obvhs culls nodes entered before t = 1e-4 in its own ray
+    // units): a millimetre-scale scene seen from 10 µm away.
+    let s = 1e-6;
+    let mut m = TriangleMesh::default();
+    for t in 0..64u32 {
+        let c = Vec3::new(t as f32 * 3.0 * s, 0.0, 0.0);
+        m.positions.extend([
+            c + Vec3::new(-s, -s, 0.0),
+            c + Vec3::new(s, -s, 0.0),
+            c + Vec3::new(0.0, s, 0.0),
+        ]);
+        m.indices.push([3 * t, 3 * t + 1, 3 * t + 2]);
+    }
+    let geo = Geometry::build(vec![Shape::new(ShapeGeometry::Mesh(m), 0)]);
+    for t in 0..64 {
+        let o = Vec3::new(t as f32 * 3.0 * s, 0.0, 1e-5);
+        let ray = Ray::new(o, -Vec3::Z);
+        let d = geo.hit_distance(&ray).expect("hit");
+        assert!((d - 1e-5).abs() < 1e-9, "{d}");
+        assert!(geo.occluded(&ray));
+        let ray = Ray::with_t_max(o, -Vec3::Z, 0.9e-5);
+        assert!(geo.hit_distance(&ray).is_none() && !geo.occluded(&ray));
+    }
+}
