@@ -1,7 +1,8 @@
 //! Scene description of caustica: everything a ray can meet.
 //!
-//! * [`shape`] — triangle meshes, spheres, disks; [`bvh`] accelerates them; [`geometry`] owns
-//!   both and answers closest-hit and shadow queries with a [`SurfaceInteraction`].
+//! * [`shape`] — triangle meshes, spheres, disks; [`geometry`] puts all their primitives in one
+//!   BVH (the `obvhs` crate's CWBVH) and answers closest-hit and shadow queries with a
+//!   [`SurfaceInteraction`].
 //! * [`bsdf`] — scattering functions in the local shading frame; [`material`] builds a
 //!   [`bsdf::Bsdf`] at a hit from (textured) parameters; [`texture`] evaluates those.
 //! * [`light`] — lights for next-event estimation and for emitting photons.
@@ -27,7 +28,6 @@
 //!   declared two-sided.
 
 pub mod bsdf;
-pub mod bvh;
 pub mod camera;
 pub mod error;
 pub mod geometry;

@@ -134,7 +134,7 @@ fn bvh_matches_brute_force_on_random_rays() {
 
 #[test]
 fn large_mesh_bvh_matches_brute_force() {
-    // Enough primitives (> parallel threshold) to exercise the parallel build path.
+    // Enough primitives for a deep, many-level wide BVH.
     let n = 40_000u32;
     let mut rng = Pcg32::new(11, 3);
     let mut m = TriangleMesh::default();
@@ -147,10 +147,10 @@ fn large_mesh_bvh_matches_brute_force() {
     }
     let shapes = vec![Shape::new(ShapeGeometry::Mesh(m), 0)];
     let geo = Geometry::build(shapes.clone());
-    assert!(geo.bvh.depth() < 64, "depth {}", geo.bvh.depth());
+    assert_eq!(geo.primitive_count(), n as usize);
     // Every primitive appears exactly once in the BVH order.
     let mut seen = vec![false; n as usize];
-    for &k in &geo.bvh.prim_order {
+    for &k in &geo.bvh.primitive_indices {
         assert!(!seen[k as usize]);
         seen[k as usize] = true;
     }
@@ -162,6 +162,66 @@ fn large_mesh_bvh_matches_brute_force() {
         assert_eq!(e, g, "ray {i}");
         assert_eq!(geo.occluded(&ray), e.is_some());
     }
+}
+
+#[test]
+fn build_is_independent_of_thread_count() {
+    // Renders must be bit-identical whatever the thread count, so the tree must be too.
+    let n = 30_000u32;
+    let mut rng = Pcg32::new(3, 7);
+    let mut m = TriangleMesh::default();
+    for t in 0..n {
+        let c = rand_vec(&mut rng, -20.0, 20.0);
+        for _ in 0..3 {
+            m.positions.push(c + rand_vec(&mut rng, -0.5, 0.5));
+        }
+        m.indices.push([3 * t, 3 * t + 1, 3 * t + 2]);
+    }
+    let shapes = vec![Shape::new(ShapeGeometry::Mesh(m), 0)];
+    let build = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool")
+            .install(|| Geometry::build(shapes.clone()))
+    };
+    let (a, b, c) = (build(1), build(2), build(4));
+    assert!(a.bvh == b.bvh && a.bvh == c.bvh);
+}
+
+#[test]
+fn coincident_triangles_match_brute_force() {
+    // Thousands of identical triangles: every bound and Morton code ties, the worst case for the
+    // build's tree shape and the traversal stack.
+    let n = 5000u32;
+    let mut m = TriangleMesh::default();
+    for t in 0..n {
+        m.positions.extend([
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ]);
+        m.indices.push([3 * t, 3 * t + 1, 3 * t + 2]);
+    }
+    let shapes = vec![Shape::new(ShapeGeometry::Mesh(m), 0)];
+    let geo = Geometry::build(shapes.clone());
+    let mut rng = Pcg32::new(5, 9);
+    let mut hits = 0;
+    for i in 0..500 {
+        let o = Vec3::new(0.0, 0.0, 3.0) + rand_vec(&mut rng, -1.0, 1.0);
+        let d = (rand_vec(&mut rng, -1.2, 1.2).with_z(0.0) - o).normalize();
+        let ray = Ray::new(o, d);
+        let e = brute_force(&shapes, &ray).map(|h| h.0);
+        let g = geo.hit_distance(&ray);
+        match (e, g) {
+            (Some(a), Some(b)) => assert!((a - b).abs() <= 1e-5 * a, "ray {i}: {a} vs {b}"),
+            (None, None) => {}
+            _ => panic!("ray {i}: brute force {e:?}, bvh {g:?}"),
+        }
+        assert_eq!(geo.occluded(&ray), e.is_some(), "ray {i}");
+        hits += e.is_some() as u32;
+    }
+    assert!(hits > 100 && hits < 490, "hits {hits}");
 }
 
 #[test]
@@ -527,4 +587,31 @@ fn closed_mesh_does_not_leak() {
         assert!(geo.occluded(ray) || geo.intersect(ray).is_none());
     }
     assert_eq!(leaks, 0, "{leaks} of {} rays escaped", rays.len());
+}
+
+#[test]
+fn tiny_scenes_and_short_hits_are_found() {
+    // Hit distances far below 1e-4 (obvhs culls nodes entered before t = 1e-4 in its own ray
+    // units): a millimetre-scale scene seen from 10 µm away.
+    let s = 1e-6;
+    let mut m = TriangleMesh::default();
+    for t in 0..64u32 {
+        let c = Vec3::new(t as f32 * 3.0 * s, 0.0, 0.0);
+        m.positions.extend([
+            c + Vec3::new(-s, -s, 0.0),
+            c + Vec3::new(s, -s, 0.0),
+            c + Vec3::new(0.0, s, 0.0),
+        ]);
+        m.indices.push([3 * t, 3 * t + 1, 3 * t + 2]);
+    }
+    let geo = Geometry::build(vec![Shape::new(ShapeGeometry::Mesh(m), 0)]);
+    for t in 0..64 {
+        let o = Vec3::new(t as f32 * 3.0 * s, 0.0, 1e-5);
+        let ray = Ray::new(o, -Vec3::Z);
+        let d = geo.hit_distance(&ray).expect("hit");
+        assert!((d - 1e-5).abs() < 1e-9, "{d}");
+        assert!(geo.occluded(&ray));
+        let ray = Ray::with_t_max(o, -Vec3::Z, 0.9e-5);
+        assert!(geo.hit_distance(&ray).is_none() && !geo.occluded(&ray));
+    }
 }
