@@ -55,11 +55,4 @@ impl RayDifferential {
             dddy: Vec3::ZERO,
         }
     }
-    /// Scales the differentials, e.g. by 1/√spp when several samples share a pixel.
-    pub fn scale_differentials(&mut self, s: f32) {
-        self.dodx *= s;
-        self.dody *= s;
-        self.dddx *= s;
-        self.dddy *= s;
-    }
 }

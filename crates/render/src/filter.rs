@@ -50,10 +50,6 @@ impl Filter {
         Self { kind, inv_cdf }
     }
 
-    pub fn kind(&self) -> FilterKind {
-        self.kind
-    }
-
     /// Radius of support (pixels).
     pub fn radius(&self) -> f32 {
         match self.kind {

@@ -3,7 +3,7 @@
 use crate::camera::PerspectiveCamera;
 use crate::error::SceneError;
 use crate::geometry::Geometry;
-use crate::intersection::{NONE, SurfaceInteraction};
+use crate::intersection::SurfaceInteraction;
 use crate::light::{AreaLight, AreaShape, Light};
 use crate::material::Material;
 use crate::shape::{Aabb, Shape, ShapeGeometry};
@@ -299,6 +299,3 @@ impl SceneBuilder {
         })
     }
 }
-
-/// Convenience: `NONE` re-exported for index fields.
-pub const NO_INDEX: u32 = NONE;

@@ -2,7 +2,7 @@
 //! the cosine-weighted hemisphere (Malley's method), whose density cos θi/π makes the sample
 //! weight exactly ρ. Two-sided.
 
-use super::{BsdfFlags, BsdfSample, BxDF, TransportMode, to_upper_side};
+use super::{BsdfFlags, BsdfSample, BxDF, TransportMode, sample_two_sided, to_upper_side};
 use caustica_core::sampling::warp;
 use caustica_core::{INV_PI, Spectrum, Vec2, Vec3};
 
@@ -30,23 +30,19 @@ impl BxDF for Lambertian {
         self.albedo * INV_PI
     }
     fn sample(&self, wo: Vec3, _uc: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z == 0.0 {
-            return None;
-        }
-        let mut wi = warp::square_to_cosine_hemisphere(u);
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let pdf = wi.z * INV_PI;
-        if wo.z < 0.0 {
-            wi.z = -wi.z;
-        }
-        Some(BsdfSample {
-            wi,
-            weight: self.albedo,
-            pdf,
-            flags: BsdfFlags::REFLECTION | BsdfFlags::DIFFUSE,
-            eta: 1.0,
+        sample_two_sided(wo, |_| {
+            let wi = warp::square_to_cosine_hemisphere(u);
+            if wi.z <= 0.0 {
+                return None;
+            }
+            let pdf = wi.z * INV_PI;
+            Some(BsdfSample {
+                wi,
+                weight: self.albedo,
+                pdf,
+                flags: BsdfFlags::REFLECTION | BsdfFlags::DIFFUSE,
+                eta: 1.0,
+            })
         })
     }
     fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {

@@ -45,6 +45,29 @@ pub fn to_upper_side(wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
     }
 }
 
+/// Sampling of a two-sided opaque BSDF: mirrors `wo` to the upper side when it is below the
+/// surface, samples there with `sample_upper` (which may assume `wo.z > 0`) and mirrors the
+/// sampled direction back. Grazing `wo` (z = 0) gives no sample.
+#[inline]
+pub fn sample_two_sided(
+    wo: Vec3,
+    sample_upper: impl FnOnce(Vec3) -> Option<BsdfSample>,
+) -> Option<BsdfSample> {
+    if wo.z == 0.0 {
+        return None;
+    }
+    let flip = wo.z < 0.0;
+    let mut s = sample_upper(if flip {
+        Vec3::new(wo.x, wo.y, -wo.z)
+    } else {
+        wo
+    })?;
+    if flip {
+        s.wi.z = -s.wi.z;
+    }
+    Some(s)
+}
+
 /// Lobe classification bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct BsdfFlags(pub u8);

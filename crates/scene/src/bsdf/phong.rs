@@ -16,7 +16,7 @@
 //! mean of kd and ks; the returned pdf is the mixture density. Two-sided.
 
 use super::fresnel::reflect;
-use super::{BsdfFlags, BsdfSample, BxDF, TransportMode, to_upper_side};
+use super::{BsdfFlags, BsdfSample, BxDF, TransportMode, sample_two_sided, to_upper_side};
 use caustica_core::sampling::warp;
 use caustica_core::{INV_PI, PI, Spectrum, Vec2, Vec3};
 
@@ -101,20 +101,22 @@ impl BxDF for Phong {
         self.eval_upper(wo, wi)
     }
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z == 0.0 {
-            return None;
-        }
-        let flip = wo.z < 0.0;
-        let wo_u = if flip {
-            Vec3::new(wo.x, wo.y, -wo.z)
-        } else {
-            wo
-        };
+        sample_two_sided(wo, |wo_u| self.sample_upper(wo_u, uc, u))
+    }
+    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
+        let (wo, wi) = to_upper_side(wo, wi);
+        self.pdf_upper(wo, wi)
+    }
+}
+
+impl Phong {
+    /// Samples the glossy or the diffuse lobe (chosen by `uc`) for `wo` above the surface.
+    fn sample_upper(&self, wo_u: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         let ps = self.spec_prob();
         if ps <= 0.0 && self.diffuse.is_black() {
             return None;
         }
-        let (mut wi, flags) = if uc < ps {
+        let (wi, flags) = if uc < ps {
             let cos_h = u.x.powf(1.0 / (self.exponent + 1.0));
             let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
             let phi = 2.0 * PI * u.y;
@@ -134,9 +136,6 @@ impl BxDF for Phong {
             return None;
         }
         let weight = self.eval_upper(wo_u, wi) * (wi.z / pdf);
-        if flip {
-            wi.z = -wi.z;
-        }
         Some(BsdfSample {
             wi,
             weight,
@@ -144,10 +143,6 @@ impl BxDF for Phong {
             flags,
             eta: 1.0,
         })
-    }
-    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
-        let (wo, wi) = to_upper_side(wo, wi);
-        self.pdf_upper(wo, wi)
     }
 }
 

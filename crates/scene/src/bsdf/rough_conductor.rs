@@ -9,7 +9,7 @@
 
 use super::fresnel::{fresnel_conductor, reflect};
 use super::microfacet::TrowbridgeReitz;
-use super::{BsdfFlags, BsdfSample, BxDF, TransportMode, to_upper_side};
+use super::{BsdfFlags, BsdfSample, BxDF, TransportMode, sample_two_sided, to_upper_side};
 use caustica_core::{Spectrum, Vec2, Vec3};
 
 /// Rough conductor with GGX roughness `distrib` and complex IOR `eta + i k`.
@@ -52,41 +52,7 @@ impl BxDF for RoughConductor {
         f * self.specular * v
     }
     fn sample(&self, wo: Vec3, _uc: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z == 0.0 {
-            return None;
-        }
-        let flip = wo.z < 0.0;
-        let wo_u = if flip {
-            Vec3::new(wo.x, wo.y, -wo.z)
-        } else {
-            wo
-        };
-        let wm = self.distrib.sample_wm(wo_u, u);
-        let mut wi = reflect(wo_u, wm);
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let dot = wo_u.dot(wm);
-        if dot <= 0.0 {
-            return None;
-        }
-        let pdf = self.distrib.d_visible(wo_u, wm) / (4.0 * dot);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        // f cos θi / pdf = F G2 / G1(ωo).
-        let f = fresnel_conductor(dot, self.eta, self.k);
-        let weight = f * self.specular * (self.distrib.g(wo_u, wi) / self.distrib.g1(wo_u));
-        if flip {
-            wi.z = -wi.z;
-        }
-        Some(BsdfSample {
-            wi,
-            weight,
-            pdf,
-            flags: BsdfFlags::REFLECTION | BsdfFlags::GLOSSY,
-            eta: 1.0,
-        })
+        sample_two_sided(wo, |wo_u| self.sample_upper(wo_u, u))
     }
     fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
         let (wo, wi) = to_upper_side(wo, wi);
@@ -103,6 +69,35 @@ impl BxDF for RoughConductor {
             return 0.0;
         }
         self.distrib.d_visible(wo, wm) / (4.0 * dot)
+    }
+}
+
+impl RoughConductor {
+    /// Samples a visible microfacet normal and reflects `wo_u` (above the surface) about it.
+    fn sample_upper(&self, wo_u: Vec3, u: Vec2) -> Option<BsdfSample> {
+        let wm = self.distrib.sample_wm(wo_u, u);
+        let wi = reflect(wo_u, wm);
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let dot = wo_u.dot(wm);
+        if dot <= 0.0 {
+            return None;
+        }
+        let pdf = self.distrib.d_visible(wo_u, wm) / (4.0 * dot);
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        // f cos θi / pdf = F G2 / G1(ωo).
+        let f = fresnel_conductor(dot, self.eta, self.k);
+        let weight = f * self.specular * (self.distrib.g(wo_u, wi) / self.distrib.g1(wo_u));
+        Some(BsdfSample {
+            wi,
+            weight,
+            pdf,
+            flags: BsdfFlags::REFLECTION | BsdfFlags::GLOSSY,
+            eta: 1.0,
+        })
     }
 }
 

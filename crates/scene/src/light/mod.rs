@@ -59,6 +59,19 @@ impl LightSample {
     }
 }
 
+/// Unit direction, distance and squared distance from `p` to a light position, or `None` when
+/// they coincide or the distance is not finite (shared by the point-like lights).
+#[inline]
+pub(crate) fn toward(p: Vec3, light: Vec3) -> Option<(Vec3, f32, f32)> {
+    let v = light - p;
+    let d2 = v.length_squared();
+    if !(d2 > 0.0 && d2.is_finite()) {
+        return None;
+    }
+    let dist = d2.sqrt();
+    Some((v / dist, dist, d2))
+}
+
 /// An emitted ray, sampled for photon or light tracing.
 #[derive(Clone, Copy, Debug)]
 pub struct EmissionSample {

@@ -24,14 +24,9 @@ impl PointLight {
 impl LightSource for PointLight {
     /// `weight` = I / d² (W/m² per unit projected area, i.e. the irradiance at normal incidence).
     fn sample_li(&self, p: Vec3, _u: Vec2) -> Option<LightSample> {
-        let v = self.position - p;
-        let d2 = v.length_squared();
-        if (d2 <= 0.0 || d2.is_nan()) || !d2.is_finite() {
-            return None;
-        }
-        let dist = d2.sqrt();
+        let (wi, dist, d2) = super::toward(p, self.position)?;
         Some(LightSample::delta(
-            v / dist,
+            wi,
             dist,
             self.position,
             self.intensity / d2,

@@ -86,13 +86,7 @@ impl SpotLight {
 impl LightSource for SpotLight {
     /// `weight` = I(θ) / d².
     fn sample_li(&self, p: Vec3, _u: Vec2) -> Option<LightSample> {
-        let v = self.position - p;
-        let d2 = v.length_squared();
-        if (d2 <= 0.0 || d2.is_nan()) || !d2.is_finite() {
-            return None;
-        }
-        let dist = d2.sqrt();
-        let wi = v / dist;
+        let (wi, dist, d2) = super::toward(p, self.position)?;
         let i = self.intensity_toward(-wi);
         if i.is_black() {
             return None;
