@@ -1,5 +1,6 @@
 //! `caustica`: the command-line renderer.
 
+mod compare_cmd;
 mod render_cmd;
 
 use anyhow::Result;
@@ -20,6 +21,9 @@ struct Cli {
 enum Command {
     /// Render a scene (a TOML file or a built-in name; the embedded default scene if omitted).
     Render(Box<render_cmd::RenderArgs>),
+    /// Compare an image with a reference: relative mean difference, RMSE, relative MSE, MISE,
+    /// SSIM, and z-score tests for noise versus bias.
+    Compare(compare_cmd::CompareArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -28,6 +32,11 @@ fn main() {
     let cli = Cli::parse();
     let result: Result<()> = match cli.command {
         Command::Render(args) => render_cmd::run(*args),
+        Command::Compare(args) => match compare_cmd::run(args) {
+            Ok(0) => Ok(()),
+            Ok(code) => std::process::exit(code),
+            Err(e) => Err(e),
+        },
         Command::Scenes => {
             for name in caustica_scene::loader::builtin_names() {
                 println!("{name}");

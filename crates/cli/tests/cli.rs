@@ -260,3 +260,99 @@ fn mitsuba_xml_scene_renders_with_defines() {
         &["NAME=VALUE"],
     );
 }
+
+/// A 48×32 image of smooth structure plus deterministic hash noise of amplitude `noise`.
+fn synthetic(noise: f32, seed: u32, offset: f32) -> caustica_core::image_io::Image {
+    let mut img = caustica_core::image_io::Image::new(48, 32);
+    for y in 0..32 {
+        for x in 0..48 {
+            let h = (x as u32 * 73_856_093 ^ y as u32 * 19_349_663 ^ seed.wrapping_mul(83_492_791))
+                % 1000;
+            let n = noise * (h as f32 / 1000.0 - 0.5);
+            let v = 0.3 + 0.2 * (x as f32 / 48.0) + n + offset;
+            img.set(x, y, [v, 0.8 * v, 0.5 * v]);
+        }
+    }
+    img
+}
+
+#[test]
+fn compare_reports_metrics_and_checks_agreement() {
+    let (a, b, c) = (tmp("cmp-a.exr"), tmp("cmp-b.exr"), tmp("cmp-c.pfm"));
+    synthetic(0.02, 1, 0.0).write(&a).unwrap();
+    synthetic(0.02, 2, 0.0).write(&b).unwrap();
+    synthetic(0.02, 3, 0.05).write(&c).unwrap(); // ~ +12 % brighter everywhere
+    let err = tmp("cmp-err.png");
+    let o = caustica(&[
+        "compare",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--check",
+        "0.01",
+        "--error-image",
+        err.to_str().unwrap(),
+    ]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}{}", stderr(&o));
+    for key in [
+        "relative mean difference",
+        "RMSE",
+        "relative MSE",
+        "MISE",
+        "SSIM",
+        "pixel z",
+        "block z",
+        "agreement                 yes",
+    ] {
+        assert!(out.contains(key), "output lacks '{key}': {out}");
+    }
+    assert_eq!(
+        caustica_core::image_io::Image::read(&err).unwrap().width,
+        48
+    );
+    // A biased image fails the check with exit status 2.
+    let o = caustica(&[
+        "compare",
+        c.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--check",
+        "0.01",
+        "--crop",
+        "8,8,32,16",
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(String::from_utf8_lossy(&o.stdout).contains("pixels                    512"));
+}
+
+#[test]
+fn compare_bad_input_fails_cleanly() {
+    let a = tmp("cmp-bad-a.exr");
+    synthetic(0.0, 1, 0.0).write(&a).unwrap();
+    let small = tmp("cmp-bad-small.exr");
+    caustica_core::image_io::Image::new(8, 8)
+        .write(&small)
+        .unwrap();
+    let (a, small) = (a.to_str().unwrap(), small.to_str().unwrap());
+    assert_clean_failure(
+        &caustica(&["compare", a, small]),
+        &["sizes differ", "48x32"],
+    );
+    assert_clean_failure(
+        &caustica(&["compare", a, a, "--crop", "40,0,20,10"]),
+        &["does not fit"],
+    );
+    assert_clean_failure(
+        &caustica(&["compare", a, a, "--crop", "1,2,x,4"]),
+        &["--crop"],
+    );
+    assert_clean_failure(
+        &caustica(&["compare", a, "/nonexistent/ref.exr"]),
+        &["cannot read reference", "/nonexistent/ref.exr"],
+    );
+    assert_clean_failure(&caustica(&["compare", a, a, "--mask", small]), &["mask"]);
+}

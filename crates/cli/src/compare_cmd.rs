@@ -1,0 +1,163 @@
+//! `caustica compare IMAGE REFERENCE`: the numbers two images differ by.
+
+use anyhow::{Context, Result, bail};
+use caustica_core::image_io::Image;
+use caustica_eval::metrics::CompareOptions;
+use caustica_eval::zscore::{T24_TAIL_2, T24_TAIL_3};
+use caustica_eval::{Region, colormap, compare, display::luminance};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// Image to judge (.exr, .pfm or .png).
+    pub image: PathBuf,
+    /// Reference image of the same size.
+    pub reference: PathBuf,
+    /// Compare only this rectangle: left,top,width,height in pixels.
+    #[arg(long, value_name = "X,Y,W,H")]
+    pub crop: Option<String>,
+    /// Compare only pixels where this image (same size) is non-zero.
+    #[arg(long, value_name = "MASK")]
+    pub mask: Option<PathBuf>,
+    /// Ignore pixels that are black in the reference (Mitsuba's ptracer leaves pixels that see
+    /// glass or mirrors directly black).
+    #[arg(long)]
+    pub mask_black: bool,
+    /// Exposure (stops) of the display transform used by MISE and SSIM.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Block side (pixels) of the regional bias test.
+    #[arg(long, default_value_t = 16)]
+    pub block: usize,
+    /// Write a false-colour image of the signed luminance difference (blue: image darker, red:
+    /// brighter); full colour at --error-scale.
+    #[arg(long, value_name = "FILE")]
+    pub error_image: Option<PathBuf>,
+    /// Luminance difference (W/m²/sr) shown at full colour (default: 3 × luminance RMSE).
+    #[arg(long)]
+    pub error_scale: Option<f64>,
+    /// Exit with status 2 unless the images agree: |relative mean difference| < TOL and no
+    /// block flagged by the bias test.
+    #[arg(long, value_name = "TOL")]
+    pub check: Option<f64>,
+}
+
+fn parse_crop(s: &str) -> Result<(usize, usize, usize, usize)> {
+    let v: Vec<usize> = s
+        .split(',')
+        .map(|p| p.trim().parse::<usize>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--crop {s:?}: expected four non-negative integers X,Y,W,H"))?;
+    match v[..] {
+        [x, y, w, h] => Ok((x, y, w, h)),
+        _ => bail!(
+            "--crop {s:?}: expected four values X,Y,W,H, got {}",
+            v.len()
+        ),
+    }
+}
+
+fn read(path: &PathBuf, what: &str) -> Result<Image> {
+    Image::read(path).with_context(|| format!("cannot read {what} {}", path.display()))
+}
+
+/// Runs the command; returns the process exit status (0, or 2 when `--check` fails).
+pub fn run(args: CompareArgs) -> Result<i32> {
+    let image = read(&args.image, "image")?;
+    let reference = read(&args.reference, "reference")?;
+    let (w, h) = (reference.width, reference.height);
+    let mut region = match &args.crop {
+        Some(c) => Region::crop(w, h, parse_crop(c)?)?,
+        None => Region::full(w, h),
+    };
+    if let Some(m) = &args.mask {
+        region = region
+            .with_mask(&read(m, "mask")?)
+            .with_context(|| format!("mask {}", m.display()))?;
+    }
+    if args.mask_black {
+        region = region.without_black(&reference);
+    }
+    let options = CompareOptions {
+        exposure: args.exposure,
+        block_size: args.block,
+    };
+    let c = compare(&image, &reference, &region, options).with_context(|| {
+        format!(
+            "comparing {} with {}",
+            args.image.display(),
+            args.reference.display()
+        )
+    })?;
+    let [a, b] =
+        [c.mean_image, c.mean_reference].map(|m| format!("{:.6} {:.6} {:.6}", m[0], m[1], m[2]));
+    println!("pixels                    {}", c.pixels);
+    println!("mean image (RGB)          {a}");
+    println!("mean reference (RGB)      {b}");
+    println!(
+        "relative mean difference  {:+.5}",
+        c.relative_mean_difference
+    );
+    println!("RMSE                      {:.6}", c.rmse);
+    println!("relative MSE              {:.6}", c.relative_mse);
+    println!("MISE (display)            {:.6}", c.mise);
+    match c.ssim {
+        Some(s) => println!("SSIM (display)            {s:.5}"),
+        None => println!("SSIM (display)            n/a (region narrower than 11 px)"),
+    }
+    let p = &c.pixel_z;
+    println!(
+        "pixel z                   mean {:+.4} (s.e. {:.4}), rms {:.3}, |z|>2 {:.2} % (noise {:.2} %), |z|>3 {:.2} % (noise {:.2} %), {} px",
+        p.mean,
+        1.0 / (p.pixels.max(1) as f64).sqrt(),
+        p.rms,
+        100.0 * p.frac_over_2,
+        100.0 * T24_TAIL_2,
+        100.0 * p.frac_over_3,
+        100.0 * T24_TAIL_3,
+        p.pixels
+    );
+    let bz = &c.block_z;
+    println!(
+        "block z ({0}x{0})           max |z| {1:.2} at ({2},{3}) [{4:+.2} %], flagged {5} of {6} (threshold {7:.2})",
+        bz.size,
+        bz.max_abs_z,
+        bz.worst_block.0,
+        bz.worst_block.1,
+        100.0 * bz.worst_relative,
+        bz.flagged,
+        bz.blocks,
+        bz.threshold
+    );
+    if let Some(path) = &args.error_image {
+        let d: Vec<f64> = image
+            .data
+            .iter()
+            .zip(&reference.data)
+            .map(|(&x, &y)| luminance(x) - luminance(y))
+            .collect();
+        let scale = args.error_scale.unwrap_or_else(|| {
+            let n = c.pixels as f64;
+            3.0 * (region.indices().map(|i| d[i] * d[i]).sum::<f64>() / n).sqrt()
+        });
+        let scale = if scale > 0.0 { scale } else { 1.0 };
+        let keep = |i: usize| region.contains(i % w, i / w);
+        colormap::signed_error_image(&d, w, h, scale, keep)
+            .write(path)
+            .with_context(|| format!("cannot write error image {}", path.display()))?;
+        println!(
+            "error image               {} (full colour at ±{scale:.4})",
+            path.display()
+        );
+    }
+    if let Some(tol) = args.check {
+        let ok = c.agrees(tol);
+        println!(
+            "agreement                 {}",
+            if ok { "yes" } else { "NO" }
+        );
+        return Ok(if ok { 0 } else { 2 });
+    }
+    Ok(0)
+}
