@@ -6,7 +6,7 @@ use caustica_eval::metrics::CompareOptions;
 use caustica_eval::zscore::{T24_TAIL_2, T24_TAIL_3};
 use caustica_eval::{Region, colormap, compare, display::luminance};
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -58,7 +58,7 @@ fn parse_crop(s: &str) -> Result<(usize, usize, usize, usize)> {
     }
 }
 
-fn read(path: &PathBuf, what: &str) -> Result<Image> {
+fn read(path: &Path, what: &str) -> Result<Image> {
     Image::read(path).with_context(|| format!("cannot read {what} {}", path.display()))
 }
 
