@@ -266,8 +266,9 @@ fn synthetic(noise: f32, seed: u32, offset: f32) -> caustica_core::image_io::Ima
     let mut img = caustica_core::image_io::Image::new(48, 32);
     for y in 0..32 {
         for x in 0..48 {
-            let h = (x as u32 * 73_856_093 ^ y as u32 * 19_349_663 ^ seed.wrapping_mul(83_492_791))
-                % 1000;
+            let h =
+                ((x as u32 * 73_856_093) ^ (y as u32 * 19_349_663) ^ seed.wrapping_mul(83_492_791))
+                    % 1000;
             let n = noise * (h as f32 / 1000.0 - 0.5);
             let v = 0.3 + 0.2 * (x as f32 / 48.0) + n + offset;
             img.set(x, y, [v, 0.8 * v, 0.5 * v]);
