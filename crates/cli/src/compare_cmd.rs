@@ -20,8 +20,8 @@ pub struct CompareArgs {
     /// Compare only pixels where this image (same size) is non-zero.
     #[arg(long, value_name = "MASK")]
     pub mask: Option<PathBuf>,
-    /// Ignore pixels that are black in the reference (Mitsuba's ptracer leaves pixels that see
-    /// glass or mirrors directly black).
+    /// Ignore pixels that are black in both images (light tracers leave pixels that see glass
+    /// or mirrors directly black); this leaves the ratio of the means unchanged.
     #[arg(long)]
     pub mask_black: bool,
     /// Exposure (stops) of the display transform used by MISE and SSIM.
@@ -30,6 +30,9 @@ pub struct CompareArgs {
     /// Block side (pixels) of the regional bias test.
     #[arg(long, default_value_t = 16)]
     pub block: usize,
+    /// Relative block difference below which the bias test never flags a block.
+    #[arg(long, default_value_t = 0.01)]
+    pub block_tolerance: f64,
     /// Write a false-colour image of the signed luminance difference (blue: image darker, red:
     /// brighter); full colour at --error-scale.
     #[arg(long, value_name = "FILE")]
@@ -77,11 +80,12 @@ pub fn run(args: CompareArgs) -> Result<i32> {
             .with_context(|| format!("mask {}", m.display()))?;
     }
     if args.mask_black {
-        region = region.without_black(&reference);
+        region = region.without_black(&image, &reference);
     }
     let options = CompareOptions {
         exposure: args.exposure,
         block_size: args.block,
+        block_tolerance: args.block_tolerance,
     };
     let c = compare(&image, &reference, &region, options).with_context(|| {
         format!(
@@ -120,7 +124,7 @@ pub fn run(args: CompareArgs) -> Result<i32> {
     );
     let bz = &c.block_z;
     println!(
-        "block z ({0}x{0})           max |z| {1:.2} at ({2},{3}) [{4:+.2} %], flagged {5} of {6} (threshold {7:.2})",
+        "block z ({0}x{0})           flagged {5} of {6} (|z| > {7:.2} and |diff| >= {8:.1} %); largest |z| of such blocks {1:.2} at ({2},{3}) [{4:+.2} %]",
         bz.size,
         bz.max_abs_z,
         bz.worst_block.0,
@@ -128,7 +132,8 @@ pub fn run(args: CompareArgs) -> Result<i32> {
         100.0 * bz.worst_relative,
         bz.flagged,
         bz.blocks,
-        bz.threshold
+        bz.threshold,
+        100.0 * bz.tolerance
     );
     if let Some(path) = &args.error_image {
         let d: Vec<f64> = image

@@ -17,6 +17,8 @@ pub struct CompareOptions {
     pub exposure: f32,
     /// Side of the blocks of the regional bias test (pixels).
     pub block_size: usize,
+    /// Smallest relative block difference the regional bias test reports.
+    pub block_tolerance: f64,
 }
 
 impl Default for CompareOptions {
@@ -24,6 +26,7 @@ impl Default for CompareOptions {
         Self {
             exposure: 0.0,
             block_size: 16,
+            block_tolerance: 0.01,
         }
     }
 }
@@ -128,7 +131,14 @@ pub fn compare(
         mise: ise / n,
         ssim,
         pixel_z: pixel_z(&d, width, region),
-        block_z: block_z(&d, &yr, width, region, options.block_size),
+        block_z: block_z(
+            &d,
+            &yr,
+            width,
+            region,
+            options.block_size,
+            options.block_tolerance,
+        ),
     })
 }
 
@@ -206,7 +216,7 @@ mod tests {
             compare(&a, &b, &Region::full(4, 4), CompareOptions::default()),
             Err(EvalError::SizeMismatch { .. })
         ));
-        let region = Region::full(4, 4).without_black(&a);
+        let region = Region::full(4, 4).without_black(&a, &a);
         assert!(matches!(
             compare(&a, &a, &region, CompareOptions::default()),
             Err(EvalError::EmptyRegion)

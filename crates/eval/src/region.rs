@@ -78,11 +78,20 @@ impl Region {
         Ok(self)
     }
 
-    /// Drops pixels that are exactly black in `reference` (Mitsuba's `ptracer` leaves pixels that
-    /// see glass or mirrors directly black; such pixels say nothing about either renderer).
-    pub fn without_black(mut self, reference: &Image) -> Self {
-        for (s, p) in self.selected.iter_mut().zip(&reference.data) {
-            *s &= p.iter().any(|&c| c != 0.0);
+    /// Drops pixels that are exactly black in both `image` and `reference` (Mitsuba's `ptracer`
+    /// and caustica's light tracer leave pixels that see glass or mirrors directly black).
+    /// Requiring black in *both* keeps the selection unbiased: a pixel that is black in one image
+    /// only because no sample reached it stays in, and dropping pixels that are zero in both
+    /// leaves both sums, and so the ratio of the means, unchanged.
+    pub fn without_black(mut self, image: &Image, reference: &Image) -> Self {
+        let black = |p: &[f32; 3]| p.iter().all(|&c| c == 0.0);
+        for ((s, a), b) in self
+            .selected
+            .iter_mut()
+            .zip(&image.data)
+            .zip(&reference.data)
+        {
+            *s &= !(black(a) && black(b));
         }
         self
     }
@@ -126,8 +135,12 @@ mod tests {
         let m = r.clone().with_mask(&mask).unwrap();
         assert_eq!(m.indices().collect::<Vec<_>>(), vec![5, 10]);
         assert!(r.with_mask(&Image::new(3, 4)).is_err());
-        let mut reference = Image::new(4, 4);
+        let (mut image, mut reference) = (Image::new(4, 4), Image::new(4, 4));
         reference.set(3, 3, [0.0, 0.0, 1e-9]);
-        assert_eq!(Region::full(4, 4).without_black(&reference).count(), 1);
+        image.set(0, 3, [0.5, 0.0, 0.0]);
+        assert_eq!(
+            Region::full(4, 4).without_black(&image, &reference).count(),
+            2
+        );
     }
 }

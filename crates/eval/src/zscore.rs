@@ -70,19 +70,24 @@ pub fn pixel_z(d: &[f64], width: usize, region: &Region) -> PixelZ {
 /// blocks; in each block with at least 16 selected pixels the mean difference is divided by its
 /// standard error, z = d̄ / (s/√n). Without bias each z is approximately standard normal, so a
 /// block is flagged when |z| exceeds the Bonferroni threshold Φ⁻¹(1 − α/(2m)) for m tested blocks
-/// and family-wise level α.
+/// and family-wise level α **and** its relative mean difference is at least `tolerance`: a
+/// deterministic difference far below what matters (say 0.02 % in a noise-free mirror
+/// reflection, from different spectral data) is statistically significant but not a bias worth
+/// reporting.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlockZ {
     pub size: usize,
     /// Blocks tested, and the flagging threshold on |z|.
     pub blocks: usize,
     pub threshold: f64,
-    /// Largest |z| and where (block's top-left pixel), with that block's relative mean
-    /// difference (image/reference − 1 of mean luminance).
+    /// Largest |z| among blocks differing by at least `tolerance`, where it is (block's top-left
+    /// pixel), and that block's relative mean difference (image/reference − 1 of mean luminance).
     pub max_abs_z: f64,
     pub worst_block: (usize, usize),
     pub worst_relative: f64,
-    /// Blocks with |z| > threshold.
+    /// Relative difference below which a block is never flagged.
+    pub tolerance: f64,
+    /// Blocks with |z| > threshold and |relative difference| ≥ tolerance.
     pub flagged: usize,
 }
 
@@ -91,7 +96,14 @@ pub const BLOCK_ALPHA: f64 = 0.01;
 
 /// Runs the block test (see [`BlockZ`]) on `d` with the reference luminance `yr` for the
 /// relative differences.
-pub fn block_z(d: &[f64], yr: &[f64], width: usize, region: &Region, size: usize) -> BlockZ {
+pub fn block_z(
+    d: &[f64],
+    yr: &[f64],
+    width: usize,
+    region: &Region,
+    size: usize,
+    tolerance: f64,
+) -> BlockZ {
     let size = size.max(1);
     let mut results = Vec::new();
     for by in (region.y0..region.y0 + region.h).step_by(size) {
@@ -121,7 +133,13 @@ pub fn block_z(d: &[f64], yr: &[f64], width: usize, region: &Region, size: usize
             } else {
                 f64::INFINITY.copysign(mean)
             };
-            let rel = if sr > 0.0 { s / sr } else { 0.0 };
+            let rel = if sr > 0.0 {
+                s / sr
+            } else if s == 0.0 {
+                0.0
+            } else {
+                f64::INFINITY.copysign(s)
+            };
             results.push((z, (bx, by), rel));
         }
     }
@@ -130,6 +148,7 @@ pub fn block_z(d: &[f64], yr: &[f64], width: usize, region: &Region, size: usize
     let worst = results
         .iter()
         .copied()
+        .filter(|r| r.2.abs() >= tolerance)
         .max_by(|a, b| a.0.abs().total_cmp(&b.0.abs()))
         .unwrap_or((0.0, (0, 0), 0.0));
     BlockZ {
@@ -139,7 +158,11 @@ pub fn block_z(d: &[f64], yr: &[f64], width: usize, region: &Region, size: usize
         max_abs_z: worst.0.abs(),
         worst_block: worst.1,
         worst_relative: worst.2,
-        flagged: results.iter().filter(|r| r.0.abs() > threshold).count(),
+        tolerance,
+        flagged: results
+            .iter()
+            .filter(|r| r.0.abs() > threshold && r.2.abs() >= tolerance)
+            .count(),
     }
 }
 
@@ -166,7 +189,7 @@ mod tests {
         let d = noise(w, h, 0.05, 11);
         let yr = vec![1.0; w * h];
         let region = Region::full(w, h);
-        let b = block_z(&d, &yr, w, &region, 16);
+        let b = block_z(&d, &yr, w, &region, 16, 0.0);
         assert_eq!(b.blocks, 48);
         assert_eq!(b.flagged, 0, "{b:?}");
         let p = pixel_z(&d, w, &region);
@@ -190,10 +213,15 @@ mod tests {
             }
         }
         let yr = vec![1.0; w * h];
-        let b = block_z(&d, &yr, w, &Region::full(w, h), 16);
+        let b = block_z(&d, &yr, w, &Region::full(w, h), 16, 0.01);
         assert_eq!(b.flagged, 1, "{b:?}");
         assert_eq!(b.worst_block, (32, 48));
         assert!((b.worst_relative - 0.02).abs() < 0.01);
+        // The same block is significant but within a 5 % tolerance.
+        assert_eq!(
+            block_z(&d, &yr, w, &Region::full(w, h), 16, 0.05).flagged,
+            0
+        );
     }
 
     #[test]
@@ -208,7 +236,7 @@ mod tests {
     #[test]
     fn threshold_is_bonferroni() {
         let d = vec![0.0; 64 * 64];
-        let b = block_z(&d, &d, 64, &Region::full(64, 64), 16);
+        let b = block_z(&d, &d, 64, &Region::full(64, 64), 16, 0.0);
         assert_eq!(b.blocks, 16);
         assert_eq!(b.flagged, 0);
         assert!((b.threshold - normal::quantile(1.0 - 0.01 / 32.0)).abs() < 1e-12);

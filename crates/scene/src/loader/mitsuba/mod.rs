@@ -52,6 +52,7 @@ pub fn parse_mitsuba(
         approximations: Vec::new(),
         include_stack: vec![canonical(path)],
         default_material: None,
+        default_emitter_material: None,
         anonymous: 0,
     };
     lo.document(text, path)?;
@@ -189,6 +190,8 @@ pub(crate) struct Loader {
     approximations: Vec<String>,
     include_stack: Vec<PathBuf>,
     default_material: Option<u32>,
+    /// Black diffuse material of area-emitter shapes without a BSDF (Mitsuba's default).
+    default_emitter_material: Option<u32>,
     anonymous: usize,
 }
 

@@ -568,21 +568,30 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError>
             other => lo.unsupported(d, c, format!("<{other}> inside {}", p.desc)),
         }
     }
+    // Mitsuba gives a shape without a BSDF a diffuse one of reflectance 0.5, except when the
+    // shape is an area emitter: then the default BSDF is black (the light does not reflect).
     let material = match material {
         Some(m) => m,
-        None => match lo.default_material {
-            Some(m) => m,
-            None => {
-                let idx = lo.b.add_material(
-                    "default-diffuse",
-                    Material::Diffuse {
-                        reflectance: Texture::Constant(Spectrum::splat(0.5)),
-                    },
-                )?;
-                lo.default_material = Some(idx);
-                idx
+        None => {
+            let (slot, name, albedo) = if emission.is_some() {
+                (&mut lo.default_emitter_material, "default-emitter-black", 0.0)
+            } else {
+                (&mut lo.default_material, "default-diffuse", 0.5)
+            };
+            match *slot {
+                Some(m) => m,
+                None => {
+                    let idx = lo.b.add_material(
+                        name,
+                        Material::Diffuse {
+                            reflectance: Texture::Constant(Spectrum::splat(albedo)),
+                        },
+                    )?;
+                    *slot = Some(idx);
+                    idx
+                }
             }
-        },
+        }
     };
     lo.leftovers(d, p);
     lo.b.add_shape(geometry, material, emission, flip)

@@ -742,3 +742,26 @@ fn random_edits_never_panic() {
     // Both outcomes occur (the edits are neither all harmless nor all fatal).
     assert!(ok > 0 && errors > 0, "{ok} ok, {errors} errors");
 }
+
+#[test]
+fn default_bsdf_is_grey_but_black_for_area_emitters() {
+    // Mitsuba: a shape without a BSDF gets diffuse 0.5, an area-emitter shape a black one (its
+    // surface does not reflect). Measured against Mitsuba 3.9 (docs/mitsuba.md).
+    let b = parse(&format!(
+        r#"{CAM}
+<shape type="rectangle"/>
+<shape type="sphere"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+<shape type="disk"/>"#
+    ))
+    .unwrap();
+    let albedo = |i: usize| match &b.materials()[b.shapes()[i].material as usize] {
+        Material::Diffuse {
+            reflectance: Texture::Constant(c),
+        } => c.to_rgb(),
+        m => panic!("{m:?}"),
+    };
+    assert_eq!(albedo(0), [0.5; 3]);
+    assert_eq!(albedo(1), [0.0; 3]);
+    assert_eq!(albedo(2), [0.5; 3]);
+    assert_eq!(b.shapes()[0].material, b.shapes()[2].material);
+}
