@@ -574,7 +574,11 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError>
         Some(m) => m,
         None => {
             let (slot, name, albedo) = if emission.is_some() {
-                (&mut lo.default_emitter_material, "default-emitter-black", 0.0)
+                (
+                    &mut lo.default_emitter_material,
+                    "default-emitter-black",
+                    0.0,
+                )
             } else {
                 (&mut lo.default_material, "default-diffuse", 0.5)
             };
