@@ -1,6 +1,8 @@
 //! `caustica`: the command-line renderer.
 
 mod compare_cmd;
+mod photon_args;
+mod photons_cmd;
 mod render_cmd;
 
 use anyhow::Result;
@@ -24,6 +26,8 @@ enum Command {
     /// Compare an image with a reference: relative mean difference, RMSE, relative MSE, MISE,
     /// SSIM, and z-score tests for noise versus bias.
     Compare(compare_cmd::CompareArgs),
+    /// Draw the stored photons as points over a dim image of the scene (debugging).
+    Photons(photons_cmd::PhotonsArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -37,6 +41,7 @@ fn main() {
             Ok(code) => std::process::exit(code),
             Err(e) => Err(e),
         },
+        Command::Photons(args) => photons_cmd::run(args),
         Command::Scenes => {
             for name in caustica_scene::loader::builtin_names() {
                 println!("{name}");

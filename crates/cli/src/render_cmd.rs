@@ -58,6 +58,8 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+    #[command(flatten)]
+    pub photon: crate::photon_args::PhotonArgs,
 }
 
 /// Loads a scene given as a path or built-in name; `defines` override Mitsuba `<default>`s.
@@ -78,6 +80,16 @@ pub fn load(scene: Option<&str>, defines: &[(String, String)]) -> Result<Scene> 
     builder
         .build()
         .with_context(|| format!("cannot build scene '{name}'"))
+}
+
+/// Parses `-D NAME=VALUE` arguments.
+pub fn parse_defines(defs: &[String]) -> Result<Vec<(String, String)>> {
+    defs.iter()
+        .map(|d| match d.split_once('=') {
+            Some((k, v)) if !k.is_empty() => Ok((k.to_string(), v.to_string())),
+            _ => bail!("-D expects NAME=VALUE, got '{d}'"),
+        })
+        .collect()
 }
 
 fn write_outputs(img: &Image, args: &RenderArgs) -> Result<()> {
@@ -135,14 +147,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             args.output.display()
         );
     }
-    let defines = args
-        .define
-        .iter()
-        .map(|d| match d.split_once('=') {
-            Some((k, v)) if !k.is_empty() => Ok((k.to_string(), v.to_string())),
-            _ => bail!("-D expects NAME=VALUE, got '{d}'"),
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let defines = parse_defines(&args.define)?;
     let scene = load(args.scene.as_deref(), &defines)?;
     let kind: IntegratorKind = match (&args.integrator, &scene.settings.integrator) {
         (Some(name), _) => name.parse().map_err(anyhow::Error::msg)?,
@@ -154,6 +159,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     for w in &scene.warnings {
         eprintln!("warning: {w}");
+    }
+    if kind == IntegratorKind::PhotonMapping && scene.lights.is_empty() {
+        bail!(
+            "scene '{}' has no lights: photon mapping needs at least one to emit photons",
+            scene.name
+        );
     }
     let spp = args.spp.or(scene.settings.spp).unwrap_or(16);
     if spp == 0 {
@@ -172,7 +183,14 @@ pub fn run(args: RenderArgs) -> Result<()> {
         max_depth,
         rr_depth: 5,
         checkpoint_interval: args.checkpoint.map(Duration::from_secs_f64),
+        photons: args.photon.options()?,
     };
+    if args.photon.any_given() && kind != IntegratorKind::PhotonMapping {
+        eprintln!(
+            "warning: photon-mapping options have no effect on integrator '{}'",
+            kind.name()
+        );
+    }
 
     static STOP: AtomicBool = AtomicBool::new(false);
     ctrlc::set_handler(|| {
@@ -213,6 +231,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     let out = render(&scene, kind, &opts, &ctl);
     bar.finish_and_clear();
+    for note in &out.notes {
+        eprintln!("{note}");
+    }
     if let Ok(Some(e)) = checkpoint_err.lock().map(|s| s.clone()) {
         eprintln!("warning: a checkpoint failed: {e}");
     }
@@ -220,7 +241,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     write_outputs(&img, &args)?;
     let secs = out.elapsed.as_secs_f64().max(1e-9);
     let what = match kind {
-        IntegratorKind::Path => format!("{:.1} spp", out.film.mean_samples()),
+        IntegratorKind::Path | IntegratorKind::PhotonMapping => {
+            format!("{:.1} spp", out.film.mean_samples())
+        }
         IntegratorKind::LightTrace => format!("{} light paths", out.film.light_paths()),
     };
     let stopped = if STOP.load(Ordering::SeqCst) {

@@ -9,13 +9,16 @@ use caustica_core::{Ray, Spectrum};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 
-/// Reflected radiance (W/m²/sr) at `v` toward `wo` due to one light sample, MIS-weighted.
-/// Consumes exactly three sampler dimensions.
+/// Reflected radiance (W/m²/sr) at `v` toward `wo` due to one light sample, MIS-weighted
+/// against BSDF sampling when `mis` is true (the caller then also counts emission found by BSDF
+/// sampling), unweighted otherwise (light sampling alone). Consumes exactly three sampler
+/// dimensions.
 pub fn sample_direct(
     scene: &Scene,
     v: &Vertex,
     sampler: &mut Sampler,
     stats: &mut RenderStats,
+    mis: bool,
 ) -> Spectrum {
     let u_light = sampler.next_1d();
     let u = sampler.next_2d();
@@ -48,7 +51,7 @@ pub fn sample_direct(
     if scene.occluded(&shadow) {
         return Spectrum::ZERO;
     }
-    let mis = if ls.delta {
+    let mis = if ls.delta || !mis {
         1.0
     } else {
         power_heuristic(

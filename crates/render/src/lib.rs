@@ -7,19 +7,27 @@
 //!   splat buffers are merged in chunk order, again independent of the thread count.
 //! * [`surface`] and [`direct`] — shared per-vertex work (BSDF at a hit, shading-normal
 //!   correction, Beer–Lambert absorption, next-event estimation) used by every integrator.
-//! * [`integrator`] — the path tracer and the light tracer.
+//! * [`light_path`] — the one light-path walker shared by the light tracer and the photon
+//!   tracer.
+//! * [`photon_tracer`], [`photon_map`] — the photon tracer shared by every photon method, and
+//!   photon maps with the radiance estimate of seed 000 eq. 3.2.
+//! * [`integrator`] — the path tracer, the light tracer and photon mapping.
 
 pub mod direct;
 pub mod film;
 pub mod filter;
 pub mod image_loop;
 pub mod integrator;
+pub mod light_path;
 pub mod options;
+pub mod photon_map;
+pub mod photon_tracer;
+pub mod photon_view;
 pub mod splat_loop;
 pub mod stats;
 pub mod surface;
 
 pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};
-pub use options::{Progress, RenderControl, RenderOptions};
+pub use options::{PhotonOptions, Progress, RenderControl, RenderOptions};
 pub use stats::RenderStats;

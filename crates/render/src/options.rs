@@ -1,6 +1,7 @@
 //! What a render is asked to do and how it reports back.
 
 use crate::film::Film;
+use crate::photon_map::EstimateOptions;
 use caustica_core::sampling::SamplerKind;
 use std::sync::atomic::AtomicBool;
 use std::sync::atomic::Ordering;
@@ -24,6 +25,53 @@ pub struct RenderOptions {
     pub rr_depth: u32,
     /// Interval at which `RenderControl::on_checkpoint` receives the film.
     pub checkpoint_interval: Option<Duration>,
+    /// Settings of the photon-mapping integrators.
+    pub photons: PhotonOptions,
+}
+
+/// Settings of the photon-mapping integrators.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhotonOptions {
+    /// Photons stored in the caustic map (L S+ D); light paths are emitted until it holds this
+    /// many.
+    pub caustic_photons: usize,
+    /// Photons stored in the global map (every non-delta hit); 0 = no indirect light.
+    pub global_photons: usize,
+    /// The radiance estimate (k, maximum radius, kernel, bias controls), used for both maps.
+    pub estimate: EstimateOptions,
+    /// Final-gather rays per camera sample; 0 = visualise the global map directly.
+    pub final_gather: u32,
+}
+
+impl Default for PhotonOptions {
+    fn default() -> Self {
+        Self {
+            caustic_photons: 200_000,
+            global_photons: 100_000,
+            estimate: EstimateOptions::default(),
+            final_gather: 16,
+        }
+    }
+}
+
+impl PhotonOptions {
+    /// Checks the values a user can set; the message names the offending option.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.caustic_photons == 0 {
+            return Err("the number of caustic photons must be at least 1".into());
+        }
+        if self.estimate.k == 0 {
+            return Err("k (photons per estimate) must be at least 1".into());
+        }
+        if let Some(r) = self.estimate.max_radius
+            && !(r.is_finite() && r > 0.0)
+        {
+            return Err(format!(
+                "the maximum radius must be a positive length, got {r}"
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for RenderOptions {
@@ -36,6 +84,7 @@ impl Default for RenderOptions {
             max_depth: u32::MAX,
             rr_depth: 5,
             checkpoint_interval: None,
+            photons: PhotonOptions::default(),
         }
     }
 }

@@ -2,6 +2,7 @@
 
 pub mod light_tracer;
 pub mod path;
+pub mod photon_mapping;
 
 use crate::film::Film;
 use crate::filter::Filter;
@@ -19,14 +20,17 @@ pub enum IntegratorKind {
     Path,
     /// Light tracer connecting light-path vertices to the camera.
     LightTrace,
+    /// Photon mapping: caustic and global maps, final gathering.
+    PhotonMapping,
 }
 
 impl IntegratorKind {
-    pub const NAMES: &'static [&'static str] = &["path", "lighttrace"];
+    pub const NAMES: &'static [&'static str] = &["path", "lighttrace", "pm"];
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Path => "path",
             IntegratorKind::LightTrace => "lighttrace",
+            IntegratorKind::PhotonMapping => "pm",
         }
     }
 }
@@ -37,6 +41,7 @@ impl std::str::FromStr for IntegratorKind {
         match s {
             "path" => Ok(Self::Path),
             "lighttrace" | "ptracer" | "light" => Ok(Self::LightTrace),
+            "pm" | "photonmapper" => Ok(Self::PhotonMapping),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -50,6 +55,8 @@ pub struct RenderOutput {
     pub film: Film,
     pub stats: RenderStats,
     pub elapsed: Duration,
+    /// Lines for the user: what a photon pass did, and warnings.
+    pub notes: Vec<String>,
 }
 
 /// Renders `scene` with integrator `kind`.
@@ -63,6 +70,7 @@ pub fn render(
     let cam = &scene.camera;
     let mut film = Film::new(cam.width as usize, cam.height as usize);
     let filter = Filter::new(scene.settings.filter);
+    let mut notes = Vec::new();
     let stats = match kind {
         IntegratorKind::Path => {
             render_pixels(&mut film, &filter, opts, ctl, |sampler, raster, st| {
@@ -77,10 +85,33 @@ pub fn render(
                 light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
             })
         }
+        IntegratorKind::PhotonMapping => {
+            let t = Instant::now();
+            let maps = photon_mapping::PhotonMaps::build(scene, opts);
+            let secs = t.elapsed().as_secs_f64().max(1e-9);
+            notes.push(format!(
+                "photons: caustic {} from {} paths, global {} from {} paths, in {secs:.2} s ({:.2} M paths/s), {:.1} MB",
+                maps.caustic.len(),
+                maps.caustic.paths,
+                maps.global.len(),
+                maps.global.paths,
+                (maps.caustic.paths + maps.global.paths) as f64 / secs / 1e6,
+                (maps.caustic.memory_bytes() + maps.global.memory_bytes()) as f64 / 1e6,
+            ));
+            notes.extend(maps.warnings.iter().map(|w| format!("warning: {w}")));
+            let mut st = render_pixels(&mut film, &filter, opts, ctl, |sampler, raster, st| {
+                let u_lens = sampler.next_2d();
+                let ray = cam.generate_ray(raster, u_lens).ray;
+                photon_mapping::radiance(scene, &maps, ray, sampler, opts, st)
+            });
+            st.rays += maps.stats.rays;
+            st
+        }
     };
     RenderOutput {
         film,
         stats,
         elapsed: start.elapsed(),
+        notes,
     }
 }

@@ -69,7 +69,7 @@ pub fn radiance(
         let flags = v.bsdf.flags();
         // Fixed dimension layout per bounce: 3 for NEE, 3 for the BSDF, 1 for roulette.
         if flags.is_smooth() {
-            l += beta * sample_direct(scene, &v, sampler, stats);
+            l += beta * sample_direct(scene, &v, sampler, stats, true);
         } else {
             sampler.next_1d();
             sampler.next_2d();

@@ -1,0 +1,76 @@
+//! Command-line settings of the photon-mapping integrators (`--integrator pm`).
+
+use anyhow::{Result, bail};
+use caustica_density::kernel::Kernel;
+use caustica_render::PhotonOptions;
+use clap::Args;
+
+#[derive(Args, Clone, Debug, Default)]
+pub struct PhotonArgs {
+    /// Photons stored in the caustic map (pm; default 200000).
+    #[arg(long, help_heading = "Photon mapping")]
+    pub photons: Option<usize>,
+    /// Photons stored in the global map (pm; default 100000; 0 = no indirect light).
+    #[arg(long, help_heading = "Photon mapping")]
+    pub global_photons: Option<usize>,
+    /// Photons per radiance estimate, k nearest (default 50).
+    #[arg(long, help_heading = "Photon mapping")]
+    pub k: Option<usize>,
+    /// Largest gather radius in scene units (default: unbounded).
+    #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
+    pub max_radius: Option<f32>,
+    /// Density-estimation kernel: uniform, epanechnikov (default), biweight, gaussian, cone,
+    /// cone:G, silverman, cubic.
+    #[arg(long, help_heading = "Photon mapping")]
+    pub kernel: Option<String>,
+    /// Final-gather rays per camera sample (default 16; 0 = show the global map directly).
+    #[arg(long, help_heading = "Photon mapping")]
+    pub final_gather: Option<u32>,
+    /// Project photons onto the tangent plane before measuring distances (seed 000 app. A).
+    #[arg(long, help_heading = "Photon mapping")]
+    pub tangent_projection: bool,
+    /// Reject photons whose normal or plane distance differs from the query's.
+    #[arg(long, help_heading = "Photon mapping")]
+    pub disc_test: bool,
+}
+
+impl PhotonArgs {
+    /// The photon options these arguments select (defaults where not given), validated.
+    pub fn options(&self) -> Result<PhotonOptions> {
+        let mut o = PhotonOptions::default();
+        if let Some(n) = self.photons {
+            o.caustic_photons = n;
+        }
+        if let Some(n) = self.global_photons {
+            o.global_photons = n;
+        }
+        if let Some(k) = self.k {
+            o.estimate.k = k;
+        }
+        o.estimate.max_radius = self.max_radius;
+        if let Some(name) = &self.kernel {
+            o.estimate.kernel = Kernel::from_name(name).map_err(anyhow::Error::msg)?;
+        }
+        if let Some(g) = self.final_gather {
+            o.final_gather = g;
+        }
+        o.estimate.tangent_projection = self.tangent_projection;
+        o.estimate.disc_test = self.disc_test;
+        if let Err(e) = o.validate() {
+            bail!("{e}");
+        }
+        Ok(o)
+    }
+
+    /// True if any photon-mapping option was given (they only affect photon integrators).
+    pub fn any_given(&self) -> bool {
+        self.photons.is_some()
+            || self.global_photons.is_some()
+            || self.k.is_some()
+            || self.max_radius.is_some()
+            || self.kernel.is_some()
+            || self.final_gather.is_some()
+            || self.tangent_projection
+            || self.disc_test
+    }
+}

@@ -1,0 +1,64 @@
+//! Density estimation for caustica's photon maps.
+//!
+//! Specification: A. Schjøth, *Anisotropic Density Estimation in Global Illumination* (PhD thesis,
+//! 2009): Table 2.1 (univariate kernels), eq. 3.2 (the general radiance estimate), Table 5.1
+//! (the photon-mapping kernels) and appendix A, eq. A.1–A.2 (projection onto the tangent plane).
+//!
+//! * [`kernel`] — [`Kernel`]: kernels with support on the unit ball, normalised to integrate to 1
+//!   over the d-dimensional unit ball ([`Dim`]).
+//! * [`kdtree`] — [`KdTree`]: a static k-d tree over 3-D points (the photon map) with k-nearest
+//!   ([`KdTree::knn`]) and fixed-radius ([`KdTree::range`]) queries.
+//! * [`estimate`] — helpers for the radiance estimate: [`project_to_tangent_plane`] (eq. A.1–A.2)
+//!   and [`disc_test`] (rejection of photons off the tangent plane or with a disagreeing normal).
+//!
+//! # Units
+//!
+//! [`Kernel::eval`] takes the dimensionless squared normalised distance `u² = |x − xᵢ|²/h²` and
+//! returns a dimensionless weight whose integral over the unit ball of `R^d` is 1. A kernel
+//! density estimate with bandwidth `h` (m) is `Σᵢ wᵢ K(|x − xᵢ|²/h²) / h^d`, which has the unit
+//! of the weights `wᵢ` per m^d: with photon flux `Φᵢ` (W) and `d = 2` this is irradiance (W/m²);
+//! multiplied by a BRDF (sr⁻¹) it is radiance (W/m²/sr), eq. 3.2:
+//!
+//! ```text
+//! L̂_r(x, ω) = 1/(π h²) Σᵢ K₅.₁(dᵢ²/h²) f_r(x, ωᵢ, ω) Φᵢ = 1/h² Σᵢ eval(dᵢ²/h², Dim::Two) f_r Φᵢ
+//! ```
+//!
+//! since `eval(u², Dim::Two) = K₅.₁(u²)/π` for the kernels of Table 5.1 (see [`kernel`]).
+//!
+//! # Example
+//!
+//! ```
+//! use caustica_core::Vec3;
+//! use caustica_density::{Dim, KdTree, Kernel};
+//!
+//! let photons = vec![Vec3::ZERO, Vec3::new(0.1, 0.0, 0.0), Vec3::new(5.0, 0.0, 0.0)];
+//! let tree = KdTree::build(&photons);
+//! let mut nn = Vec::new();
+//! tree.knn(Vec3::ZERO, 2, f32::INFINITY, &mut nn);
+//! let h2 = 0.2f32 * 0.2;
+//! let k = Kernel::from_name("epanechnikov").unwrap();
+//! // Photon count per m² around the origin (unit weights).
+//! let density: f32 = nn.iter().map(|n| k.eval(n.dist2 / h2, Dim::Two)).sum::<f32>() / h2;
+//! assert!(density > 0.0);
+//! ```
+
+pub mod estimate;
+pub mod kdtree;
+pub mod kernel;
+
+pub use estimate::{disc_test, project_to_tangent_plane};
+pub use kdtree::{KdTree, Neighbor};
+pub use kernel::{Dim, Kernel};
+
+/// Errors of the density crate.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum DensityError {
+    /// An unknown kernel name (or a malformed cone parameter).
+    #[error(
+        "unknown kernel '{0}': expected one of uniform, epanechnikov, biweight, gaussian, cone, cone:G (G >= 1), silverman, cubic"
+    )]
+    UnknownKernel(String),
+    /// The cone kernel's slope parameter `g` must be a finite number >= 1 (Table 5.1).
+    #[error("invalid cone kernel parameter '{0}': g must be a finite number >= 1, e.g. 'cone:1.1'")]
+    InvalidConeParameter(String),
+}

@@ -1,0 +1,211 @@
+//! Photon mapping (Jensen 1996; seed 000 ch. 3): two photon maps, then camera paths that follow
+//! specular chains to the first non-delta surface x, where the reflected radiance is
+//!
+//!   L(x → ω) = L_direct (next-event estimation, light sampling only)
+//!            + L_caustic (radiance estimate, eq. 3.2, in the caustic map: L S+ D photons)
+//!            + L_indirect (final gathering: BSDF-sampled rays, through specular chains, to
+//!              the first non-delta surface y, where the global map's estimate gives the
+//!              radiance leaving y toward x).
+//!
+//! Every light path is counted once: emission reached after a non-delta bounce only by NEE,
+//! L S+ x only by the caustic map, and paths through another diffuse vertex only by the gather.
+//! With `final_gather = 0` the global map is visualised directly: L(x) is the global estimate at
+//! x (direct, caustic and indirect light together; fast and blotchy).
+
+use crate::direct::sample_direct;
+use crate::options::RenderOptions;
+use crate::photon_map::PhotonMap;
+use crate::photon_tracer::{MapKind, trace_photons};
+use crate::stats::RenderStats;
+use crate::surface::{Vertex, interior_transmittance};
+use caustica_core::sampling::Sampler;
+use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_density::kdtree::Neighbor;
+use caustica_scene::Scene;
+use caustica_scene::bsdf::TransportMode;
+use caustica_scene::intersection::NONE;
+use std::cell::RefCell;
+
+/// Random-number streams of the two maps (the camera pass uses pixel streams).
+const CAUSTIC_STREAM: u64 = 0xCA05;
+const GLOBAL_STREAM: u64 = 0x610B;
+/// Longest specular chain a final-gather ray follows.
+const MAX_GATHER_CHAIN: u32 = 16;
+
+/// The caustic and global photon maps of a scene.
+pub struct PhotonMaps {
+    pub caustic: PhotonMap,
+    pub global: PhotonMap,
+    /// Photon-tracing work.
+    pub stats: RenderStats,
+    /// Messages for the user (e.g. fewer photons than requested).
+    pub warnings: Vec<String>,
+}
+
+impl PhotonMaps {
+    /// Traces both maps with the sizes in `opts.photons`.
+    pub fn build(scene: &Scene, opts: &RenderOptions) -> Self {
+        let p = &opts.photons;
+        let c = trace_photons(
+            scene,
+            p.caustic_photons,
+            MapKind::Caustic,
+            CAUSTIC_STREAM,
+            opts,
+        );
+        let g = if p.global_photons > 0 {
+            trace_photons(
+                scene,
+                p.global_photons,
+                MapKind::Global,
+                GLOBAL_STREAM,
+                opts,
+            )
+        } else {
+            crate::photon_tracer::TracedPhotons {
+                photons: Vec::new(),
+                paths: 0,
+                stats: RenderStats::default(),
+                warning: None,
+            }
+        };
+        let mut stats = c.stats;
+        stats += g.stats;
+        let warnings = c.warning.into_iter().chain(g.warning).collect();
+        Self {
+            caustic: PhotonMap::new(c.photons, c.paths),
+            global: PhotonMap::new(g.photons, g.paths),
+            stats,
+            warnings,
+        }
+    }
+}
+
+thread_local! {
+    static NEIGHBORS: RefCell<Vec<Neighbor>> = const { RefCell::new(Vec::new()) };
+}
+
+fn estimate(map: &PhotonMap, v: &Vertex, opts: &RenderOptions) -> Spectrum {
+    NEIGHBORS.with(|b| map.estimate(v, &opts.photons.estimate, &mut b.borrow_mut()))
+}
+
+/// Radiance (W/m²/sr) arriving at the camera along `ray`.
+pub fn radiance(
+    scene: &Scene,
+    maps: &PhotonMaps,
+    mut ray: Ray,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+) -> Spectrum {
+    let mut l = Spectrum::ZERO;
+    let mut beta = Spectrum::ONE;
+    let mut depth = 0u32;
+    loop {
+        stats.rays += 1;
+        let Some(si) = scene.intersect(&ray) else {
+            // Every earlier vertex was delta: the environment is seen through them.
+            for &li in &scene.infinite_lights {
+                l += beta * scene.lights[li as usize].le(Vec3::ZERO, -ray.d);
+            }
+            break;
+        };
+        depth += 1;
+        beta *= interior_transmittance(scene, &si, &ray);
+        if si.light != NONE {
+            l += beta * scene.lights[si.light as usize].le(si.ng, -ray.d);
+        }
+        if depth >= opts.max_depth {
+            break;
+        }
+        let v = Vertex::new(scene, si, &ray);
+        if v.bsdf.flags().is_smooth() {
+            l += beta * shade(scene, maps, &v, sampler, opts, stats);
+            break;
+        }
+        // A delta vertex: follow the specular chain.
+        let uc = sampler.next_1d();
+        let u = sampler.next_2d();
+        let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance) else {
+            break;
+        };
+        let wi = v.frame.to_world(bs.wi);
+        beta *= bs.weight;
+        if beta.is_black() {
+            break;
+        }
+        ray = v.si.spawn_ray(wi);
+    }
+    l
+}
+
+/// Reflected radiance at the first non-delta vertex `v` of a camera path.
+fn shade(
+    scene: &Scene,
+    maps: &PhotonMaps,
+    v: &Vertex,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+) -> Spectrum {
+    let gather_rays = opts.photons.final_gather;
+    if gather_rays == 0 {
+        return estimate(&maps.global, v, opts);
+    }
+    let direct = sample_direct(scene, v, sampler, stats, false);
+    let caustic = estimate(&maps.caustic, v, opts);
+    let mut indirect = Spectrum::ZERO;
+    if !maps.global.is_empty() {
+        let wo_world = v.frame.to_world(v.wo);
+        for _ in 0..gather_rays {
+            let uc = sampler.next_1d();
+            let u = sampler.next_2d();
+            let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance) else {
+                continue;
+            };
+            let wi = v.frame.to_world(bs.wi);
+            if !v.same_side_consistent(wo_world, wi, bs.wi) {
+                continue;
+            }
+            indirect += bs.weight * gather(scene, maps, v.si.spawn_ray(wi), sampler, opts, stats);
+        }
+        indirect /= gather_rays as f32;
+    }
+    direct + caustic + indirect
+}
+
+/// Radiance arriving along a final-gather ray from the global map at the first non-delta
+/// surface it reaches (through up to [`MAX_GATHER_CHAIN`] delta vertices). Emission is not
+/// counted: NEE and the caustic map already hold it.
+fn gather(
+    scene: &Scene,
+    maps: &PhotonMaps,
+    mut ray: Ray,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+) -> Spectrum {
+    let mut beta = Spectrum::ONE;
+    for _ in 0..MAX_GATHER_CHAIN {
+        stats.rays += 1;
+        let Some(si) = scene.intersect(&ray) else {
+            return Spectrum::ZERO;
+        };
+        beta *= interior_transmittance(scene, &si, &ray);
+        let v = Vertex::new(scene, si, &ray);
+        if v.bsdf.flags().is_smooth() {
+            return beta * estimate(&maps.global, &v, opts);
+        }
+        let uc = sampler.next_1d();
+        let u = sampler.next_2d();
+        let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance) else {
+            return Spectrum::ZERO;
+        };
+        beta *= bs.weight;
+        if beta.is_black() {
+            return Spectrum::ZERO;
+        }
+        ray = v.si.spawn_ray(v.frame.to_world(bs.wi));
+    }
+    Spectrum::ZERO
+}

@@ -1,0 +1,119 @@
+//! The one light-path walker shared by every light-side integrator: the light tracer connects
+//! its vertices to the camera, the photon tracer stores them as photons.
+//!
+//! A path starts at a light chosen in proportion to power and an emission sample of that light
+//! (origin, direction, and the frame at the origin); it then scatters by BSDF sampling in
+//! importance mode, with Russian roulette, until it leaves the scene or reaches `max_depth`.
+
+use crate::options::RenderOptions;
+use crate::stats::RenderStats;
+use crate::surface::{Vertex, emission_ray, interior_transmittance, russian_roulette};
+use caustica_core::sampling::Sampler;
+use caustica_core::{Spectrum, Vec3};
+use caustica_scene::Scene;
+use caustica_scene::bsdf::TransportMode;
+use caustica_scene::light::EmissionSample;
+
+/// The start of a light path.
+pub struct LightStart<'a> {
+    pub light: usize,
+    /// Discrete probability of having chosen this light.
+    pub pmf: f32,
+    pub emission: &'a EmissionSample,
+}
+
+/// A surface vertex of a light path, as seen by the visitor.
+pub struct LightVertex<'a> {
+    pub v: &'a Vertex,
+    /// Unit direction back toward where the light came from (world space), −ray direction.
+    pub wo: Vec3,
+    /// Path throughput up to (and including the transmittance before) this vertex: the flux in W
+    /// this path carries into the vertex, before dividing by the number of emitted paths.
+    pub beta: Spectrum,
+    /// Edges from the light to this vertex (1: the light shines on it directly).
+    pub depth: u32,
+    /// True when every earlier scattering vertex of the path was delta (mirror or glass) and
+    /// there was at least one: the vertex receives caustic light, L S+ x.
+    pub after_specular_chain: bool,
+}
+
+/// Walks one light path, calling `on_start` once with the emission sample and `on_vertex` at
+/// every surface hit (delta or not; the visitor decides). Sampler use: 5 dimensions to start,
+/// then, per vertex, whatever `on_vertex` draws followed by 4 for scattering and roulette.
+pub fn walk_light_path(
+    scene: &Scene,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+    mut on_start: impl FnMut(&LightStart, &mut Sampler, &mut RenderStats),
+    mut on_vertex: impl FnMut(&LightVertex, &mut Sampler, &mut RenderStats),
+) {
+    let u_light = sampler.next_1d();
+    let u_pos = sampler.next_2d();
+    let u_dir = sampler.next_2d();
+    let Some(dist) = &scene.light_distribution else {
+        return;
+    };
+    let (li, pmf, _) = dist.sample(u_light);
+    let light = &scene.lights[li];
+    let es = light.sample_emission(u_pos, u_dir);
+    if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() {
+        return;
+    }
+    on_start(
+        &LightStart {
+            light: li,
+            pmf,
+            emission: &es,
+        },
+        sampler,
+        stats,
+    );
+    let mut beta = es.weight / pmf;
+    let mut ray = emission_ray(&es);
+    let mut depth = 1u32; // edges of the path including the one being traced
+    let mut all_delta = true; // every scattering vertex so far was delta
+    loop {
+        stats.rays += 1;
+        let Some(si) = scene.intersect(&ray) else {
+            break;
+        };
+        beta *= interior_transmittance(scene, &si, &ray);
+        let v = Vertex::new(scene, si, &ray);
+        let wo = -ray.d;
+        on_vertex(
+            &LightVertex {
+                v: &v,
+                wo,
+                beta,
+                depth,
+                after_specular_chain: all_delta && depth >= 2,
+            },
+            sampler,
+            stats,
+        );
+        let uc = sampler.next_1d();
+        let u = sampler.next_2d();
+        let u_rr = sampler.next_1d();
+        if depth + 1 >= opts.max_depth {
+            break;
+        }
+        let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Importance) else {
+            break;
+        };
+        let wi = v.frame.to_world(bs.wi);
+        if !v.same_side_consistent(wo, wi, bs.wi) {
+            break;
+        }
+        beta *= bs.weight * v.shading_normal_correction(wo, wi, TransportMode::Importance);
+        if beta.is_black() {
+            break;
+        }
+        all_delta &= bs.flags.is_delta();
+        depth += 1;
+        if !russian_roulette(&mut beta, depth, opts.rr_depth, u_rr) {
+            break;
+        }
+        ray = v.si.spawn_ray(wi);
+    }
+}

@@ -1,0 +1,279 @@
+//! Photon mapping: the photon tracer's flux convention against an analytic irradiance, the
+//! caustic/global classification, determinism, and `pm` against the path tracer.
+
+mod common;
+
+use caustica_core::{Affine3A, Ray, Spectrum, Vec3};
+use caustica_density::kernel::Kernel;
+use caustica_render::integrator::photon_mapping::PhotonMaps;
+use caustica_render::photon_map::{EstimateOptions, PhotonMap};
+use caustica_render::photon_tracer::{MapKind, trace_photons};
+use caustica_render::surface::Vertex;
+use caustica_render::{IntegratorKind, PhotonOptions, RenderControl, RenderOptions, render};
+use caustica_scene::camera::PerspectiveCamera;
+use caustica_scene::light::{Light, PointLight};
+use caustica_scene::material::Material;
+use caustica_scene::shape::{ShapeGeometry, Sphere};
+use caustica_scene::{Scene, SceneBuilder};
+use std::f32::consts::FRAC_PI_2;
+
+const ALBEDO: f32 = 0.5;
+const INTENSITY: f32 = 10.0; // W/sr
+const HEIGHT: f32 = 1.0; // m
+
+/// A 4 m × 4 m diffuse floor at y = 0 under a point light `HEIGHT` above the origin, and
+/// optionally a glass ball between them.
+fn floor_scene(with_glass: bool) -> Scene {
+    let mut b = SceneBuilder::new("floor");
+    let floor = common::diffuse(&mut b, "floor", ALBEDO);
+    b.add_shape(
+        common::quad(
+            Affine3A::from_rotation_x(-FRAC_PI_2) * Affine3A::from_scale(Vec3::splat(2.0)),
+        ),
+        floor,
+        None,
+        false,
+    )
+    .unwrap();
+    let light_y = if with_glass { 4.0 } else { HEIGHT };
+    if with_glass {
+        let glass = b
+            .add_material(
+                "glass",
+                Material::Dielectric {
+                    ior: 1.5,
+                    absorption: Spectrum::ZERO,
+                },
+            )
+            .unwrap();
+        b.add_shape(
+            ShapeGeometry::Sphere(Sphere {
+                center: Vec3::new(0.0, 1.0, 0.0),
+                radius: 0.5,
+            }),
+            glass,
+            None,
+            false,
+        )
+        .unwrap();
+    }
+    b.add_light(Light::Point(PointLight::new(
+        Vec3::new(0.0, light_y, 0.0),
+        Spectrum::splat(INTENSITY),
+    )));
+    b.set_camera(PerspectiveCamera::look_at(
+        Vec3::new(0.0, 3.0, 3.5),
+        Vec3::ZERO,
+        Vec3::Y,
+        50.0,
+        32,
+        32,
+    ));
+    b.build().unwrap()
+}
+
+/// The floor vertex at (x, 0, z), seen from straight above.
+fn floor_vertex(scene: &Scene, x: f32, z: f32) -> Vertex {
+    let ray = Ray::new(Vec3::new(x, 0.5, z), Vec3::NEG_Y);
+    let si = scene.intersect(&ray).expect("floor hit");
+    Vertex::new(scene, si, &ray)
+}
+
+#[test]
+fn radiance_estimate_matches_the_analytic_irradiance_of_a_point_light() {
+    // L = ρ/π · E with E = I cos θ / r² (W/m²). The photon estimate with the uniform kernel and k
+    // photons has relative standard deviation ≈ 1/√k (1 % at k = 10⁴); its bias from the
+    // curvature of E (E ≈ E₀(1 − 1.5 ρ²) near the axis, ρ the radial offset in units of the
+    // height) averages ρ² over the disc, −0.75 h², below 1 % for h ≈ 0.1 m. Tolerance: 4 %.
+    let scene = floor_scene(false);
+    let opts = RenderOptions {
+        seed: 3,
+        ..Default::default()
+    };
+    let traced = trace_photons(&scene, 1_500_000, MapKind::Global, 0, &opts);
+    assert!(traced.warning.is_none());
+    // Every photon is a direct hit on the floor: depth 1, not caustic, on the floor plane.
+    assert!(
+        traced
+            .photons
+            .iter()
+            .all(|p| p.depth == 1 && !p.caustic && p.p.y.abs() < 1e-4)
+    );
+    // Flux conservation: the stored flux is the power the floor intercepts, I·Ω, with Ω the
+    // solid angle of a square of half-side a seen from height d on its axis,
+    // Ω = 4 asin(a² / (a² + d²)).
+    let a = 2.0f64;
+    let d = HEIGHT as f64;
+    let omega = 4.0 * (a * a / (a * a + d * d)).asin();
+    let total: f64 = traced.photons.iter().map(|p| p.flux.c[0] as f64).sum();
+    let expect = INTENSITY as f64 * omega;
+    // Each path stores 0 or 1 photon; binomial noise of the count, relative √((1−q)/(qN)).
+    let q = omega / (4.0 * std::f64::consts::PI);
+    let rel_sd = ((1.0 - q) / (q * traced.paths as f64)).sqrt();
+    assert!(
+        (total / expect - 1.0).abs() < 5.0 * rel_sd,
+        "stored flux {total} W vs intercepted {expect} W (±{rel_sd})"
+    );
+    let map = PhotonMap::new(traced.photons, traced.paths);
+    let est = EstimateOptions {
+        k: 10_000,
+        kernel: Kernel::Uniform,
+        ..Default::default()
+    };
+    let mut buf = Vec::new();
+    for (x, z) in [(0.0f32, 0.0f32), (0.5, 0.0), (0.0, -0.7)] {
+        let v = floor_vertex(&scene, x, z);
+        let r2 = x * x + z * z + HEIGHT * HEIGHT;
+        let e = INTENSITY * HEIGHT / r2.sqrt() / r2;
+        let expect = ALBEDO / std::f32::consts::PI * e;
+        let got = map.estimate(&v, &est, &mut buf).c[0];
+        assert!(
+            (got / expect - 1.0).abs() < 0.04,
+            "at ({x}, {z}): estimate {got} vs analytic {expect}"
+        );
+    }
+}
+
+#[test]
+fn caustic_map_holds_only_specular_chain_photons_and_maps_are_deterministic() {
+    let scene = floor_scene(true);
+    let opts = RenderOptions {
+        seed: 5,
+        photons: PhotonOptions {
+            caustic_photons: 20_000,
+            global_photons: 20_000,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let build = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| PhotonMaps::build(&scene, &opts))
+    };
+    let one = build(1);
+    let two = build(2);
+    assert_eq!(one.caustic.photons, two.caustic.photons);
+    assert_eq!(one.global.photons, two.global.photons);
+    assert_eq!(one.caustic.paths, two.caustic.paths);
+    let c = &one.caustic;
+    assert!(c.len() >= 20_000 && c.len() < 20_010, "{}", c.len());
+    // Caustic photons came through or off the glass (≥ 2 edges) and lie on the floor.
+    assert!(
+        c.photons
+            .iter()
+            .all(|p| p.caustic && p.depth >= 2 && p.p.y.abs() < 1e-4)
+    );
+    // Energy: a caustic path stores one photon (at its first diffuse hit), so the caustic flux is
+    // at most the power the ball intercepts, I·Ω with Ω = 2π(1 − cos α), sin α = r/d (d = 3 m
+    // from the light to the centre). Most of it reaches the 4 m floor: refracted light (~90 %
+    // of it after Fresnel) focuses below the ball; reflected light goes partly upward.
+    let sin_a = 0.5f64 / 3.0;
+    let omega = 2.0 * std::f64::consts::PI * (1.0 - (1.0 - sin_a * sin_a).sqrt());
+    let intercepted = INTENSITY as f64 * omega;
+    let caustic_flux: f64 = c.photons.iter().map(|p| p.flux.c[0] as f64).sum();
+    assert!(
+        caustic_flux < 1.02 * intercepted && caustic_flux > 0.7 * intercepted,
+        "caustic flux {caustic_flux} W vs {intercepted} W intercepted by the ball"
+    );
+    // The refracted light focuses: most caustic photons fall within 0.5 m of the axis.
+    let focused = c
+        .photons
+        .iter()
+        .filter(|p| p.p.x.hypot(p.p.z) < 0.5)
+        .count();
+    assert!(
+        focused as f64 > 0.8 * c.len() as f64,
+        "{focused} of {} focused",
+        c.len()
+    );
+    // The global map has direct photons too, and no photon sits on the glass.
+    let g = &one.global.photons;
+    assert!(g.iter().any(|p| p.depth == 1 && !p.caustic));
+    assert!(g.iter().any(|p| p.caustic));
+    assert!(g.iter().all(|p| p.p.y.abs() < 1e-4));
+}
+
+fn render_pm(scene: &Scene, photons: PhotonOptions, spp: u32) -> caustica_core::image_io::Image {
+    let opts = RenderOptions {
+        spp,
+        seed: 11,
+        photons,
+        ..Default::default()
+    };
+    render(
+        scene,
+        IntegratorKind::PhotonMapping,
+        &opts,
+        &RenderControl::silent(),
+    )
+    .film
+    .to_image()
+}
+
+fn mean_lum(img: &caustica_core::image_io::Image) -> f64 {
+    img.data.iter().map(|&p| common::lum(p)).sum::<f64>() / img.data.len() as f64
+}
+
+#[test]
+fn pm_with_final_gathering_agrees_with_the_path_tracer_on_a_diffuse_scene() {
+    let scene = common::diffuse_box(40, 30);
+    let reference = common::render_image(&scene, IntegratorKind::Path, 512, 1);
+    let pm = render_pm(
+        &scene,
+        PhotonOptions {
+            caustic_photons: 1000,
+            global_photons: 100_000,
+            final_gather: 16,
+            ..Default::default()
+        },
+        32,
+    );
+    let (m_pm, m_ref) = (mean_lum(&pm), mean_lum(&reference));
+    assert!(
+        (m_pm / m_ref - 1.0).abs() < 0.02,
+        "pm mean {m_pm} vs path tracer {m_ref}"
+    );
+}
+
+#[test]
+fn pm_error_shrinks_as_photons_grow() {
+    // Global map shown directly (no final gathering): the image error is the photon map's. The
+    // estimate is consistent when k → ∞ and k/N → 0 (seed 000 sec. 2.3); k = √N does both, so
+    // variance (∝ 1/k) and bias (∝ h² ∝ k/N) both fall. Pixels that see the light are masked:
+    // their anti-aliasing noise is the same for every photon count.
+    let scene = common::diffuse_box(40, 30);
+    let reference = common::render_image(&scene, IntegratorKind::Path, 1024, 1);
+    let lit: Vec<bool> = reference
+        .data
+        .iter()
+        .map(|&p| common::lum(p) < 2.0)
+        .collect();
+    let err = |n: usize| {
+        let img = render_pm(
+            &scene,
+            PhotonOptions {
+                caustic_photons: 1000,
+                global_photons: n,
+                final_gather: 0,
+                estimate: EstimateOptions {
+                    k: (n as f64).sqrt() as usize,
+                    ..Default::default()
+                },
+            },
+            16,
+        );
+        let (mut s, mut count) = (0.0, 0usize);
+        for ((&a, &b), &keep) in img.data.iter().zip(&reference.data).zip(&lit) {
+            if keep {
+                s += (common::lum(a) - common::lum(b)).powi(2);
+                count += 1;
+            }
+        }
+        (s / count as f64).sqrt()
+    };
+    let (e1, e2, e3) = (err(4_000), err(40_000), err(400_000));
+    assert!(e2 < 0.8 * e1 && e3 < 0.8 * e2, "RMSE {e1} -> {e2} -> {e3}");
+}
