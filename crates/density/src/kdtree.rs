@@ -18,7 +18,7 @@
 use caustica_core::Vec3;
 
 /// Ranges of at most this many points are leaves.
-pub const LEAF_SIZE: usize = 12;
+pub const LEAF_SIZE: usize = 24;
 
 /// Subtrees larger than this are built in parallel.
 const PARALLEL_BUILD_THRESHOLD: usize = 1 << 15;
@@ -204,6 +204,14 @@ impl KdTree {
     /// The k nearest points with dist2 < max_dist2 (use f32::INFINITY for none), sorted by
     /// dist2 ascending (ties by index); clears `out` first.
     pub fn knn(&self, q: Vec3, k: usize, max_dist2: f32, out: &mut Vec<Neighbor>) {
+        self.knn_unsorted(q, k, max_dist2, out);
+        out.sort_unstable_by(|a, b| a.dist2.total_cmp(&b.dist2).then(a.index.cmp(&b.index)));
+    }
+
+    /// The same neighbours as [`KdTree::knn`] in heap order: `out[0]` is the farthest (largest
+    /// `(dist2, index)`), the rest in no useful order. Enough for a radiance estimate, which
+    /// needs the set and the k-th distance, and cheaper for large k.
+    pub fn knn_unsorted(&self, q: Vec3, k: usize, max_dist2: f32, out: &mut Vec<Neighbor>) {
         out.clear();
         if k == 0 || self.entries.is_empty() || !q.is_finite() {
             return;
@@ -216,11 +224,14 @@ impl KdTree {
             max_dist2,
             heap: out,
         };
-        self.knn_rec(0, self.entries.len(), &mut query);
-        out.sort_unstable_by(|a, b| a.dist2.total_cmp(&b.dist2).then(a.index.cmp(&b.index)));
+        self.knn_rec(0, self.entries.len(), 0.0, &mut [0.0; 3], &mut query);
     }
 
-    fn knn_rec(&self, lo: usize, hi: usize, s: &mut KnnQuery<'_>) {
+    /// Visits the node `[lo, hi)`, whose cell is at squared distance `rd` from the query, with
+    /// `off[d]` the query's offset from the cell along each axis (0 inside the slab): the
+    /// incremental distance of Arya and Mount, which prunes far cells by their true box distance
+    /// rather than by the distance to one splitting plane.
+    fn knn_rec(&self, lo: usize, hi: usize, rd: f32, off: &mut [f32; 3], s: &mut KnnQuery<'_>) {
         if hi - lo <= LEAF_SIZE {
             for e in &self.entries[lo..hi] {
                 s.offer(e.index, dist2(&e.p, &s.q));
@@ -236,12 +247,16 @@ impl KdTree {
         } else {
             ((m + 1, hi), (lo, m))
         };
-        self.knn_rec(near.0, near.1, s);
+        self.knn_rec(near.0, near.1, rd, off, s);
         s.offer(e.index, dist2(&e.p, &s.q));
-        let diff2 = diff * diff;
-        // The far side is at least |diff| away; `<=` keeps exact ties reachable.
-        if diff2 < s.max_dist2 && diff2 <= s.bound() {
-            self.knn_rec(far.0, far.1, s);
+        // The far cell is `diff` away along axis d (at least the old offset along d).
+        let old = off[d];
+        let rd_far = rd - old * old + diff * diff;
+        // `<=` keeps exact ties reachable.
+        if rd_far < s.max_dist2 && rd_far <= s.bound() {
+            off[d] = diff;
+            self.knn_rec(far.0, far.1, rd_far, off, s);
+            off[d] = old;
         }
     }
 
@@ -367,6 +382,15 @@ mod tests {
                     let got: Vec<(u32, f32)> = out.iter().map(|n| (n.index, n.dist2)).collect();
                     let exp = brute_knn(pts, q, k, md2);
                     assert_eq!(got, exp, "n={} q={q} k={k} max_dist2={md2}", pts.len());
+                    // Heap order: the farthest first, and the same set.
+                    tree.knn_unsorted(q, k, md2, &mut out);
+                    if let Some(last) = exp.last() {
+                        assert_eq!((out[0].index, out[0].dist2), *last, "farthest first");
+                    }
+                    let mut unsorted: Vec<(u32, f32)> =
+                        out.iter().map(|n| (n.index, n.dist2)).collect();
+                    unsorted.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                    assert_eq!(unsorted, exp, "unsorted set n={} k={k}", pts.len());
                 }
             }
             for &r2 in &[0.0f32, 1e-6, 0.3, 4.0] {

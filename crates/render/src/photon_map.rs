@@ -46,7 +46,8 @@ pub struct PhotonMap {
 }
 
 impl PhotonMap {
-    pub fn new(photons: Vec<Photon>, paths: u64) -> Self {
+    pub fn new(mut photons: Vec<Photon>, paths: u64) -> Self {
+        photons.shrink_to_fit();
         let positions: Vec<Vec3> = photons.iter().map(|p| p.p).collect();
         Self {
             tree: KdTree::build(&positions),
@@ -84,14 +85,15 @@ impl PhotonMap {
         }
         let x = v.si.p;
         let max_r2 = opts.max_radius.map_or(f32::INFINITY, |r| r * r);
-        self.tree.knn(x, opts.k, max_r2, buf);
-        let Some(last) = buf.last() else {
+        // Heap order: buf[0] is the farthest of the k, which sets the bandwidth.
+        self.tree.knn_unsorted(x, opts.k, max_r2, buf);
+        let Some(farthest) = buf.first() else {
             return Spectrum::ZERO;
         };
         let h2 = if buf.len() < opts.k && max_r2.is_finite() {
             max_r2
         } else {
-            last.dist2
+            farthest.dist2
         };
         if h2 <= 0.0 {
             return Spectrum::ZERO;

@@ -48,6 +48,10 @@ pub enum MapKind {
 const CHUNK: u64 = 1 << 12;
 /// Give up (with a warning) after this many paths per requested photon.
 const MAX_PATHS_PER_PHOTON: u64 = 1 << 12;
+/// Give up (with a warning) when this many paths have stored no photon at all: the scene has no
+/// lit diffuse surface (or, for the caustic map, no specular path to one). A caustic yield below
+/// 1 in 2²⁰ paths would need ~10¹¹ paths for a usable map anyway.
+const MAX_PATHS_WITHOUT_PHOTON: u64 = 1 << 20;
 
 /// Photons of one map and how they were made.
 pub struct TracedPhotons {
@@ -80,7 +84,10 @@ pub fn trace_photons(
     let limit = (target as u64)
         .saturating_mul(MAX_PATHS_PER_PHOTON)
         .max(CHUNK);
-    while photons.len() < target && emitted < limit {
+    while photons.len() < target
+        && emitted < limit
+        && !(photons.is_empty() && emitted >= MAX_PATHS_WITHOUT_PHOTON)
+    {
         // Size the next wave from the yield so far (deterministic: counts only).
         let wave = if photons.is_empty() {
             16 * CHUNK
