@@ -1,0 +1,151 @@
+//! End-to-end checks of the photon-mapping command line: `--integrator pm`, `caustica photons`,
+//! and their bad input (k = 0, negative radius, zero photons, no lights, no diffuse surface).
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn caustica(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_caustica"))
+        .args(args)
+        .output()
+        .expect("run caustica")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("caustica-pm-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn write(name: &str, text: &str) -> String {
+    let p = tmp(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn assert_clean_failure(o: &Output, must_contain: &[&str]) {
+    let err = text(&o.stderr);
+    assert!(!o.status.success(), "expected failure; stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    for m in must_contain {
+        assert!(err.contains(m), "stderr lacks '{m}': {err}");
+    }
+}
+
+/// A tiny glass-ball scene: 16×16 pixels, point light, diffuse floor (or a mirror floor).
+fn ball_scene(name: &str, floor: &str, light: bool) -> String {
+    let light = if light {
+        "[[light]]\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = 20\n"
+    } else {
+        ""
+    };
+    write(
+        name,
+        &format!(
+            "name = \"tiny-ball\"\n\
+             [camera]\neye = [0, 2.5, 2.5]\ntarget = [0, 0.3, 0]\nfov = 45\nwidth = 16\nheight = 16\n\
+             [[material]]\nname = \"floor\"\n{floor}\n\
+             [[material]]\nname = \"glass\"\ntype = \"dielectric\"\nior = 1.5\n\
+             [[shape]]\ntype = \"rectangle\"\nmaterial = \"floor\"\nscale = 2\n\
+             rotate = {{ axis = [1, 0, 0], angle = -90 }}\n\
+             [[shape]]\ntype = \"sphere\"\nmaterial = \"glass\"\ncenter = [0, 0.5, 0]\nradius = 0.5\n\
+             {light}"
+        ),
+    )
+}
+
+const DIFFUSE: &str = "type = \"diffuse\"\nreflectance = 0.8";
+
+fn pm(scene: &str, extra: &[&str]) -> Output {
+    let out = tmp("pm.exr");
+    let mut args = vec![
+        "render",
+        scene,
+        "--integrator",
+        "pm",
+        "--spp",
+        "2",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    caustica(&args)
+}
+
+#[test]
+fn pm_renders_a_caustic_and_reports_its_photon_pass() {
+    let scene = ball_scene("ok.toml", DIFFUSE, true);
+    let o = pm(
+        &scene,
+        &["--photons", "2000", "--global-photons", "2000", "--k", "20"],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(err.contains("photons: caustic 2000"), "{err}");
+    let out = text(&o.stdout);
+    assert!(out.contains("samples/s"), "{out}");
+    let img = caustica_core::image_io::Image::read(&tmp("pm.exr")).unwrap();
+    assert!(img.data.iter().any(|p| p[0] > 0.0), "black image");
+}
+
+#[test]
+fn pm_bad_parameters_fail_with_a_message_naming_them() {
+    let scene = ball_scene("bad.toml", DIFFUSE, true);
+    assert_clean_failure(&pm(&scene, &["--k", "0"]), &["k (photons per estimate)"]);
+    assert_clean_failure(&pm(&scene, &["--max-radius", "-1"]), &["maximum radius", "-1"]);
+    assert_clean_failure(&pm(&scene, &["--max-radius", "nan"]), &["maximum radius"]);
+    assert_clean_failure(&pm(&scene, &["--photons", "0"]), &["caustic photons"]);
+    assert_clean_failure(&pm(&scene, &["--kernel", "box"]), &["unknown kernel 'box'"]);
+    assert_clean_failure(&pm(&scene, &["--kernel", "cone:0.5"]), &["cone"]);
+}
+
+#[test]
+fn pm_without_lights_is_an_error() {
+    let scene = ball_scene("dark.toml", DIFFUSE, false);
+    assert_clean_failure(&pm(&scene, &[]), &["no lights"]);
+    assert_clean_failure(
+        &caustica(&["photons", &scene, "-o", tmp("p.png").to_str().unwrap()]),
+        &["no lights"],
+    );
+}
+
+#[test]
+fn pm_without_diffuse_surfaces_warns_and_renders() {
+    // A mirror floor and a glass ball: no surface can hold a photon. The photon pass gives up
+    // after a bounded number of paths with a warning, and the image is still written.
+    let scene = ball_scene("mirror.toml", "type = \"mirror\"", true);
+    let o = pm(&scene, &["--photons", "1000", "--global-photons", "1000"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(err.contains("warning: only 0 caustic photons"), "{err}");
+    assert!(err.contains("warning: only 0 global photons"), "{err}");
+    assert!(tmp("pm.exr").exists());
+}
+
+#[test]
+fn photons_command_draws_the_photons() {
+    let scene = ball_scene("draw.toml", DIFFUSE, true);
+    let png = tmp("photons.png");
+    let o = caustica(&[
+        "photons",
+        &scene,
+        "--photons",
+        "500",
+        "--global-photons",
+        "500",
+        "--background-spp",
+        "1",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(out.contains("of 500 caustic photons"), "{out}");
+    let img = caustica_core::image_io::Image::read(&png).unwrap();
+    assert_eq!((img.width, img.height), (16, 16));
+}
