@@ -14,19 +14,8 @@ pub struct CompareArgs {
     pub image: PathBuf,
     /// Reference image of the same size.
     pub reference: PathBuf,
-    /// Compare only this rectangle: left,top,width,height in pixels.
-    #[arg(long, value_name = "X,Y,W,H")]
-    pub crop: Option<String>,
-    /// Compare only pixels where this image (same size) is non-zero.
-    #[arg(long, value_name = "MASK")]
-    pub mask: Option<PathBuf>,
-    /// Ignore pixels that are black in both images (light tracers leave pixels that see glass
-    /// or mirrors directly black); this leaves the ratio of the means unchanged.
-    #[arg(long)]
-    pub mask_black: bool,
-    /// Exposure (stops) of the display transform used by MISE and SSIM.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub exposure: f32,
+    #[command(flatten)]
+    pub metric: MetricArgs,
     /// Block side (pixels) of the regional bias test.
     #[arg(long, default_value_t = 16)]
     pub block: usize,
@@ -46,6 +35,50 @@ pub struct CompareArgs {
     pub check: Option<f64>,
 }
 
+/// Which pixels the metrics look at and the display transform of MISE and SSIM (shared by
+/// `compare` and `sweep`).
+#[derive(Args, Clone, Debug)]
+pub struct MetricArgs {
+    /// Compare only this rectangle: left,top,width,height in pixels.
+    #[arg(long, value_name = "X,Y,W,H")]
+    pub crop: Option<String>,
+    /// Compare only pixels where this image (same size) is non-zero.
+    #[arg(long, value_name = "MASK")]
+    pub mask: Option<PathBuf>,
+    /// Ignore pixels that are black in both images (light tracers leave pixels that see glass
+    /// or mirrors directly black); this leaves the ratio of the means unchanged.
+    #[arg(long)]
+    pub mask_black: bool,
+    /// Exposure (stops) of the display transform used by MISE and SSIM.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+}
+
+impl MetricArgs {
+    /// The crop rectangle and mask (read here) for `width`×`height` images, checked.
+    pub fn region(&self, width: usize, height: usize) -> Result<Region> {
+        let mut region = match &self.crop {
+            Some(c) => Region::crop(width, height, parse_crop(c)?)?,
+            None => Region::full(width, height),
+        };
+        if let Some(m) = &self.mask {
+            region = region
+                .with_mask(&read(m, "mask")?)
+                .with_context(|| format!("mask {}", m.display()))?;
+        }
+        Ok(region)
+    }
+
+    /// `region` for one image pair: without the pixels black in both under `--mask-black`.
+    pub fn region_for(&self, region: &Region, image: &Image, reference: &Image) -> Region {
+        if self.mask_black {
+            region.clone().without_black(image, reference)
+        } else {
+            region.clone()
+        }
+    }
+}
+
 fn parse_crop(s: &str) -> Result<(usize, usize, usize, usize)> {
     let v: Vec<usize> = s
         .split(',')
@@ -61,7 +94,8 @@ fn parse_crop(s: &str) -> Result<(usize, usize, usize, usize)> {
     }
 }
 
-fn read(path: &Path, what: &str) -> Result<Image> {
+/// Reads an image; errors name `what` it is and the file.
+pub fn read(path: &Path, what: &str) -> Result<Image> {
     Image::read(path).with_context(|| format!("cannot read {what} {}", path.display()))
 }
 
@@ -70,20 +104,10 @@ pub fn run(args: CompareArgs) -> Result<i32> {
     let image = read(&args.image, "image")?;
     let reference = read(&args.reference, "reference")?;
     let (w, h) = (reference.width, reference.height);
-    let mut region = match &args.crop {
-        Some(c) => Region::crop(w, h, parse_crop(c)?)?,
-        None => Region::full(w, h),
-    };
-    if let Some(m) = &args.mask {
-        region = region
-            .with_mask(&read(m, "mask")?)
-            .with_context(|| format!("mask {}", m.display()))?;
-    }
-    if args.mask_black {
-        region = region.without_black(&image, &reference);
-    }
+    let region = args.metric.region(w, h)?;
+    let region = args.metric.region_for(&region, &image, &reference);
     let options = CompareOptions {
-        exposure: args.exposure,
+        exposure: args.metric.exposure,
         block_size: args.block,
         block_tolerance: args.block_tolerance,
     };

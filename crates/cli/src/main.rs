@@ -4,6 +4,7 @@ mod compare_cmd;
 mod photon_args;
 mod photons_cmd;
 mod render_cmd;
+mod sweep_cmd;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -26,6 +27,10 @@ enum Command {
     /// Compare an image with a reference: relative mean difference, RMSE, relative MSE, MISE,
     /// SSIM, and z-score tests for noise versus bias.
     Compare(compare_cmd::CompareArgs),
+    /// Render a scene once per value of one option (--param NAME --values A,B,C) and compare
+    /// each image with a reference: a CSV of RMSE, relative MSE, MISE, SSIM and render time, the
+    /// images, and a plot of RMSE and SSIM against the value.
+    Sweep(Box<sweep_cmd::SweepArgs>),
     /// Draw the stored photons as points over a dim image of the scene (debugging).
     Photons(photons_cmd::PhotonsArgs),
     /// List the built-in scenes.
@@ -41,6 +46,7 @@ fn main() {
             Ok(code) => std::process::exit(code),
             Err(e) => Err(e),
         },
+        Command::Sweep(args) => sweep_cmd::run(*args),
         Command::Photons(args) => photons_cmd::run(args),
         Command::Scenes => {
             for name in caustica_scene::loader::builtin_names() {

@@ -56,22 +56,40 @@ pub fn run(args: PhotonsArgs) -> Result<()> {
         ..RenderOptions::default()
     };
     let mut img = if args.background_spp > 0 {
-        let out = render(&scene, IntegratorKind::Path, &opts, &RenderControl::silent());
+        let out = render(
+            &scene,
+            IntegratorKind::Path,
+            &opts,
+            &RenderControl::silent(),
+        );
         let mut img = out.film.to_image();
         for p in &mut img.data {
             *p = p.map(|c| c * args.dim);
         }
         img
     } else {
-        caustica_core::image_io::Image::new(scene.camera.width as usize, scene.camera.height as usize)
+        caustica_core::image_io::Image::new(
+            scene.camera.width as usize,
+            scene.camera.height as usize,
+        )
     };
     let maps = PhotonMaps::build(&scene, &opts);
     for w in &maps.warnings {
         eprintln!("warning: {w}");
     }
     // Global photons in blue, caustic photons (drawn last, on top) in orange.
-    let g = draw_photons(&scene, &maps.global.photons, Spectrum::new(0.1, 0.35, 1.0), &mut img);
-    let c = draw_photons(&scene, &maps.caustic.photons, Spectrum::new(1.0, 0.55, 0.05), &mut img);
+    let g = draw_photons(
+        &scene,
+        &maps.global.photons,
+        Spectrum::new(0.1, 0.35, 1.0),
+        &mut img,
+    );
+    let c = draw_photons(
+        &scene,
+        &maps.caustic.photons,
+        Spectrum::new(1.0, 0.55, 0.05),
+        &mut img,
+    );
     img.write(&args.output)
         .with_context(|| format!("cannot write {}", args.output.display()))?;
     println!(

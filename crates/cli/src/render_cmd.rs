@@ -12,8 +12,10 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-#[derive(Args, Debug)]
-pub struct RenderArgs {
+/// The options that decide what a render computes: scene, integrator, sampling, photon mapping.
+/// Shared by `render` and `sweep` (which varies one of them).
+#[derive(Args, Clone, Debug)]
+pub struct RenderSettings {
     /// Scene file (.toml) or built-in scene name (see `caustica scenes`). Default: the embedded
     /// Cornell box.
     pub scene: Option<String>,
@@ -43,6 +45,14 @@ pub struct RenderArgs {
     /// Longest path in edges (Mitsuba's max_depth; -1 = unlimited).
     #[arg(long, allow_negative_numbers = true)]
     pub max_depth: Option<i64>,
+    #[command(flatten)]
+    pub photon: crate::photon_args::PhotonArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub settings: RenderSettings,
     /// Output image (.exr, .pfm or .png).
     #[arg(short, long, default_value = "out.exr")]
     pub output: PathBuf,
@@ -58,8 +68,97 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
-    #[command(flatten)]
-    pub photon: crate::photon_args::PhotonArgs,
+}
+
+/// What [`RenderSettings::resolve`] selects for a loaded scene.
+#[derive(Clone, Debug)]
+pub struct Resolved {
+    pub kind: IntegratorKind,
+    pub opts: RenderOptions,
+    /// Warnings for the user (options that have no effect, an unknown suggested integrator).
+    pub warnings: Vec<String>,
+}
+
+impl RenderSettings {
+    /// Starts the worker threads (`--threads`, else one per core). Call once, before rendering.
+    pub fn start_threads(&self) -> Result<()> {
+        if let Some(t) = self.threads {
+            if t == 0 {
+                bail!("--threads must be at least 1");
+            }
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build_global()
+                .context("cannot start the worker threads")?;
+        }
+        Ok(())
+    }
+
+    /// Loads the scene (with the `-D` definitions) and prints its warnings.
+    pub fn load_scene(&self) -> Result<Scene> {
+        let defines = parse_defines(&self.define)?;
+        let scene = load(self.scene.as_deref(), &defines)?;
+        for w in &scene.warnings {
+            eprintln!("warning: {w}");
+        }
+        Ok(scene)
+    }
+
+    /// The integrator and render options these settings select for `scene` (whose suggestions
+    /// fill in what is not given), validated; no checkpoints.
+    pub fn resolve(&self, scene: &Scene) -> Result<Resolved> {
+        let mut warnings = Vec::new();
+        let sampler: SamplerKind = self.sampler.parse().map_err(anyhow::Error::msg)?;
+        if let Some(t) = self.time
+            && !(t.is_finite() && t > 0.0)
+        {
+            bail!("--time must be a positive number of seconds, got {t}");
+        }
+        let kind: IntegratorKind = match (&self.integrator, &scene.settings.integrator) {
+            (Some(name), _) => name.parse().map_err(anyhow::Error::msg)?,
+            (None, Some(suggested)) => suggested.parse().unwrap_or_else(|_| {
+                warnings.push(format!("the scene asks for integrator '{suggested}', which caustica does not have; using path"));
+                IntegratorKind::Path
+            }),
+            (None, None) => IntegratorKind::Path,
+        };
+        if kind == IntegratorKind::PhotonMapping && scene.lights.is_empty() {
+            bail!(
+                "scene '{}' has no lights: photon mapping needs at least one to emit photons",
+                scene.name
+            );
+        }
+        let spp = self.spp.or(scene.settings.spp).unwrap_or(16);
+        if spp == 0 {
+            bail!("--spp must be at least 1");
+        }
+        let max_depth = match self.max_depth.or(scene.settings.max_depth.map(i64::from)) {
+            None | Some(-1) => u32::MAX,
+            Some(d) if d >= 1 => d.min(u32::MAX as i64) as u32,
+            Some(d) => bail!("--max-depth must be -1 (unlimited) or at least 1, got {d}"),
+        };
+        let opts = RenderOptions {
+            spp,
+            time_limit: self.time.map(Duration::from_secs_f64),
+            seed: self.seed,
+            sampler,
+            max_depth,
+            rr_depth: 5,
+            checkpoint_interval: None,
+            photons: self.photon.options()?,
+        };
+        if self.photon.any_given() && kind != IntegratorKind::PhotonMapping {
+            warnings.push(format!(
+                "photon-mapping options have no effect on integrator '{}'",
+                kind.name()
+            ));
+        }
+        Ok(Resolved {
+            kind,
+            opts,
+            warnings,
+        })
+    }
 }
 
 /// Loads a scene given as a path or built-in name; `defines` override Mitsuba `<default>`s.
@@ -115,21 +214,7 @@ fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
-    let sampler: SamplerKind = args.sampler.parse().map_err(anyhow::Error::msg)?;
-    if let Some(t) = args.threads {
-        if t == 0 {
-            bail!("--threads must be at least 1");
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build_global()
-            .context("cannot start the worker threads")?;
-    }
-    if let Some(t) = args.time
-        && !(t.is_finite() && t > 0.0)
-    {
-        bail!("--time must be a positive number of seconds, got {t}");
-    }
+    args.settings.start_threads()?;
     if let Some(c) = args.checkpoint
         && !(c.is_finite() && c > 0.0)
     {
@@ -147,50 +232,16 @@ pub fn run(args: RenderArgs) -> Result<()> {
             args.output.display()
         );
     }
-    let defines = parse_defines(&args.define)?;
-    let scene = load(args.scene.as_deref(), &defines)?;
-    let kind: IntegratorKind = match (&args.integrator, &scene.settings.integrator) {
-        (Some(name), _) => name.parse().map_err(anyhow::Error::msg)?,
-        (None, Some(suggested)) => suggested.parse().unwrap_or_else(|_| {
-            eprintln!("warning: the scene asks for integrator '{suggested}', which caustica does not have; using path");
-            IntegratorKind::Path
-        }),
-        (None, None) => IntegratorKind::Path,
-    };
-    for w in &scene.warnings {
+    let scene = args.settings.load_scene()?;
+    let Resolved {
+        kind,
+        mut opts,
+        warnings,
+    } = args.settings.resolve(&scene)?;
+    for w in &warnings {
         eprintln!("warning: {w}");
     }
-    if kind == IntegratorKind::PhotonMapping && scene.lights.is_empty() {
-        bail!(
-            "scene '{}' has no lights: photon mapping needs at least one to emit photons",
-            scene.name
-        );
-    }
-    let spp = args.spp.or(scene.settings.spp).unwrap_or(16);
-    if spp == 0 {
-        bail!("--spp must be at least 1");
-    }
-    let max_depth = match args.max_depth.or(scene.settings.max_depth.map(i64::from)) {
-        None | Some(-1) => u32::MAX,
-        Some(d) if d >= 1 => d.min(u32::MAX as i64) as u32,
-        Some(d) => bail!("--max-depth must be -1 (unlimited) or at least 1, got {d}"),
-    };
-    let opts = RenderOptions {
-        spp,
-        time_limit: args.time.map(Duration::from_secs_f64),
-        seed: args.seed,
-        sampler,
-        max_depth,
-        rr_depth: 5,
-        checkpoint_interval: args.checkpoint.map(Duration::from_secs_f64),
-        photons: args.photon.options()?,
-    };
-    if args.photon.any_given() && kind != IntegratorKind::PhotonMapping {
-        eprintln!(
-            "warning: photon-mapping options have no effect on integrator '{}'",
-            kind.name()
-        );
-    }
+    opts.checkpoint_interval = args.checkpoint.map(Duration::from_secs_f64);
 
     static STOP: AtomicBool = AtomicBool::new(false);
     ctrlc::set_handler(|| {

@@ -97,7 +97,10 @@ fn pm_renders_a_caustic_and_reports_its_photon_pass() {
 fn pm_bad_parameters_fail_with_a_message_naming_them() {
     let scene = ball_scene("bad.toml", DIFFUSE, true);
     assert_clean_failure(&pm(&scene, &["--k", "0"]), &["k (photons per estimate)"]);
-    assert_clean_failure(&pm(&scene, &["--max-radius", "-1"]), &["maximum radius", "-1"]);
+    assert_clean_failure(
+        &pm(&scene, &["--max-radius", "-1"]),
+        &["maximum radius", "-1"],
+    );
     assert_clean_failure(&pm(&scene, &["--max-radius", "nan"]), &["maximum radius"]);
     assert_clean_failure(&pm(&scene, &["--photons", "0"]), &["caustic photons"]);
     assert_clean_failure(&pm(&scene, &["--kernel", "box"]), &["unknown kernel 'box'"]);

@@ -5,12 +5,14 @@
 //! relative MSE) measure physical agreement; metrics on the display range (MISE, SSIM) follow the
 //! evaluation of seed 000 ch. 6 and seed 002 sec. 4, which judge images as they are seen. The
 //! display transform is documented in [`display`]. The z-score tests in [`zscore`] tell noise from
-//! systematic, per-region bias when two independent Monte Carlo renderers are compared.
+//! systematic, per-region bias when two independent Monte Carlo renderers are compared. [`plot`]
+//! draws a parameter sweep (RMSE and SSIM against the parameter) as SVG and PNG.
 
 pub mod colormap;
 pub mod display;
 pub mod metrics;
 pub mod normal;
+pub mod plot;
 pub mod region;
 pub mod ssim;
 pub mod zscore;
