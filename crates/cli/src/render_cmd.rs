@@ -45,6 +45,10 @@ pub struct RenderSettings {
     /// Longest path in edges (Mitsuba's max_depth; -1 = unlimited).
     #[arg(long, allow_negative_numbers = true)]
     pub max_depth: Option<i64>,
+    /// Render only caustics seen directly (paths L S+ D E), for comparing the caustics of the
+    /// light tracer and photon mapping without the noise of other light (lighttrace and pm).
+    #[arg(long)]
+    pub caustics_only: bool,
     #[command(flatten)]
     pub photon: crate::photon_args::PhotonArgs,
 }
@@ -146,7 +150,13 @@ impl RenderSettings {
             rr_depth: 5,
             checkpoint_interval: None,
             photons: self.photon.options()?,
+            caustics_only: self.caustics_only,
         };
+        if self.caustics_only && kind == IntegratorKind::Path {
+            bail!(
+                "--caustics-only needs --integrator lighttrace or pm: the path tracer cannot isolate L S+ D E paths"
+            );
+        }
         if self.photon.any_given() && kind != IntegratorKind::PhotonMapping {
             warnings.push(format!(
                 "photon-mapping options have no effect on integrator '{}'",

@@ -24,7 +24,7 @@ pub struct SweepArgs {
     pub render: RenderSettings,
     /// The render option to vary, by its long name: spp, seed, max-depth, sampler, time,
     /// integrator, photons, global-photons, k, max-radius, kernel, final-gather,
-    /// tangent-projection or disc-test.
+    /// tangent-projection, disc-test or caustics-only.
     #[arg(long, value_name = "NAME")]
     pub param: String,
     /// The values of the parameter, comma-separated (e.g. 10,50,200 or uniform,cone:1.1);
@@ -121,6 +121,7 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("final-gather", |s| &mut s.photon.final_gather),
     ("tangent-projection", |s| &mut s.photon.tangent_projection),
     ("disc-test", |s| &mut s.photon.disc_test),
+    ("caustics-only", |s| &mut s.caustics_only),
 ];
 
 /// The setter of parameter `name` (a long option name, with or without the leading `--`).

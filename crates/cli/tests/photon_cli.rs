@@ -60,8 +60,9 @@ fn ball_scene(name: &str, floor: &str, light: bool) -> String {
 
 const DIFFUSE: &str = "type = \"diffuse\"\nreflectance = 0.8";
 
-fn pm(scene: &str, extra: &[&str]) -> Output {
-    let out = tmp("pm.exr");
+/// Runs `render SCENE --integrator pm` writing `out` (one file per test: tests run in parallel).
+fn pm(scene: &str, out: &str, extra: &[&str]) -> Output {
+    let out = tmp(out);
     let mut args = vec![
         "render",
         scene,
@@ -82,6 +83,7 @@ fn pm_renders_a_caustic_and_reports_its_photon_pass() {
     let scene = ball_scene("ok.toml", DIFFUSE, true);
     let o = pm(
         &scene,
+        "ok.exr",
         &["--photons", "2000", "--global-photons", "2000", "--k", "20"],
     );
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -89,28 +91,40 @@ fn pm_renders_a_caustic_and_reports_its_photon_pass() {
     assert!(err.contains("photons: caustic 2000"), "{err}");
     let out = text(&o.stdout);
     assert!(out.contains("samples/s"), "{out}");
-    let img = caustica_core::image_io::Image::read(&tmp("pm.exr")).unwrap();
+    let img = caustica_core::image_io::Image::read(&tmp("ok.exr")).unwrap();
     assert!(img.data.iter().any(|p| p[0] > 0.0), "black image");
 }
 
 #[test]
 fn pm_bad_parameters_fail_with_a_message_naming_them() {
     let scene = ball_scene("bad.toml", DIFFUSE, true);
-    assert_clean_failure(&pm(&scene, &["--k", "0"]), &["k (photons per estimate)"]);
     assert_clean_failure(
-        &pm(&scene, &["--max-radius", "-1"]),
+        &pm(&scene, "bad.exr", &["--k", "0"]),
+        &["k (photons per estimate)"],
+    );
+    assert_clean_failure(
+        &pm(&scene, "bad.exr", &["--max-radius", "-1"]),
         &["maximum radius", "-1"],
     );
-    assert_clean_failure(&pm(&scene, &["--max-radius", "nan"]), &["maximum radius"]);
-    assert_clean_failure(&pm(&scene, &["--photons", "0"]), &["caustic photons"]);
-    assert_clean_failure(&pm(&scene, &["--kernel", "box"]), &["unknown kernel 'box'"]);
-    assert_clean_failure(&pm(&scene, &["--kernel", "cone:0.5"]), &["cone"]);
+    assert_clean_failure(
+        &pm(&scene, "bad.exr", &["--max-radius", "nan"]),
+        &["maximum radius"],
+    );
+    assert_clean_failure(
+        &pm(&scene, "bad.exr", &["--photons", "0"]),
+        &["caustic photons"],
+    );
+    assert_clean_failure(
+        &pm(&scene, "bad.exr", &["--kernel", "box"]),
+        &["unknown kernel 'box'"],
+    );
+    assert_clean_failure(&pm(&scene, "bad.exr", &["--kernel", "cone:0.5"]), &["cone"]);
 }
 
 #[test]
 fn pm_without_lights_is_an_error() {
     let scene = ball_scene("dark.toml", DIFFUSE, false);
-    assert_clean_failure(&pm(&scene, &[]), &["no lights"]);
+    assert_clean_failure(&pm(&scene, "bad.exr", &[]), &["no lights"]);
     assert_clean_failure(
         &caustica(&["photons", &scene, "-o", tmp("p.png").to_str().unwrap()]),
         &["no lights"],
@@ -122,12 +136,16 @@ fn pm_without_diffuse_surfaces_warns_and_renders() {
     // A mirror floor and a glass ball: no surface can hold a photon. The photon pass gives up
     // after a bounded number of paths with a warning, and the image is still written.
     let scene = ball_scene("mirror.toml", "type = \"mirror\"", true);
-    let o = pm(&scene, &["--photons", "1000", "--global-photons", "1000"]);
+    let o = pm(
+        &scene,
+        "mirror.exr",
+        &["--photons", "1000", "--global-photons", "1000"],
+    );
     assert!(o.status.success(), "{}", text(&o.stderr));
     let err = text(&o.stderr);
     assert!(err.contains("warning: only 0 caustic photons"), "{err}");
     assert!(err.contains("warning: only 0 global photons"), "{err}");
-    assert!(tmp("pm.exr").exists());
+    assert!(tmp("mirror.exr").exists());
 }
 
 #[test]
@@ -151,4 +169,30 @@ fn photons_command_draws_the_photons() {
     assert!(out.contains("of 500 caustic photons"), "{out}");
     let img = caustica_core::image_io::Image::read(&png).unwrap();
     assert_eq!((img.width, img.height), (16, 16));
+}
+
+#[test]
+fn pm_renders_a_mitsuba_xml_scene() {
+    let xml = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/mitsuba/glass-sphere-point.xml"
+    );
+    let o = pm(
+        xml,
+        "xml.exr",
+        &[
+            "-D",
+            "width=16",
+            "-D",
+            "height=12",
+            "--photons",
+            "500",
+            "--global-photons",
+            "500",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("photons: caustic 500"));
+    let img = caustica_core::image_io::Image::read(&tmp("xml.exr")).unwrap();
+    assert_eq!((img.width, img.height), (16, 12));
 }

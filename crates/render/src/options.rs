@@ -27,6 +27,14 @@ pub struct RenderOptions {
     pub checkpoint_interval: Option<Duration>,
     /// Settings of the photon-mapping integrators.
     pub photons: PhotonOptions,
+    /// Render only caustic light seen directly, paths L S+ D E: light that reached the first
+    /// surface the camera sees, a non-delta one, through one or more delta (mirror, glass)
+    /// bounces. Pixels that see a delta surface first are black. The light tracer and `pm`
+    /// honour it (the light tracer connects only such vertices to the camera; `pm` returns the
+    /// caustic-map estimate alone), so their caustics can be compared without the noise of the
+    /// other light (seed 000 ch. 6 compares caustics alone). The path tracer cannot isolate
+    /// these paths and rejects it.
+    pub caustics_only: bool,
 }
 
 /// Settings of the photon-mapping integrators.
@@ -85,6 +93,7 @@ impl Default for RenderOptions {
             rr_depth: 5,
             checkpoint_interval: None,
             photons: PhotonOptions::default(),
+            caustics_only: false,
         }
     }
 }

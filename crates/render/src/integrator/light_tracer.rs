@@ -45,6 +45,7 @@ pub fn trace_light_path(
             let u_lens = sampler.next_2d();
             let es = start.emission;
             if !es.delta_pos
+                && !opts.caustics_only
                 && opts.max_depth >= 1
                 && let Some(n) = es.normal
                 && let Some(cs) = camera.sample_wi(es.ray.o, u_lens)
@@ -66,6 +67,7 @@ pub fn trace_light_path(
             let u_lens = sampler.next_2d();
             let v = lv.v;
             if v.bsdf.flags().is_smooth()
+                && (lv.after_specular_chain || !opts.caustics_only)
                 && lv.depth < opts.max_depth
                 && let Some(cs) = camera.sample_wi(v.si.p, u_lens)
             {

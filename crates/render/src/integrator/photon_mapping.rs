@@ -53,7 +53,8 @@ impl PhotonMaps {
             CAUSTIC_STREAM,
             opts,
         );
-        let g = if p.global_photons > 0 {
+        // Caustics alone need no global map.
+        let g = if p.global_photons > 0 && !opts.caustics_only {
             trace_photons(
                 scene,
                 p.global_photons,
@@ -112,6 +113,14 @@ pub fn radiance(
         };
         depth += 1;
         beta *= interior_transmittance(scene, &si, &ray);
+        if opts.caustics_only {
+            // L S+ D E only: the caustic map at the first surface, if it is non-delta.
+            let v = Vertex::new(scene, si, &ray);
+            if v.bsdf.flags().is_smooth() {
+                l += beta * estimate(&maps.caustic, &v, opts);
+            }
+            break;
+        }
         if si.light != NONE {
             l += beta * scene.lights[si.light as usize].le(si.ng, -ray.d);
         }
