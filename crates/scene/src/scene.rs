@@ -10,6 +10,11 @@ use crate::shape::{Aabb, Shape, ShapeGeometry};
 use caustica_core::sampling::Distribution1D;
 use caustica_core::{Ray, Spectrum};
 
+/// Largest coordinate (m) a shape may reach. Beyond it the BVH builder's surface-area costs
+/// overflow `f32` (a box 10¹⁹ wide already has an infinite area) and it builds a broken tree;
+/// ±10¹² keeps area × primitive count finite for any mesh.
+pub const MAX_COORDINATE: f32 = 1e12;
+
 /// Pixel reconstruction filter requested by the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum FilterKind {
@@ -114,7 +119,8 @@ impl SceneBuilder {
 
     /// Adds a shape with material `material`; with `emission` (radiance, W/m²/sr) it also
     /// becomes a one-sided diffuse area light. Meshes are sanitised: non-finite and degenerate
-    /// triangles are dropped and counted in a warning.
+    /// triangles are dropped and counted in a warning. Shapes reaching beyond
+    /// ±[`MAX_COORDINATE`] are errors.
     pub fn add_shape(
         &mut self,
         mut geometry: ShapeGeometry,
@@ -137,6 +143,17 @@ impl SceneBuilder {
                         .push("a mesh has no valid triangles and was skipped".into());
                     return Ok(());
                 }
+                if let Some(v) = m
+                    .indices
+                    .iter()
+                    .flatten()
+                    .map(|&k| m.positions[k as usize])
+                    .find(|v| v.abs().max_element() > MAX_COORDINATE)
+                {
+                    return Err(SceneError::InvalidParameter(format!(
+                        "mesh vertex {v} lies beyond ±{MAX_COORDINATE:e}"
+                    )));
+                }
                 if flip_normals {
                     for t in &mut m.indices {
                         t.swap(1, 2);
@@ -153,6 +170,12 @@ impl SceneBuilder {
                         s.radius
                     )));
                 }
+                if s.center.abs().max_element() + s.radius > MAX_COORDINATE {
+                    return Err(SceneError::InvalidParameter(format!(
+                        "sphere (center {}, radius {}) reaches beyond ±{MAX_COORDINATE:e}",
+                        s.center, s.radius
+                    )));
+                }
                 flip_flag = flip_normals;
             }
             ShapeGeometry::Disk(d) => {
@@ -164,6 +187,12 @@ impl SceneBuilder {
                     return Err(SceneError::InvalidParameter(format!(
                         "disk radius must be positive and finite, got {}",
                         d.radius
+                    )));
+                }
+                if d.center.abs().max_element() + d.radius > MAX_COORDINATE {
+                    return Err(SceneError::InvalidParameter(format!(
+                        "disk (center {}, radius {}) reaches beyond ±{MAX_COORDINATE:e}",
+                        d.center, d.radius
                     )));
                 }
                 d.normal = d.normal.normalize();

@@ -24,6 +24,9 @@ use std::path::{Path, PathBuf};
 const MAX_INCLUDE_DEPTH: usize = 32;
 /// Maximum nesting of plugin elements (e.g. `twosided` around `twosided` …).
 const MAX_NESTING: usize = 32;
+/// Maximum length in bytes of an attribute value after `$name` substitution: parameters
+/// defined from parameters would otherwise grow exponentially ("billion laughs").
+const MAX_SUBSTITUTED_LEN: usize = 1 << 16;
 
 /// Reads the Mitsuba XML scene at `path`; `defines` (`-D name=value`) override `<default>`s.
 pub fn load_mitsuba(path: &Path, defines: &[(String, String)]) -> Result<SceneBuilder, SceneError> {
@@ -119,6 +122,18 @@ impl Doc<'_, '_> {
             p.to_path_buf()
         } else {
             self.path.parent().unwrap_or(Path::new("")).join(p)
+        }
+    }
+    /// `file` resolved relative to this document; it must be an existing regular file, so a
+    /// scene cannot make the loader read a device (`/dev/zero`), a FIFO or a directory.
+    fn input_file(&self, file: &str, pos: usize) -> Result<PathBuf, SceneError> {
+        let path = self.resolve(file);
+        match std::fs::metadata(&path) {
+            Ok(m) if !m.is_file() => {
+                Err(self.err_at(pos, format!("'{}' is not a regular file", path.display())))
+            }
+            // Missing files are reported by the reader, with the OS error.
+            _ => Ok(path),
         }
     }
     /// One finite number (must also be finite in single precision).
@@ -234,6 +249,12 @@ impl Loader {
                 out.push('$');
             } else {
                 match self.params.get(key) {
+                    Some(v) if out.len() + v.len() > MAX_SUBSTITUTED_LEN => {
+                        return Err(d.err_at(
+                            pos,
+                            format!("attribute value longer than {MAX_SUBSTITUTED_LEN} bytes after substituting '${key}'"),
+                        ));
+                    }
                     Some(v) => out.push_str(v),
                     None => {
                         return Err(d.err_at(
@@ -367,7 +388,7 @@ impl Loader {
 
     fn include(&mut self, d: &Doc, c: Node) -> Result<(), SceneError> {
         let (file, pos) = self.req_attr(d, c, "filename")?;
-        let path = d.resolve(&file);
+        let path = d.input_file(&file, pos)?;
         if self.include_stack.len() > MAX_INCLUDE_DEPTH {
             return Err(d.err_at(
                 pos,

@@ -154,6 +154,10 @@ fn conductor_eta_k(
     }
 }
 
+/// Largest film (width × height) a scene may ask for: the renderer's film holds about 50 bytes
+/// per pixel, so larger sizes would fail to allocate rather than give an error.
+const MAX_FILM_PIXELS: u64 = 1 << 28;
+
 /// A `<texture type="bitmap">`: `filename` (PNG decoded from sRGB, EXR/PFM linear).
 pub(super) fn bitmap(lo: &mut Loader, d: &Doc, n: Node) -> Result<Texture, SceneError> {
     let (t, tpos) = ty(lo, d, n)?;
@@ -164,10 +168,10 @@ pub(super) fn bitmap(lo: &mut Loader, d: &Doc, n: Node) -> Result<Texture, Scene
         ));
     }
     let mut p = lo.props(d, n)?;
-    let (file, _) = p
+    let (file, fpos) = p
         .string(d, "filename")?
         .ok_or_else(|| d.err_at(d.pos(n), "bitmap needs a 'filename' string"))?;
-    let path = d.resolve(&file);
+    let path = d.input_file(&file, fpos)?;
     let img = ImageTexture::load(&path).map_err(|e| SceneError::File {
         path: path.clone(),
         message: format!("cannot load texture: {e}"),
@@ -448,10 +452,10 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError>
     let flip = p.bool(d, "flip_normals")?.unwrap_or(false);
     let geometry = match t.as_str() {
         "obj" | "ply" => {
-            let (file, _) = p.string(d, "filename")?.ok_or_else(|| {
+            let (file, fpos) = p.string(d, "filename")?.ok_or_else(|| {
                 d.err_at(d.pos(n), format!("shape '{t}' needs a 'filename' string"))
             })?;
-            let path = d.resolve(&file);
+            let path = d.input_file(&file, fpos)?;
             let mut mesh = if t == "obj" {
                 load_obj(&path)?
             } else {
@@ -723,6 +727,12 @@ pub(super) fn sensor(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError
                                 d.err_at(prop.pos, format!("{k} must be from 1 to 65536, got {x}"))
                             })?;
                     }
+                }
+                if u64::from(width) * u64::from(height) > MAX_FILM_PIXELS {
+                    return Err(d.err_at(
+                        d.pos(c),
+                        format!("film of {width}x{height} pixels is too large (at most {MAX_FILM_PIXELS} pixels, e.g. 16384x16384)"),
+                    ));
                 }
                 for k in ["pixel_format", "component_format", "file_format"] {
                     let _ = fp.string(d, k)?;

@@ -765,3 +765,109 @@ fn default_bsdf_is_grey_but_black_for_area_emitters() {
     assert_eq!(albedo(2), [0.5; 3]);
     assert_eq!(b.shapes()[0].material, b.shapes()[2].material);
 }
+
+#[test]
+fn substitution_cannot_grow_exponentially() {
+    // "Billion laughs": each parameter is ten copies of the previous one, so a0..a9 would
+    // reach 10¹⁰ bytes. a4 (10⁵ bytes) is the first past the limit (line 6 = a4's line).
+    let mut body = String::from("<default name=\"a0\" value=\"xxxxxxxxxx\"/>\n");
+    for i in 1..10 {
+        body += &format!(
+            "<default name=\"a{i}\" value=\"{}\"/>\n",
+            format!("$a{}", i - 1).repeat(10)
+        );
+    }
+    expect_err(parse(&body), 6, Some(27), &["longer than", "$a3"]);
+    // Long values are fine below the limit.
+    let ok = format!(
+        "<default name=\"a\" value=\"{}\"/><default name=\"b\" value=\"$a$a\"/>",
+        "x".repeat(1000)
+    );
+    assert_eq!(parse(&ok).unwrap().pending_warnings().len(), 0);
+}
+
+#[cfg(unix)]
+#[test]
+fn devices_and_directories_are_not_read() {
+    // Reading /dev/zero would never end; a directory is not a scene or mesh either.
+    expect_err(
+        parse(r#"<include filename="/dev/zero"/>"#),
+        2,
+        Some(20),
+        &["/dev/zero", "not a regular file"],
+    );
+    expect_err(
+        parse(r#"<shape type="obj"><string name="filename" value="/dev/zero"/></shape>"#),
+        2,
+        Some(50),
+        &["not a regular file"],
+    );
+    let dir = std::env::temp_dir();
+    let ply = format!(
+        r#"<shape type="ply"><string name="filename" value="{}"/></shape>"#,
+        dir.display()
+    );
+    expect_err(parse(&ply), 2, Some(50), &["not a regular file"]);
+    let tex = format!(
+        r#"<texture type="bitmap" id="t"><string name="filename" value="{}"/></texture>"#,
+        dir.display()
+    );
+    expect_err(parse(&tex), 2, None, &["not a regular file"]);
+    // A missing file is still a file error naming the path.
+    match parse(r#"<include filename="missing.xml"/>"#) {
+        Err(SceneError::File { path, .. }) => assert!(path.ends_with("missing.xml")),
+        r => panic!("expected a file error, got {:?}", r.err()),
+    }
+}
+
+#[test]
+fn absurd_film_sizes_are_errors() {
+    let film = |w: &str, h: &str| {
+        format!(
+            r#"<sensor type="perspective"><float name="fov" value="30"/><film type="hdrfilm"><integer name="width" value="{w}"/><integer name="height" value="{h}"/></film></sensor>"#
+        )
+    };
+    expect_err(
+        parse(&film("100000", "100000")),
+        2,
+        Some(108),
+        &["width", "65536", "100000"],
+    );
+    // Each side is allowed, the product (2³² pixels, ~200 GB of film) is not.
+    expect_err(
+        parse(&film("65536", "65536")),
+        2,
+        Some(58),
+        &["65536x65536", "too large"],
+    );
+    let b = parse(&film("16384", "16384")).unwrap();
+    let cam = b.camera().unwrap();
+    assert_eq!((cam.width, cam.height), (16384, 16384));
+}
+
+#[test]
+fn huge_shapes_are_errors_not_bvh_panics() {
+    // Found by the mitsuba_build fuzz target: a sphere 10¹⁹ m across gave the BVH builder
+    // infinite surface areas and it tripped an assertion (or built a broken tree).
+    let big = "<shape type=\"sphere\"><float name=\"radius\" value=\"1e19\"/></shape>\n<shape type=\"sphere\"/>";
+    expect_err(parse(big), 2, Some(1), &["sphere", "beyond", "1e12"]);
+    let scaled = |ty: &str| {
+        format!(
+            "<shape type=\"{ty}\"><transform name=\"to_world\"><scale value=\"1e13\"/></transform></shape>"
+        )
+    };
+    expect_err(
+        parse(&scaled("cube")),
+        2,
+        Some(1),
+        &["mesh vertex", "beyond"],
+    );
+    let far_disk = r#"<shape type="disk"><transform name="to_world"><translate x="2e12"/></transform></shape>"#;
+    expect_err(parse(far_disk), 2, Some(1), &["disk", "beyond"]);
+    // Large but bounded scenes still build.
+    let ok = format!(
+        "<shape type=\"sphere\"><float name=\"radius\" value=\"1e11\"/></shape>\n<shape type=\"sphere\"/>{}\n{CAM}",
+        scaled("rectangle").replace("1e13", "1e11")
+    );
+    assert!(parse(&ok).unwrap().build().is_ok());
+}
