@@ -1,0 +1,129 @@
+//! The ray differential: a ray `(P, V)` and its first-order structure with respect to `N`
+//! parameters θ = (θ₀ … θ_{N−1}) (seed 000 appendix B.1).
+
+use caustica_core::{Ray, RayDifferential, Vec3};
+
+use crate::DiffError;
+
+/// A ray with origin `p` (m) and **unit** direction `v` (unitless), together with the partial
+/// derivatives `dp[i] = ∂P/∂θᵢ` (m per unit of θᵢ) and `dv[i] = ∂V/∂θᵢ` (per unit of θᵢ).
+///
+/// `dv` is the derivative of the *normalised* direction, as in eq. B.1b/B.5, so `v · dv[i] = 0`
+/// up to rounding; every operation in this crate preserves that. Build a differential from an
+/// unnormalised direction with [`RayDiff::from_unnormalized`].
+///
+/// In the notation of appendix B, the column `i` of the Jacobian `DP` is `dp[i]`; a change
+/// `Δθ` of the parameters moves the ray to first order by `Σᵢ dp[i] Δθᵢ` (eq. B.3–B.4, B.9).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayDiff<const N: usize> {
+    /// Origin `P` (m).
+    pub p: Vec3,
+    /// Unit direction `V`.
+    pub v: Vec3,
+    /// `∂P/∂θᵢ` (m per unit of θᵢ).
+    pub dp: [Vec3; N],
+    /// `∂V/∂θᵢ` of the unit direction (per unit of θᵢ).
+    pub dv: [Vec3; N],
+}
+
+/// Differential of a normalisation `V = v/‖v‖` (eq. B.5b, B.7):
+/// `dV = (vᵀv I₃ − v vᵀ) / (vᵀv)^{3/2} dv`. Returns `dV` for a given `dv`; `v` must be non-zero.
+///
+/// The same matrix is the `J` of eq. B.31b, B.33, B.40c and B.45a.
+#[inline]
+pub fn normalize_differential(v: Vec3, dv: Vec3) -> Vec3 {
+    let len2 = v.length_squared();
+    let len = len2.sqrt();
+    // eq. B.5b, written as (dv − V (Vᵀ dv)) / ‖v‖ to avoid forming the matrix.
+    let unit = v / len;
+    (dv - unit * unit.dot(dv)) / len
+}
+
+impl<const N: usize> RayDiff<N> {
+    /// A ray differential from a unit direction `v` and derivatives of the unit direction.
+    #[inline]
+    pub fn new(p: Vec3, v: Vec3, dp: [Vec3; N], dv: [Vec3; N]) -> Self {
+        Self { p, v, dp, dv }
+    }
+
+    /// A ray without parameter dependence (all derivatives zero).
+    #[inline]
+    pub fn constant(p: Vec3, v: Vec3) -> Self {
+        Self::new(p, v, [Vec3::ZERO; N], [Vec3::ZERO; N])
+    }
+
+    /// A ray differential from an unnormalised direction `v_raw` and its derivatives
+    /// `dv_raw[i] = ∂v/∂θᵢ`: normalises the direction (eq. B.1b) and maps the derivatives
+    /// through eq. B.5b. This is how a photon differential's directional derivative, given as
+    /// a perturbation of an unnormalised direction, enters the algebra.
+    pub fn from_unnormalized(
+        p: Vec3,
+        v_raw: Vec3,
+        dp: [Vec3; N],
+        dv_raw: [Vec3; N],
+    ) -> Result<Self, DiffError> {
+        let len = v_raw.length();
+        if !(len > 0.0 && len.is_finite()) {
+            return Err(DiffError::ZeroDirection);
+        }
+        let dv = std::array::from_fn(|i| normalize_differential(v_raw, dv_raw[i])); // eq. B.5b
+        let r = Self::new(p, v_raw / len, dp, dv); // eq. B.1b
+        r.finite_or_err()
+    }
+
+    /// First-order estimate of the ray at parameters θ + Δθ (eq. B.3–B.4 with `dθ = Δθ`,
+    /// as in eq. B.9). The direction estimate is not renormalised.
+    pub fn first_order(&self, delta: [f32; N]) -> (Vec3, Vec3) {
+        let mut p = self.p;
+        let mut v = self.v;
+        for ((dp, dv), d) in self.dp.iter().zip(&self.dv).zip(delta) {
+            p += *dp * d;
+            v += *dv * d;
+        }
+        (p, v)
+    }
+
+    /// The ray itself, with infinite extent.
+    #[inline]
+    pub fn ray(&self) -> Ray {
+        Ray::new(self.p, self.v)
+    }
+
+    /// Whether every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.p.is_finite()
+            && self.v.is_finite()
+            && self.dp.iter().all(|d| d.is_finite())
+            && self.dv.iter().all(|d| d.is_finite())
+    }
+
+    /// `Ok(self)` if finite, `Err(NonFinite)` otherwise.
+    pub(crate) fn finite_or_err(self) -> Result<Self, DiffError> {
+        if self.is_finite() {
+            Ok(self)
+        } else {
+            Err(DiffError::NonFinite)
+        }
+    }
+}
+
+impl From<&RayDifferential> for RayDiff<2> {
+    /// caustica's camera differential: θ = (x, y) in pixels; its `dddx`, `dddy` are already
+    /// derivatives of the normalised direction.
+    fn from(r: &RayDifferential) -> Self {
+        Self::new(r.ray.o, r.ray.d, [r.dodx, r.dody], [r.dddx, r.dddy])
+    }
+}
+
+impl RayDiff<2> {
+    /// Back to caustica's [`RayDifferential`] (θ = (x, y)), with ray extent `t_max`.
+    pub fn to_core(&self, t_max: f32) -> RayDifferential {
+        RayDifferential {
+            ray: Ray::with_t_max(self.p, self.v, t_max),
+            dodx: self.dp[0],
+            dody: self.dp[1],
+            dddx: self.dv[0],
+            dddy: self.dv[1],
+        }
+    }
+}
