@@ -1,36 +1,14 @@
 //! End-to-end checks of the `caustica` binary: the default render, outputs, the summary line,
 //! and bad input (clear message, non-zero exit, no panic).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn caustica(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_caustica"))
-        .args(args)
-        .output()
-        .expect("run caustica")
-}
+use common::{assert_clean_failure, caustica, stderr};
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("caustica-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn assert_clean_failure(o: &Output, must_contain: &[&str]) {
-    let err = stderr(o);
-    assert!(
-        !o.status.success(),
-        "expected failure, got success; stderr: {err}"
-    );
-    assert!(!err.contains("panicked"), "panic: {err}");
-    for m in must_contain {
-        assert!(err.contains(m), "stderr lacks '{m}': {err}");
-    }
+    common::tmp_in("cli-test", name)
 }
 
 #[test]

@@ -1,20 +1,14 @@
 //! End-to-end checks of the photon-mapping command line: `--integrator pm`, `caustica photons`,
 //! and their bad input (k = 0, negative radius, zero photons, no lights, no diffuse surface).
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn caustica(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_caustica"))
-        .args(args)
-        .output()
-        .expect("run caustica")
-}
+use common::{assert_clean_failure, caustica};
+use std::path::PathBuf;
+use std::process::Output;
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("caustica-pm-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    common::tmp_in("pm-cli-test", name)
 }
 
 fn write(name: &str, text: &str) -> String {
@@ -25,15 +19,6 @@ fn write(name: &str, text: &str) -> String {
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
-}
-
-fn assert_clean_failure(o: &Output, must_contain: &[&str]) {
-    let err = text(&o.stderr);
-    assert!(!o.status.success(), "expected failure; stderr: {err}");
-    assert!(!err.contains("panicked"), "panic: {err}");
-    for m in must_contain {
-        assert!(err.contains(m), "stderr lacks '{m}': {err}");
-    }
 }
 
 /// A tiny glass-ball scene: 16×16 pixels, point light, diffuse floor (or a mirror floor).

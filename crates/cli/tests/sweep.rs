@@ -2,9 +2,11 @@
 //! images, plots, optimum line), a categorical sweep, and bad input (clear message, non-zero
 //! exit, no panic).
 
+mod common;
+
 use caustica_core::image_io::Image;
+use common::{assert_clean_failure, caustica_in, stderr, stdout};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// A 24×24 diffuse sphere on a floor under a constant environment: cheap, and noisy at low spp
 /// (soft occlusion), so the error falls with the sample count.
@@ -39,14 +41,6 @@ type = "environment"
 radiance = 1
 "#;
 
-fn caustica_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_caustica"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run caustica")
-}
-
 /// A fresh directory for one test, holding the scene as `scene.toml` and, rendered with the
 /// path tracer at 256 spp, the reference `ref.exr`.
 fn setup(test: &str) -> PathBuf {
@@ -71,26 +65,6 @@ fn setup(test: &str) -> PathBuf {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn assert_clean_failure(o: &Output, must_contain: &[&str]) {
-    let err = stderr(o);
-    assert!(
-        !o.status.success(),
-        "expected failure, got success; stderr: {err}"
-    );
-    assert!(!err.contains("panicked"), "panic: {err}");
-    for m in must_contain {
-        assert!(err.contains(m), "stderr lacks '{m}': {err}");
-    }
 }
 
 /// The rows of sweep.csv after checking its header: (value, [rmse, rel_mse, mise, ssim, s]).
