@@ -16,6 +16,9 @@ pub struct PhotonArgs {
     /// Photons per radiance estimate, k nearest (default 50).
     #[arg(long, help_heading = "Photon mapping")]
     pub k: Option<usize>,
+    /// Photons per estimate in the global map (default: the same as --k).
+    #[arg(long, help_heading = "Photon mapping")]
+    pub global_k: Option<usize>,
     /// Largest gather radius in scene units (default: unbounded).
     #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub max_radius: Option<f32>,
@@ -47,6 +50,7 @@ impl PhotonArgs {
         if let Some(k) = self.k {
             o.estimate.k = k;
         }
+        o.global_k = self.global_k;
         o.estimate.max_radius = self.max_radius;
         if let Some(name) = &self.kernel {
             o.estimate.kernel = Kernel::from_name(name).map_err(anyhow::Error::msg)?;
@@ -67,6 +71,7 @@ impl PhotonArgs {
         self.photons.is_some()
             || self.global_photons.is_some()
             || self.k.is_some()
+            || self.global_k.is_some()
             || self.max_radius.is_some()
             || self.kernel.is_some()
             || self.final_gather.is_some()

@@ -23,7 +23,7 @@ pub struct SweepArgs {
     #[command(flatten)]
     pub render: RenderSettings,
     /// The render option to vary, by its long name: spp, seed, max-depth, sampler, time,
-    /// integrator, photons, global-photons, k, max-radius, kernel, final-gather,
+    /// integrator, photons, global-photons, k, global-k, max-radius, kernel, final-gather,
     /// tangent-projection, disc-test or caustics-only.
     #[arg(long, value_name = "NAME")]
     pub param: String,
@@ -116,6 +116,7 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("photons", |s| &mut s.photon.photons),
     ("global-photons", |s| &mut s.photon.global_photons),
     ("k", |s| &mut s.photon.k),
+    ("global-k", |s| &mut s.photon.global_k),
     ("max-radius", |s| &mut s.photon.max_radius),
     ("kernel", |s| &mut s.photon.kernel),
     ("final-gather", |s| &mut s.photon.final_gather),

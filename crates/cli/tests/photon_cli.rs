@@ -100,6 +100,10 @@ fn pm_bad_parameters_fail_with_a_message_naming_them() {
         &["caustic photons"],
     );
     assert_clean_failure(
+        &pm(&scene, "bad.exr", &["--global-k", "0"]),
+        &["global map's k"],
+    );
+    assert_clean_failure(
         &pm(&scene, "bad.exr", &["--kernel", "box"]),
         &["unknown kernel 'box'"],
     );

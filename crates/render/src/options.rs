@@ -47,6 +47,9 @@ pub struct PhotonOptions {
     pub global_photons: usize,
     /// The radiance estimate (k, maximum radius, kernel, bias controls), used for both maps.
     pub estimate: EstimateOptions,
+    /// Photons per estimate in the global map, when it should differ from `estimate.k` (the
+    /// caustic map's); `None` = the same k.
+    pub global_k: Option<usize>,
     /// Final-gather rays per camera sample; 0 = visualise the global map directly.
     pub final_gather: u32,
 }
@@ -57,6 +60,7 @@ impl Default for PhotonOptions {
             caustic_photons: 200_000,
             global_photons: 100_000,
             estimate: EstimateOptions::default(),
+            global_k: None,
             final_gather: 16,
         }
     }
@@ -70,6 +74,9 @@ impl PhotonOptions {
         }
         if self.estimate.k == 0 {
             return Err("k (photons per estimate) must be at least 1".into());
+        }
+        if self.global_k == Some(0) {
+            return Err("the global map's k (photons per estimate) must be at least 1".into());
         }
         if let Some(r) = self.estimate.max_radius
             && !(r.is_finite() && r > 0.0)

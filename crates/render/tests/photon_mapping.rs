@@ -262,6 +262,7 @@ fn pm_error_shrinks_as_photons_grow() {
                     k: (n as f64).sqrt() as usize,
                     ..Default::default()
                 },
+                ..Default::default()
             },
             16,
         );
@@ -337,4 +338,26 @@ fn caustics_only_light_tracer_and_pm_agree() {
     let corner = common::region_mean(&pm, 0, 0, 4, 4);
     assert_eq!(corner, [0.0; 3], "pm rendered non-caustic light");
     assert_eq!(common::region_mean(&lt1, 0, 0, 4, 4), [0.0; 3]);
+}
+
+#[test]
+fn global_k_sets_the_global_maps_bandwidth_alone() {
+    // With the global map shown directly (final_gather = 0) only the global estimate is used:
+    // with global_k set, the caustic k must not change a byte, and global_k itself must.
+    let scene = common::diffuse_box(16, 12);
+    let opts = |k: usize, global_k: Option<usize>| PhotonOptions {
+        caustic_photons: 100,
+        global_photons: 5_000,
+        final_gather: 0,
+        global_k,
+        estimate: EstimateOptions {
+            k,
+            ..Default::default()
+        },
+    };
+    let a = render_pm(&scene, opts(50, Some(20)), 2);
+    let b = render_pm(&scene, opts(5, Some(20)), 2);
+    let c = render_pm(&scene, opts(50, None), 2);
+    assert_eq!(a.data, b.data, "the caustic k changed the global estimate");
+    assert_ne!(a.data, c.data, "global_k had no effect");
 }

@@ -86,8 +86,18 @@ thread_local! {
     static NEIGHBORS: RefCell<Vec<Neighbor>> = const { RefCell::new(Vec::new()) };
 }
 
+/// The caustic map's radiance estimate at `v`.
 fn estimate(map: &PhotonMap, v: &Vertex, opts: &RenderOptions) -> Spectrum {
     NEIGHBORS.with(|b| map.estimate(v, &opts.photons.estimate, &mut b.borrow_mut()))
+}
+
+/// The global map's radiance estimate at `v` (its own k when `global_k` is set).
+fn global_estimate(map: &PhotonMap, v: &Vertex, opts: &RenderOptions) -> Spectrum {
+    let mut est = opts.photons.estimate;
+    if let Some(k) = opts.photons.global_k {
+        est.k = k;
+    }
+    NEIGHBORS.with(|b| map.estimate(v, &est, &mut b.borrow_mut()))
 }
 
 /// Radiance (W/m²/sr) arriving at the camera along `ray`.
@@ -159,7 +169,7 @@ fn shade(
 ) -> Spectrum {
     let gather_rays = opts.photons.final_gather;
     if gather_rays == 0 {
-        return estimate(&maps.global, v, opts);
+        return global_estimate(&maps.global, v, opts);
     }
     let direct = sample_direct(scene, v, sampler, stats, false);
     let caustic = estimate(&maps.caustic, v, opts);
@@ -203,7 +213,7 @@ fn gather(
         beta *= interior_transmittance(scene, &si, &ray);
         let v = Vertex::new(scene, si, &ray);
         if v.bsdf.flags().is_smooth() {
-            return beta * estimate(&maps.global, &v, opts);
+            return beta * global_estimate(&maps.global, &v, opts);
         }
         let uc = sampler.next_1d();
         let u = sampler.next_2d();
