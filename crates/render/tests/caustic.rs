@@ -5,62 +5,12 @@
 
 mod common;
 
-use caustica_core::{Affine3A, Spectrum, Vec2, Vec3};
+use caustica_core::{Vec2, Vec3};
 use caustica_render::IntegratorKind;
-use caustica_scene::camera::PerspectiveCamera;
-use caustica_scene::light::{Light, PointLight};
-use caustica_scene::material::Material;
-use caustica_scene::shape::{ShapeGeometry, Sphere};
-use caustica_scene::{Scene, SceneBuilder};
+use caustica_scene::Scene;
 
 fn glass_sphere_scene() -> Scene {
-    let mut b = SceneBuilder::new("caustic-test");
-    let floor = common::diffuse(&mut b, "floor", 0.8);
-    let glass = b
-        .add_material(
-            "glass",
-            Material::Dielectric {
-                ior: 1.5,
-                absorption: Spectrum::ZERO,
-            },
-        )
-        .unwrap();
-    // Floor y = 0 facing up, 4 m × 4 m.
-    b.add_shape(
-        common::quad(
-            Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
-                * Affine3A::from_scale(Vec3::splat(2.0)),
-        ),
-        floor,
-        None,
-        false,
-    )
-    .unwrap();
-    // Ball lens of radius 0.5 centred 1 m above the floor: with the light 3 m above its centre,
-    // the paraxial image (1/v = 2(n−1)/(nR) − 1/u) lies 1 m below the centre, on the floor.
-    b.add_shape(
-        ShapeGeometry::Sphere(Sphere {
-            center: Vec3::new(0.0, 1.0, 0.0),
-            radius: 0.5,
-        }),
-        glass,
-        None,
-        false,
-    )
-    .unwrap();
-    b.add_light(Light::Point(PointLight::new(
-        Vec3::new(0.0, 4.0, 0.0),
-        Spectrum::splat(20.0),
-    )));
-    b.set_camera(PerspectiveCamera::look_at(
-        Vec3::new(0.0, 3.0, 3.5),
-        Vec3::new(0.0, 0.0, 0.0),
-        Vec3::Y,
-        50.0,
-        64,
-        64,
-    ));
-    b.build().unwrap()
+    common::ball_on_floor(0.8, 20.0, 4.0, true, 64)
 }
 
 fn raster_of(scene: &Scene, p: Vec3) -> (usize, usize) {

@@ -3,73 +3,24 @@
 
 mod common;
 
-use caustica_core::{Affine3A, Ray, Spectrum, Vec3};
+use caustica_core::{Ray, Vec3};
 use caustica_density::kernel::Kernel;
 use caustica_render::integrator::photon_mapping::PhotonMaps;
 use caustica_render::photon_map::{EstimateOptions, PhotonMap};
 use caustica_render::photon_tracer::{MapKind, trace_photons};
 use caustica_render::surface::Vertex;
 use caustica_render::{IntegratorKind, PhotonOptions, RenderControl, RenderOptions, render};
-use caustica_scene::camera::PerspectiveCamera;
-use caustica_scene::light::{Light, PointLight};
-use caustica_scene::material::Material;
-use caustica_scene::shape::{ShapeGeometry, Sphere};
-use caustica_scene::{Scene, SceneBuilder};
-use std::f32::consts::FRAC_PI_2;
+use caustica_scene::Scene;
 
 const ALBEDO: f32 = 0.5;
 const INTENSITY: f32 = 10.0; // W/sr
 const HEIGHT: f32 = 1.0; // m
 
-/// A 4 m × 4 m diffuse floor at y = 0 under a point light `HEIGHT` above the origin, and
-/// optionally a glass ball between them.
+/// The diffuse floor under a point light `HEIGHT` above the origin, or, with the glass ball
+/// between them, the light 4 m up (`common::ball_on_floor`).
 fn floor_scene(with_glass: bool) -> Scene {
-    let mut b = SceneBuilder::new("floor");
-    let floor = common::diffuse(&mut b, "floor", ALBEDO);
-    b.add_shape(
-        common::quad(
-            Affine3A::from_rotation_x(-FRAC_PI_2) * Affine3A::from_scale(Vec3::splat(2.0)),
-        ),
-        floor,
-        None,
-        false,
-    )
-    .unwrap();
     let light_y = if with_glass { 4.0 } else { HEIGHT };
-    if with_glass {
-        let glass = b
-            .add_material(
-                "glass",
-                Material::Dielectric {
-                    ior: 1.5,
-                    absorption: Spectrum::ZERO,
-                },
-            )
-            .unwrap();
-        b.add_shape(
-            ShapeGeometry::Sphere(Sphere {
-                center: Vec3::new(0.0, 1.0, 0.0),
-                radius: 0.5,
-            }),
-            glass,
-            None,
-            false,
-        )
-        .unwrap();
-    }
-    b.add_light(Light::Point(PointLight::new(
-        Vec3::new(0.0, light_y, 0.0),
-        Spectrum::splat(INTENSITY),
-    )));
-    b.set_camera(PerspectiveCamera::look_at(
-        Vec3::new(0.0, 3.0, 3.5),
-        Vec3::ZERO,
-        Vec3::Y,
-        50.0,
-        32,
-        32,
-    ));
-    b.build().unwrap()
+    common::ball_on_floor(ALBEDO, INTENSITY, light_y, with_glass, 32)
 }
 
 /// The floor vertex at (x, 0, z), seen from straight above.

@@ -6,6 +6,7 @@ use caustica_core::image_io::Image;
 use caustica_core::{Spectrum, Vec3};
 use caustica_render::{IntegratorKind, RenderControl, RenderOptions, render};
 use caustica_scene::camera::PerspectiveCamera;
+use caustica_scene::light::{Light, PointLight};
 use caustica_scene::material::Material;
 use caustica_scene::shape::{ShapeGeometry, Sphere, TriangleMesh};
 use caustica_scene::texture::Texture;
@@ -183,4 +184,58 @@ pub fn blocks(img: &Image, block: usize) -> Vec<f64> {
 /// Channel mean of an RGB triple.
 pub fn lum_arr(p: [f64; 3]) -> f64 {
     (p[0] + p[1] + p[2]) / 3.0
+}
+
+/// A 4 m × 4 m diffuse floor (albedo `albedo`) at y = 0 facing up, under a point light of
+/// intensity `intensity` (W/sr) at (0, `light_y`, 0), optionally with a glass ball (IOR 1.5,
+/// radius 0.5) centred 1 m above the floor, seen from (0, 3, 3.5) at `size`×`size` pixels.
+/// With the light at y = 4 the ball images it (paraxially: 1/v = 2(n−1)/(nR) − 1/u) onto the
+/// floor, a sharply focused caustic.
+pub fn ball_on_floor(albedo: f32, intensity: f32, light_y: f32, glass: bool, size: u32) -> Scene {
+    let mut b = SceneBuilder::new("ball-on-floor");
+    let floor = diffuse(&mut b, "floor", albedo);
+    b.add_shape(
+        quad(
+            Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
+                * Affine3A::from_scale(Vec3::splat(2.0)),
+        ),
+        floor,
+        None,
+        false,
+    )
+    .unwrap();
+    if glass {
+        let glass = b
+            .add_material(
+                "glass",
+                Material::Dielectric {
+                    ior: 1.5,
+                    absorption: Spectrum::ZERO,
+                },
+            )
+            .unwrap();
+        b.add_shape(
+            ShapeGeometry::Sphere(Sphere {
+                center: Vec3::new(0.0, 1.0, 0.0),
+                radius: 0.5,
+            }),
+            glass,
+            None,
+            false,
+        )
+        .unwrap();
+    }
+    b.add_light(Light::Point(PointLight::new(
+        Vec3::new(0.0, light_y, 0.0),
+        Spectrum::splat(intensity),
+    )));
+    b.set_camera(PerspectiveCamera::look_at(
+        Vec3::new(0.0, 3.0, 3.5),
+        Vec3::ZERO,
+        Vec3::Y,
+        50.0,
+        size,
+        size,
+    ));
+    b.build().unwrap()
 }
