@@ -77,14 +77,16 @@ pub fn trace_photons(
     opts: &RenderOptions,
 ) -> TracedPhotons {
     let mut photons: Vec<Photon> = Vec::new();
-    // Photons stored after each path (cumulative), to cut at a path boundary.
-    let mut cumulative: Vec<u32> = Vec::new();
     let mut stats = RenderStats::default();
     let mut emitted = 0u64;
+    // Where to cut: (paths, photons) at the first path whose photons reach the target. Only the
+    // wave that crosses the target needs per-path counts, so earlier waves' counts are dropped
+    // (10⁶ caustic photons can take 2·10⁸ paths).
+    let mut cut: Option<(u64, usize)> = None;
     let limit = (target as u64)
         .saturating_mul(MAX_PATHS_PER_PHOTON)
         .max(CHUNK);
-    while photons.len() < target
+    while cut.is_none()
         && emitted < limit
         && !(photons.is_empty() && emitted >= MAX_PATHS_WITHOUT_PHOTON)
     {
@@ -97,6 +99,7 @@ pub fn trace_photons(
         };
         let chunks = wave.div_ceil(CHUNK);
         let first_chunk = emitted / CHUNK;
+        // Per chunk: its photons, the photon count after each of its paths, its statistics.
         let parts: Vec<(Vec<Photon>, Vec<u32>, RenderStats)> = (first_chunk..first_chunk + chunks)
             .into_par_iter()
             .map(|c| {
@@ -113,23 +116,25 @@ pub fn trace_photons(
                 (out, counts, st)
             })
             .collect();
-        for (p, counts, st) in parts {
-            let base = photons.len() as u32;
-            cumulative.extend(counts.iter().map(|c| base + c));
-            photons.extend_from_slice(&p);
+        for (c, (p, counts, st)) in parts.into_iter().enumerate() {
             stats += st;
+            if cut.is_some() {
+                continue; // paths beyond the cut are not part of the map
+            }
+            let base = photons.len();
+            if base + p.len() >= target {
+                let i = counts
+                    .iter()
+                    .position(|&n| base + n as usize >= target)
+                    .expect("the chunk reaches the target");
+                let chunk_start = emitted + c as u64 * CHUNK;
+                cut = Some((chunk_start + i as u64 + 1, base + counts[i] as usize));
+            }
+            photons.extend_from_slice(&p);
         }
         emitted += chunks * CHUNK;
     }
-    // Cut at the first path whose photons reach the target.
-    let paths = match cumulative.iter().position(|&c| c as usize >= target) {
-        Some(i) => i as u64 + 1,
-        None => emitted,
-    };
-    let keep = match paths {
-        0 => 0,
-        n => cumulative[n as usize - 1] as usize,
-    };
+    let (paths, keep) = cut.unwrap_or((emitted, photons.len()));
     photons.truncate(keep);
     let inv_n = 1.0 / paths.max(1) as f32;
     for p in &mut photons {
