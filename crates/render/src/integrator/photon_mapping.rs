@@ -123,37 +123,33 @@ pub fn radiance(
         };
         depth += 1;
         beta *= interior_transmittance(scene, &si, &ray);
+        let v = Vertex::new(scene, si, &ray);
+        let smooth = v.bsdf.flags().is_smooth();
         if opts.caustics_only {
             // L S+ D E only: the caustic map at the first surface, if it is non-delta.
-            let v = Vertex::new(scene, si, &ray);
-            if v.bsdf.flags().is_smooth() {
+            if smooth {
                 l += beta * estimate(&maps.caustic, &v, opts);
             }
             break;
         }
-        if si.light != NONE {
-            l += beta * scene.lights[si.light as usize].le(si.ng, -ray.d);
+        if v.si.light != NONE {
+            l += beta * scene.lights[v.si.light as usize].le(v.si.ng, -ray.d);
         }
         if depth >= opts.max_depth {
             break;
         }
-        let v = Vertex::new(scene, si, &ray);
-        if v.bsdf.flags().is_smooth() {
+        if smooth {
             l += beta * shade(scene, maps, &v, sampler, opts, stats);
             break;
         }
-        // A delta vertex: follow the specular chain.
-        let uc = sampler.next_1d();
-        let u = sampler.next_2d();
-        let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance) else {
+        let Some((weight, next)) = scatter_delta(&v, sampler) else {
             break;
         };
-        let wi = v.frame.to_world(bs.wi);
-        beta *= bs.weight;
+        beta *= weight;
         if beta.is_black() {
             break;
         }
-        ray = v.si.spawn_ray(wi);
+        ray = next;
     }
     l
 }
@@ -215,16 +211,27 @@ fn gather(
         if v.bsdf.flags().is_smooth() {
             return beta * global_estimate(&maps.global, &v, opts);
         }
-        let uc = sampler.next_1d();
-        let u = sampler.next_2d();
-        let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance) else {
+        let Some((weight, next)) = scatter_delta(&v, sampler) else {
             return Spectrum::ZERO;
         };
-        beta *= bs.weight;
+        beta *= weight;
         if beta.is_black() {
             return Spectrum::ZERO;
         }
-        ray = v.si.spawn_ray(v.frame.to_world(bs.wi));
+        ray = next;
     }
     Spectrum::ZERO
+}
+
+/// One step along a specular chain from the delta vertex `v` (camera side, radiance mode):
+/// the BSDF sample's weight and the continuing ray, or `None` when the sample fails or
+/// carries nothing. Consumes 3 sampler dimensions.
+fn scatter_delta(v: &Vertex, sampler: &mut Sampler) -> Option<(Spectrum, Ray)> {
+    let uc = sampler.next_1d();
+    let u = sampler.next_2d();
+    let bs = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance)?;
+    if bs.weight.is_black() {
+        return None;
+    }
+    Some((bs.weight, v.si.spawn_ray(v.frame.to_world(bs.wi))))
 }
