@@ -73,11 +73,19 @@ impl Image {
     /// Writes 32-bit float RGB OpenEXR.
     pub fn write_exr(&self, path: &Path) -> Result<(), ImageError> {
         self.check_size(path)?;
-        exr::prelude::write_rgb_file(path, self.width, self.height, |x, y| {
+        use exr::prelude::{Image as ExrImage, SpecificChannels, WritableImage};
+        let channels = SpecificChannels::rgb(|exr::math::Vec2(x, y)| {
             let p = self.get(x, y);
             (p[0], p[1], p[2])
-        })
-        .map_err(|e| fmt_err(path, format!("cannot write OpenEXR: {e}")))
+        });
+        // Compressed blocks are written in the order they finish when exr compresses in
+        // parallel, so the file's bytes would vary from run to run; one thread keeps them a pure
+        // function of the pixels (same seed, same bytes).
+        ExrImage::from_channels((self.width, self.height), channels)
+            .write()
+            .non_parallel()
+            .to_file(path)
+            .map_err(|e| fmt_err(path, format!("cannot write OpenEXR: {e}")))
     }
     /// Writes little-endian PFM (bottom-to-top rows as the format requires).
     pub fn write_pfm(&self, path: &Path) -> Result<(), ImageError> {
@@ -353,6 +361,22 @@ mod tests {
             }
         }
         img
+    }
+
+    #[test]
+    fn exr_bytes_are_a_function_of_the_pixels() {
+        // 600 rows are ~38 compressed blocks: written in parallel, their order in the file
+        // followed whichever thread finished first and two writes of one image differed.
+        let img = pattern(300, 600);
+        let bytes = |name: &str| {
+            let p = tmp(name);
+            img.write(&p).unwrap();
+            std::fs::read(&p).unwrap()
+        };
+        let first = bytes("det-0.exr");
+        for i in 1..6 {
+            assert!(bytes(&format!("det-{i}.exr")) == first, "write {i} differs");
+        }
     }
 
     #[test]
