@@ -37,16 +37,23 @@ pub struct LightVertex<'a> {
     pub after_specular_chain: bool,
 }
 
-/// Walks one light path, calling `on_start` once with the emission sample and `on_vertex` at
-/// every surface hit (delta or not; the visitor decides). Sampler use: 5 dimensions to start,
-/// then, per vertex, whatever `on_vertex` draws followed by 4 for scattering and roulette.
+/// What [`walk_light_path`] shows its visitor.
+pub enum LightEvent<'a> {
+    /// Once, first: the emission sample.
+    Start(&'a LightStart<'a>),
+    /// At every surface hit, delta or not (the visitor decides what to do with it).
+    Vertex(&'a LightVertex<'a>),
+}
+
+/// Walks one light path, calling `visit` once with [`LightEvent::Start`] and then with
+/// [`LightEvent::Vertex`] at every surface hit. Sampler use: 5 dimensions to start, then
+/// whatever the visitor draws at each event, and 4 per vertex for scattering and roulette.
 pub fn walk_light_path(
     scene: &Scene,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
-    mut on_start: impl FnMut(&LightStart, &mut Sampler, &mut RenderStats),
-    mut on_vertex: impl FnMut(&LightVertex, &mut Sampler, &mut RenderStats),
+    mut visit: impl FnMut(LightEvent, &mut Sampler, &mut RenderStats),
 ) {
     let u_light = sampler.next_1d();
     let u_pos = sampler.next_2d();
@@ -60,12 +67,12 @@ pub fn walk_light_path(
     if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() {
         return;
     }
-    on_start(
-        &LightStart {
+    visit(
+        LightEvent::Start(&LightStart {
             light: li,
             pmf,
             emission: &es,
-        },
+        }),
         sampler,
         stats,
     );
@@ -81,14 +88,14 @@ pub fn walk_light_path(
         beta *= interior_transmittance(scene, &si, &ray);
         let v = Vertex::new(scene, si, &ray);
         let wo = -ray.d;
-        on_vertex(
-            &LightVertex {
+        visit(
+            LightEvent::Vertex(&LightVertex {
                 v: &v,
                 wo,
                 beta,
                 depth,
                 after_specular_chain: all_delta && depth >= 2,
-            },
+            }),
             sampler,
             stats,
         );

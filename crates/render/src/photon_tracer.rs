@@ -10,7 +10,7 @@
 //! Paths are numbered; fixed chunks of consecutive paths are traced in parallel and their photons
 //! concatenated in chunk order, so the maps depend on the seed only, not on the thread count.
 
-use crate::light_path::walk_light_path;
+use crate::light_path::{LightEvent, walk_light_path};
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use caustica_core::sampling::Sampler;
@@ -177,33 +177,29 @@ fn trace_one(
     out: &mut Vec<Photon>,
     stats: &mut RenderStats,
 ) {
-    walk_light_path(
-        scene,
-        sampler,
-        opts,
-        stats,
-        |_, _, _| {},
-        |lv, _, stats| {
-            if !lv.v.bsdf.flags().is_smooth() {
-                return;
-            }
-            if kind == MapKind::Caustic && !lv.after_specular_chain {
-                return;
-            }
-            let flux = lv.beta;
-            if !flux.is_finite() {
-                stats.nonfinite += 1;
-                return;
-            }
-            let ng = lv.v.si.ng;
-            out.push(Photon {
-                p: lv.v.si.p,
-                wi: lv.wo,
-                n: if ng.dot(lv.wo) >= 0.0 { ng } else { -ng },
-                flux,
-                depth: lv.depth.min(u16::MAX as u32) as u16,
-                caustic: lv.after_specular_chain,
-            });
-        },
-    );
+    walk_light_path(scene, sampler, opts, stats, |event, _, stats| {
+        let LightEvent::Vertex(lv) = event else {
+            return;
+        };
+        if !lv.v.bsdf.flags().is_smooth() {
+            return;
+        }
+        if kind == MapKind::Caustic && !lv.after_specular_chain {
+            return;
+        }
+        let flux = lv.beta;
+        if !flux.is_finite() {
+            stats.nonfinite += 1;
+            return;
+        }
+        let ng = lv.v.si.ng;
+        out.push(Photon {
+            p: lv.v.si.p,
+            wi: lv.wo,
+            n: if ng.dot(lv.wo) >= 0.0 { ng } else { -ng },
+            flux,
+            depth: lv.depth.min(u16::MAX as u32) as u16,
+            caustic: lv.after_specular_chain,
+        });
+    });
 }
