@@ -35,6 +35,42 @@ pub struct PhotonArgs {
     /// Reject photons whose normal or plane distance differs from the query's.
     #[arg(long, help_heading = "Photon mapping")]
     pub disc_test: bool,
+    /// Density estimator of the caustic map: knn (pm's default), fixed, variable (k-NN pilot),
+    /// diffusion (dpm's).
+    #[arg(long, help_heading = "Photon mapping")]
+    pub estimator: Option<String>,
+    /// Fixed bandwidth h in scene units of the fixed and diffusion estimators (default: the
+    /// median distance from a caustic photon to its k-th nearest neighbour).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Diffusion photon mapping (dpm)"
+    )]
+    pub bandwidth: Option<f32>,
+    /// Diffusivity coefficient q of eq. 4.15 (default 0.2; large = no adaptation).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Diffusion photon mapping (dpm)"
+    )]
+    pub q: Option<f32>,
+    /// Steepness alpha of eq. 4.15 (default 1).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Diffusion photon mapping (dpm)"
+    )]
+    pub alpha: Option<f32>,
+    /// Noise scale of the gradient pre-pass in scene units (default: half the bandwidth).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Diffusion photon mapping (dpm)"
+    )]
+    pub noise_scale: Option<f32>,
+    /// Isotropic diffusion: a round kernel that shrinks near structure (seed 000 sec. 4.3.3).
+    #[arg(long, help_heading = "Diffusion photon mapping (dpm)")]
+    pub isotropic: bool,
 }
 
 impl PhotonArgs {
@@ -60,6 +96,18 @@ impl PhotonArgs {
         }
         o.estimate.tangent_projection = self.tangent_projection;
         o.estimate.disc_test = self.disc_test;
+        if let Some(name) = &self.estimator {
+            o.caustic_estimator = name.parse().map_err(anyhow::Error::msg)?;
+        }
+        o.bandwidth = self.bandwidth;
+        if let Some(q) = self.q {
+            o.diffusion.q = q;
+        }
+        if let Some(a) = self.alpha {
+            o.diffusion.alpha = a;
+        }
+        o.diffusion.noise_scale = self.noise_scale;
+        o.diffusion.isotropic = self.isotropic;
         if let Err(e) = o.validate() {
             bail!("{e}");
         }
@@ -77,5 +125,11 @@ impl PhotonArgs {
             || self.final_gather.is_some()
             || self.tangent_projection
             || self.disc_test
+            || self.estimator.is_some()
+            || self.bandwidth.is_some()
+            || self.q.is_some()
+            || self.alpha.is_some()
+            || self.noise_scale.is_some()
+            || self.isotropic
     }
 }

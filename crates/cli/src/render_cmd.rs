@@ -19,8 +19,9 @@ pub struct RenderSettings {
     /// Scene file (.toml) or built-in scene name (see `caustica scenes`). Default: the embedded
     /// Cornell box.
     pub scene: Option<String>,
-    /// Integrator: path (path tracer with NEE and MIS) or lighttrace (light tracer). Default:
-    /// the scene's suggestion (Mitsuba `ptracer` maps to lighttrace), else path.
+    /// Integrator: path (path tracer with NEE and MIS), lighttrace (light tracer), pm (photon
+    /// mapping) or dpm (diffusion-based photon mapping). Default: the scene's suggestion
+    /// (Mitsuba `ptracer` maps to lighttrace), else path.
     #[arg(long)]
     pub integrator: Option<String>,
     /// Mitsuba scene parameter overriding a `<default>`: `-D name=value` (repeatable).
@@ -46,7 +47,7 @@ pub struct RenderSettings {
     #[arg(long, allow_negative_numbers = true)]
     pub max_depth: Option<i64>,
     /// Render only caustics seen directly (paths L S+ D E), for comparing the caustics of the
-    /// light tracer and photon mapping without the noise of other light (lighttrace and pm).
+    /// light tracer and photon mapping without the noise of other light (lighttrace, pm, dpm).
     #[arg(long)]
     pub caustics_only: bool,
     #[command(flatten)]
@@ -126,7 +127,7 @@ impl RenderSettings {
             }),
             (None, None) => IntegratorKind::Path,
         };
-        if kind == IntegratorKind::PhotonMapping && scene.lights.is_empty() {
+        if kind.uses_photons() && scene.lights.is_empty() {
             bail!(
                 "scene '{}' has no lights: photon mapping needs at least one to emit photons",
                 scene.name
@@ -154,10 +155,18 @@ impl RenderSettings {
         };
         if self.caustics_only && kind == IntegratorKind::Path {
             bail!(
-                "--caustics-only needs --integrator lighttrace or pm: the path tracer cannot isolate L S+ D E paths"
+                "--caustics-only needs --integrator lighttrace, pm or dpm: the path tracer cannot isolate L S+ D E paths"
             );
         }
-        if self.photon.any_given() && kind != IntegratorKind::PhotonMapping {
+        if kind == IntegratorKind::DiffusionPhotonMapping
+            && let Some(e) = &self.photon.estimator
+            && e != "diffusion"
+        {
+            bail!(
+                "--integrator dpm uses the diffusion estimator; for --estimator {e} use --integrator pm"
+            );
+        }
+        if self.photon.any_given() && !kind.uses_photons() {
             warnings.push(format!(
                 "photon-mapping options have no effect on integrator '{}'",
                 kind.name()
@@ -302,7 +311,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     write_outputs(&img, &args)?;
     let secs = out.elapsed.as_secs_f64().max(1e-9);
     let what = match kind {
-        IntegratorKind::Path | IntegratorKind::PhotonMapping => {
+        IntegratorKind::Path
+        | IntegratorKind::PhotonMapping
+        | IntegratorKind::DiffusionPhotonMapping => {
             format!("{:.1} spp", out.film.mean_samples())
         }
         IntegratorKind::LightTrace => format!("{} light paths", out.film.light_paths()),

@@ -24,7 +24,8 @@ pub struct SweepArgs {
     pub render: RenderSettings,
     /// The render option to vary, by its long name: spp, seed, max-depth, sampler, time,
     /// integrator, photons, global-photons, k, global-k, max-radius, kernel, final-gather,
-    /// tangent-projection, disc-test or caustics-only.
+    /// tangent-projection, disc-test, caustics-only, estimator, bandwidth, q, alpha,
+    /// noise-scale or isotropic.
     #[arg(long, value_name = "NAME")]
     pub param: String,
     /// The values of the parameter, comma-separated (e.g. 10,50,200 or uniform,cone:1.1);
@@ -123,6 +124,12 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("tangent-projection", |s| &mut s.photon.tangent_projection),
     ("disc-test", |s| &mut s.photon.disc_test),
     ("caustics-only", |s| &mut s.caustics_only),
+    ("estimator", |s| &mut s.photon.estimator),
+    ("bandwidth", |s| &mut s.photon.bandwidth),
+    ("q", |s| &mut s.photon.q),
+    ("alpha", |s| &mut s.photon.alpha),
+    ("noise-scale", |s| &mut s.photon.noise_scale),
+    ("isotropic", |s| &mut s.photon.isotropic),
 ];
 
 /// The setter of parameter `name` (a long option name, with or without the leading `--`).

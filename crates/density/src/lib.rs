@@ -10,6 +10,11 @@
 //!   ([`KdTree::knn`]) and fixed-radius ([`KdTree::range`]) queries.
 //! * [`estimate`] — helpers for the radiance estimate: [`project_to_tangent_plane`] (eq. A.1–A.2)
 //!   and [`disc_test`] (rejection of photons off the tangent plane or with a disagreeing normal).
+//! * [`estimator`] — [`Estimator`]: every density estimator behind one interface (fixed
+//!   bandwidth eq. 2.15, k-NN eq. 2.12/3.2, variable bandwidth eq. 2.13, diffusion eq. 4.19)
+//!   over any [`PointSet`] (the testbed's samples, a photon map).
+//! * [`diffusion`] — diffusion-based estimation (ch. 4, eq. 4.11–4.19): gradient pre-pass,
+//!   structure tensor, diffusion tensor.
 //!
 //! # Units
 //!
@@ -42,11 +47,17 @@
 //! assert!(density > 0.0);
 //! ```
 
+pub mod diffusion;
 pub mod estimate;
+pub mod estimator;
 pub mod kdtree;
 pub mod kernel;
 
+pub use diffusion::{DiffusionEstimator, DiffusionParams, DiffusionTensor};
 pub use estimate::{disc_test, project_to_tangent_plane};
+pub use estimator::{
+    Estimator, EstimatorSpec, PointSet, Query, Scratch, WeightedPoints, median_knn_radius,
+};
 pub use kdtree::{KdTree, Neighbor};
 pub use kernel::{Dim, Kernel};
 

@@ -7,14 +7,17 @@
 //! display transform is documented in [`display`]. The z-score tests in [`zscore`] tell noise from
 //! systematic, per-region bias when two independent Monte Carlo renderers are compared. [`plot`]
 //! draws a parameter sweep (RMSE and SSIM against the parameter) as SVG and PNG.
+//! [`testbed`] is a 2-D density-estimation testbed with exact ground truth (seed 000 fig. 4.4).
 
 pub mod colormap;
+pub mod density_study;
 pub mod display;
 pub mod metrics;
 pub mod normal;
 pub mod plot;
 pub mod region;
 pub mod ssim;
+pub mod testbed;
 pub mod zscore;
 
 pub use metrics::{Comparison, compare};

@@ -85,7 +85,7 @@ fn bench(c: &mut Criterion) {
             ..Default::default()
         };
         g.bench_function(format!("cornell-box_1M_k{k}"), |b| {
-            let mut buf = Vec::new();
+            let mut buf = caustica_density::estimator::Scratch::default();
             b.iter(|| {
                 for v in &vertices {
                     black_box(map.estimate(v, &est, &mut buf));

@@ -29,5 +29,7 @@ pub mod surface;
 
 pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};
-pub use options::{PhotonOptions, Progress, RenderControl, RenderOptions};
+pub use options::{
+    CausticEstimator, DiffusionSettings, PhotonOptions, Progress, RenderControl, RenderOptions,
+};
 pub use stats::RenderStats;

@@ -52,6 +52,73 @@ pub struct PhotonOptions {
     pub global_k: Option<usize>,
     /// Final-gather rays per camera sample; 0 = visualise the global map directly.
     pub final_gather: u32,
+    /// The density estimator of the caustic map (the global map always uses k-NN).
+    pub caustic_estimator: CausticEstimator,
+    /// Fixed bandwidth h (m) of the `fixed` and diffusion estimators; `None` = the median
+    /// distance from a caustic photon to its k-th nearest neighbour (k = `estimate.k`).
+    pub bandwidth: Option<f32>,
+    /// Parameters of the diffusion estimator (`dpm`).
+    pub diffusion: DiffusionSettings,
+}
+
+/// Density estimators the caustic map can use (all behind `caustica_density::Estimator`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CausticEstimator {
+    /// k-th nearest neighbour, eq. 3.2 (`pm`).
+    #[default]
+    Knn,
+    /// Fixed bandwidth, eq. 2.15.
+    Fixed,
+    /// Variable bandwidth with a k-NN pilot (k = `estimate.k`), eq. 2.13.
+    Variable,
+    /// Diffusion-based photon mapping, eq. 4.19 (`dpm`).
+    Diffusion,
+}
+
+impl CausticEstimator {
+    pub const NAMES: &'static [&'static str] = &["knn", "fixed", "variable", "diffusion"];
+}
+
+impl std::str::FromStr for CausticEstimator {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "knn" => Ok(Self::Knn),
+            "fixed" => Ok(Self::Fixed),
+            "variable" => Ok(Self::Variable),
+            "diffusion" | "dpm" => Ok(Self::Diffusion),
+            _ => Err(format!(
+                "unknown estimator '{s}' (expected one of: {})",
+                Self::NAMES.join(", ")
+            )),
+        }
+    }
+}
+
+/// Settings of diffusion-based photon mapping (seed 000 ch. 4); the bandwidth is
+/// [`PhotonOptions::bandwidth`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiffusionSettings {
+    /// Noise scale σ (m) of the gradient pre-pass; `None` = half the bandwidth.
+    pub noise_scale: Option<f32>,
+    /// Diffusivity coefficient q (eq. 4.15).
+    pub q: f32,
+    /// Steepness α (eq. 4.15).
+    pub alpha: f32,
+    /// Isotropic diffusion (sec. 4.3.3).
+    pub isotropic: bool,
+}
+
+impl Default for DiffusionSettings {
+    /// q = 0.2, α = 1 as in seed 000 fig. 4.6.
+    fn default() -> Self {
+        Self {
+            noise_scale: None,
+            q: 0.2,
+            alpha: 1.0,
+            isotropic: false,
+        }
+    }
 }
 
 impl Default for PhotonOptions {
@@ -62,6 +129,9 @@ impl Default for PhotonOptions {
             estimate: EstimateOptions::default(),
             global_k: None,
             final_gather: 16,
+            caustic_estimator: CausticEstimator::Knn,
+            bandwidth: None,
+            diffusion: DiffusionSettings::default(),
         }
     }
 }
@@ -85,6 +155,21 @@ impl PhotonOptions {
                 "the maximum radius must be a positive length, got {r}"
             ));
         }
+        let positive = |name: &str, v: f32| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{name} must be a positive finite number, got {v}"))
+            }
+        };
+        if let Some(h) = self.bandwidth {
+            positive("the bandwidth", h)?;
+        }
+        if let Some(s) = self.diffusion.noise_scale {
+            positive("the noise scale", s)?;
+        }
+        positive("the diffusivity coefficient q", self.diffusion.q)?;
+        positive("alpha", self.diffusion.alpha)?;
         Ok(())
     }
 }

@@ -4,8 +4,9 @@ use crate::photon_tracer::Photon;
 use crate::surface::Vertex;
 use caustica_core::{Spectrum, Vec3};
 use caustica_density::estimate::{disc_test, project_to_tangent_plane};
-use caustica_density::kdtree::{KdTree, Neighbor};
-use caustica_density::kernel::{Dim, Kernel};
+use caustica_density::estimator::{Estimator, PointSet, Query, Scratch};
+use caustica_density::kdtree::KdTree;
+use caustica_density::kernel::Kernel;
 use caustica_scene::bsdf::TransportMode;
 
 /// Settings of the radiance estimate.
@@ -69,68 +70,102 @@ impl PhotonMap {
         self.photons.capacity() * std::mem::size_of::<Photon>() + self.tree.memory_bytes()
     }
 
+    /// The photons as a point set for density estimators, filtered and projected as `opts`
+    /// says (side test always; disc test and tangent projection when asked).
+    pub fn points<'a>(&'a self, opts: &'a EstimateOptions) -> PhotonPoints<'a> {
+        PhotonPoints { map: self, opts }
+    }
+
+    /// The k-NN estimator (eq. 3.2) that `opts` describes.
+    pub fn knn_estimator(opts: &EstimateOptions) -> Estimator {
+        Estimator::Knn {
+            k: opts.k,
+            max_radius: opts.max_radius,
+            kernel: opts.kernel,
+        }
+    }
+
     /// Reflected radiance (W/m²/sr) at vertex `v` toward its `wo`, eq. 3.2 of seed 000:
     /// L̂(x, ω) = Σ_i K(d_i²/h²)/h² · f_r(x, ω_i, ω) Φ_i with the kernel normalised in 2-D
     /// (`Kernel::eval(·, Dim::Two)` = K_Table5.1/π), h the distance to the k-th nearest photon
     /// (or the maximum radius when fewer are found within it). Only photons that arrived on the
-    /// side of the surface the query looks from count. `buf` is scratch space.
-    pub fn estimate(
+    /// side of the surface the query looks from count. `scratch` is reusable scratch space.
+    pub fn estimate(&self, v: &Vertex, opts: &EstimateOptions, scratch: &mut Scratch) -> Spectrum {
+        self.estimate_with(v, opts, &Self::knn_estimator(opts), scratch)
+    }
+
+    /// Reflected radiance (W/m²/sr) at vertex `v` toward its `wo` with any density estimator
+    /// `est` prepared for this map ([`Estimator::prepare`] on [`PhotonMap::points`]):
+    /// L̂(x, ω) = Σ_i w_i f_r(x, ω_i, ω) Φ_i, the w_i (1/m²) the estimator's weights (eq. 3.2
+    /// for k-NN, eq. 4.19 for the diffusion estimate).
+    pub fn estimate_with(
         &self,
         v: &Vertex,
         opts: &EstimateOptions,
-        buf: &mut Vec<Neighbor>,
+        est: &Estimator,
+        scratch: &mut Scratch,
     ) -> Spectrum {
         if self.photons.is_empty() {
             return Spectrum::ZERO;
         }
-        let x = v.si.p;
-        let max_r2 = opts.max_radius.map_or(f32::INFINITY, |r| r * r);
-        // Heap order: buf[0] is the farthest of the k, which sets the bandwidth.
-        self.tree.knn_unsorted(x, opts.k, max_r2, buf);
-        let Some(farthest) = buf.first() else {
-            return Spectrum::ZERO;
-        };
-        let h2 = if buf.len() < opts.k && max_r2.is_finite() {
-            max_r2
-        } else {
-            farthest.dist2
-        };
-        if h2 <= 0.0 {
-            return Spectrum::ZERO;
-        }
         let wo_world = v.frame.to_world(v.wo);
         let ng = v.si.ng;
-        let side = ng.dot(wo_world);
-        let n_query = if side >= 0.0 { ng } else { -ng };
-        let h = h2.sqrt();
+        let n_query = if ng.dot(wo_world) >= 0.0 { ng } else { -ng };
+        let q = Query::new(v.si.p, n_query);
         let mut sum = Spectrum::ZERO;
-        for nb in buf.iter() {
-            let ph = &self.photons[nb.index as usize];
-            // Photons from the other side of the surface do not light this side.
-            if ph.wi.dot(ng) * side <= 0.0 {
-                continue;
-            }
-            if opts.disc_test && !disc_test(x, n_query, ph.p, ph.n, 0.1 * h, 0.9) {
-                continue;
-            }
-            let d2 = if opts.tangent_projection {
-                // Eq. A.1–A.2: move the photon along its incoming line into the tangent plane.
-                match project_to_tangent_plane(x, n_query, ph.p, ph.wi) {
-                    Some(q) => (q - x).length_squared(),
-                    None => continue,
-                }
-            } else {
-                nb.dist2
-            };
-            let w = opts.kernel.eval(d2 / h2, Dim::Two);
-            if w <= 0.0 {
-                continue;
-            }
+        est.weights(&self.points(opts), &q, scratch, |i, w| {
+            let ph = &self.photons[i as usize];
             let f = v
                 .bsdf
                 .eval(v.wo, v.frame.to_local(ph.wi), TransportMode::Radiance);
             sum += f * ph.flux * w;
+        });
+        sum
+    }
+}
+
+/// A photon map seen by a density estimator ([`PointSet`]): masses are flux luminances (W);
+/// photons that arrived from the other side of the query's surface never count; with
+/// [`EstimateOptions::disc_test`] photons off the tangent plane (farther than 0.1 h) or with a
+/// normal more than ~25° off are rejected; with [`EstimateOptions::tangent_projection`] a
+/// photon's offset is measured after moving it along its incoming line into the tangent plane
+/// (eq. A.1–A.2).
+pub struct PhotonPoints<'a> {
+    map: &'a PhotonMap,
+    opts: &'a EstimateOptions,
+}
+
+impl PointSet for PhotonPoints<'_> {
+    fn tree(&self) -> &KdTree {
+        &self.map.tree
+    }
+    fn len(&self) -> usize {
+        self.map.photons.len()
+    }
+    fn position(&self, i: u32) -> Vec3 {
+        self.map.photons[i as usize].p
+    }
+    fn normal(&self, i: u32) -> Vec3 {
+        self.map.photons[i as usize].n
+    }
+    fn mass(&self, i: u32) -> f32 {
+        self.map.photons[i as usize].flux.luminance()
+    }
+    fn offset(&self, q: &Query, i: u32, h: f32) -> Option<Vec3> {
+        let ph = &self.map.photons[i as usize];
+        let n = q.n();
+        // Photons from the other side of the surface do not light this side.
+        if ph.wi.dot(n) <= 0.0 {
+            return None;
         }
-        sum / h2
+        if self.opts.disc_test && !disc_test(q.p, n, ph.p, ph.n, 0.1 * h, 0.9) {
+            return None;
+        }
+        if self.opts.tangent_projection {
+            // Eq. A.1–A.2: move the photon along its incoming line into the tangent plane.
+            project_to_tangent_plane(q.p, n, ph.p, ph.wi).map(|x| x - q.p)
+        } else {
+            Some(ph.p - q.p)
+        }
     }
 }

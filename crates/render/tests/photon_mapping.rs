@@ -71,7 +71,7 @@ fn radiance_estimate_matches_the_analytic_irradiance_of_a_point_light() {
         kernel: Kernel::Uniform,
         ..Default::default()
     };
-    let mut buf = Vec::new();
+    let mut buf = caustica_density::estimator::Scratch::default();
     for (x, z) in [(0.0f32, 0.0f32), (0.5, 0.0), (0.0, -0.7)] {
         let v = floor_vertex(&scene, x, z);
         let r2 = x * x + z * z + HEIGHT * HEIGHT;
@@ -305,6 +305,7 @@ fn global_k_sets_the_global_maps_bandwidth_alone() {
             k,
             ..Default::default()
         },
+        ..Default::default()
     };
     let a = render_pm(&scene, opts(50, Some(20)), 2);
     let b = render_pm(&scene, opts(5, Some(20)), 2);

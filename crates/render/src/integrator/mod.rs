@@ -7,9 +7,10 @@ pub mod photon_mapping;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::image_loop::render_pixels;
-use crate::options::{RenderControl, RenderOptions};
+use crate::options::{CausticEstimator, RenderControl, RenderOptions};
 use crate::splat_loop::render_paths;
 use crate::stats::RenderStats;
+use caustica_density::estimator::Estimator;
 use caustica_scene::Scene;
 use std::time::{Duration, Instant};
 
@@ -22,16 +23,28 @@ pub enum IntegratorKind {
     LightTrace,
     /// Photon mapping: caustic and global maps, final gathering.
     PhotonMapping,
+    /// Diffusion-based photon mapping (seed 000 ch. 4): `pm` with the caustic map estimated by
+    /// the anisotropic diffusion estimate eq. 4.19.
+    DiffusionPhotonMapping,
 }
 
 impl IntegratorKind {
-    pub const NAMES: &'static [&'static str] = &["path", "lighttrace", "pm"];
+    pub const NAMES: &'static [&'static str] = &["path", "lighttrace", "pm", "dpm"];
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Path => "path",
             IntegratorKind::LightTrace => "lighttrace",
             IntegratorKind::PhotonMapping => "pm",
+            IntegratorKind::DiffusionPhotonMapping => "dpm",
         }
+    }
+
+    /// True for the integrators that trace photon maps first.
+    pub fn uses_photons(self) -> bool {
+        matches!(
+            self,
+            IntegratorKind::PhotonMapping | IntegratorKind::DiffusionPhotonMapping
+        )
     }
 }
 
@@ -42,6 +55,7 @@ impl std::str::FromStr for IntegratorKind {
             "path" => Ok(Self::Path),
             "lighttrace" | "ptracer" | "light" => Ok(Self::LightTrace),
             "pm" | "photonmapper" => Ok(Self::PhotonMapping),
+            "dpm" => Ok(Self::DiffusionPhotonMapping),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -85,7 +99,15 @@ pub fn render(
                 light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
             })
         }
-        IntegratorKind::PhotonMapping => {
+        IntegratorKind::PhotonMapping | IntegratorKind::DiffusionPhotonMapping => {
+            let mut pm_opts;
+            let opts = if kind == IntegratorKind::DiffusionPhotonMapping {
+                pm_opts = opts.clone();
+                pm_opts.photons.caustic_estimator = CausticEstimator::Diffusion;
+                &pm_opts
+            } else {
+                opts
+            };
             let t = Instant::now();
             let maps = photon_mapping::PhotonMaps::build(scene, opts);
             let secs = t.elapsed().as_secs_f64().max(1e-9);
@@ -98,6 +120,18 @@ pub fn render(
                 (maps.caustic.paths + maps.global.paths) as f64 / secs / 1e6,
                 (maps.caustic.memory_bytes() + maps.global.memory_bytes()) as f64 / 1e6,
             ));
+            if let Estimator::Diffusion(d) = &maps.caustic_estimator {
+                let p = d.params();
+                notes.push(format!(
+                    "diffusion estimate: bandwidth {:.4}, noise scale {:.4}, q {}, alpha {}{}; pre-passes {:.2} s (included above)",
+                    p.bandwidth,
+                    p.noise_scale,
+                    p.q,
+                    p.alpha,
+                    if p.isotropic { ", isotropic" } else { "" },
+                    maps.prepare_secs
+                ));
+            }
             notes.extend(maps.warnings.iter().map(|w| format!("warning: {w}")));
             let mut st = render_pixels(&mut film, &filter, opts, ctl, |sampler, raster, st| {
                 let u_lens = sampler.next_2d();

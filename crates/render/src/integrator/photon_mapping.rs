@@ -14,13 +14,15 @@
 
 use crate::direct::sample_direct;
 use crate::options::RenderOptions;
+use crate::options::{CausticEstimator, PhotonOptions};
 use crate::photon_map::PhotonMap;
 use crate::photon_tracer::{MapKind, trace_photons};
 use crate::stats::RenderStats;
 use crate::surface::{Vertex, interior_transmittance};
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum, Vec3};
-use caustica_density::kdtree::Neighbor;
+use caustica_density::diffusion::DiffusionParams;
+use caustica_density::estimator::{Estimator, EstimatorSpec, Scratch, median_knn_radius};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 use caustica_scene::intersection::NONE;
@@ -32,10 +34,14 @@ const GLOBAL_STREAM: u64 = 0x610B;
 /// Longest specular chain a final-gather ray follows.
 const MAX_GATHER_CHAIN: u32 = 16;
 
-/// The caustic and global photon maps of a scene.
+/// The caustic and global photon maps of a scene, with the caustic map's density estimator.
 pub struct PhotonMaps {
     pub caustic: PhotonMap,
     pub global: PhotonMap,
+    /// The caustic map's estimator, prepared for it (k-NN for `pm`, diffusion for `dpm`).
+    pub caustic_estimator: Estimator,
+    /// Seconds spent preparing the caustic estimator (the diffusion pre-passes).
+    pub prepare_secs: f64,
     /// Photon-tracing work.
     pub stats: RenderStats,
     /// Messages for the user (e.g. fewer photons than requested).
@@ -43,7 +49,8 @@ pub struct PhotonMaps {
 }
 
 impl PhotonMaps {
-    /// Traces both maps with the sizes in `opts.photons`.
+    /// Traces both maps with the sizes in `opts.photons` and prepares the caustic map's
+    /// estimator `opts.photons.caustic_estimator`.
     pub fn build(scene: &Scene, opts: &RenderOptions) -> Self {
         let p = &opts.photons;
         let c = trace_photons(
@@ -73,22 +80,75 @@ impl PhotonMaps {
         let mut stats = c.stats;
         stats += g.stats;
         let warnings = c.warning.into_iter().chain(g.warning).collect();
+        let caustic = PhotonMap::new(c.photons, c.paths);
+        let spec = caustic_spec(&caustic, &opts.photons);
+        let t = std::time::Instant::now();
+        let caustic_estimator = Estimator::prepare(&spec, &caustic.points(&p.estimate));
+        let prepare_secs = t.elapsed().as_secs_f64();
         Self {
-            caustic: PhotonMap::new(c.photons, c.paths),
+            caustic,
             global: PhotonMap::new(g.photons, g.paths),
+            caustic_estimator,
+            prepare_secs,
             stats,
             warnings,
         }
     }
 }
 
-thread_local! {
-    static NEIGHBORS: RefCell<Vec<Neighbor>> = const { RefCell::new(Vec::new()) };
+/// The caustic map's estimator as `opts` asks for it, with the data-driven default bandwidth
+/// (median k-NN radius, k = `estimate.k`) where none is given.
+pub fn caustic_spec(map: &PhotonMap, opts: &PhotonOptions) -> EstimatorSpec {
+    let e = &opts.estimate;
+    let bandwidth = || {
+        opts.bandwidth
+            .or_else(|| median_knn_radius(&map.points(e), e.k))
+            .unwrap_or(1.0)
+    };
+    match opts.caustic_estimator {
+        CausticEstimator::Knn => EstimatorSpec::Knn {
+            k: e.k,
+            max_radius: e.max_radius,
+            kernel: e.kernel,
+        },
+        CausticEstimator::Fixed => EstimatorSpec::Fixed {
+            h: bandwidth(),
+            kernel: e.kernel,
+        },
+        CausticEstimator::Variable => EstimatorSpec::Variable {
+            k: e.k,
+            max_radius: e.max_radius,
+            kernel: e.kernel,
+        },
+        CausticEstimator::Diffusion => {
+            let h = bandwidth();
+            let d = &opts.diffusion;
+            EstimatorSpec::Diffusion(DiffusionParams {
+                bandwidth: h,
+                noise_scale: d.noise_scale.unwrap_or(0.5 * h),
+                q: d.q,
+                alpha: d.alpha,
+                isotropic: d.isotropic,
+                kernel: e.kernel,
+            })
+        }
+    }
 }
 
-/// The caustic map's radiance estimate at `v`.
-fn estimate(map: &PhotonMap, v: &Vertex, opts: &RenderOptions) -> Spectrum {
-    NEIGHBORS.with(|b| map.estimate(v, &opts.photons.estimate, &mut b.borrow_mut()))
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
+/// The caustic map's radiance estimate at `v`, with the maps' caustic estimator.
+fn caustic_estimate(maps: &PhotonMaps, v: &Vertex, opts: &RenderOptions) -> Spectrum {
+    SCRATCH.with(|b| {
+        maps.caustic.estimate_with(
+            v,
+            &opts.photons.estimate,
+            &maps.caustic_estimator,
+            &mut b.borrow_mut(),
+        )
+    })
 }
 
 /// The global map's radiance estimate at `v` (its own k when `global_k` is set).
@@ -97,7 +157,7 @@ fn global_estimate(map: &PhotonMap, v: &Vertex, opts: &RenderOptions) -> Spectru
     if let Some(k) = opts.photons.global_k {
         est.k = k;
     }
-    NEIGHBORS.with(|b| map.estimate(v, &est, &mut b.borrow_mut()))
+    SCRATCH.with(|b| map.estimate(v, &est, &mut b.borrow_mut()))
 }
 
 /// Radiance (W/m²/sr) arriving at the camera along `ray`.
@@ -128,7 +188,7 @@ pub fn radiance(
         if opts.caustics_only {
             // L S+ D E only: the caustic map at the first surface, if it is non-delta.
             if smooth {
-                l += beta * estimate(&maps.caustic, &v, opts);
+                l += beta * caustic_estimate(maps, &v, opts);
             }
             break;
         }
@@ -168,7 +228,7 @@ fn shade(
         return global_estimate(&maps.global, v, opts);
     }
     let direct = sample_direct(scene, v, sampler, stats, false);
-    let caustic = estimate(&maps.caustic, v, opts);
+    let caustic = caustic_estimate(maps, v, opts);
     let mut indirect = Spectrum::ZERO;
     if !maps.global.is_empty() {
         let wo_world = v.frame.to_world(v.wo);

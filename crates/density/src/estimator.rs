@@ -1,0 +1,653 @@
+//! One interface for every density estimator, used alike by the 2-D testbed and by the photon
+//! maps of 3-D scenes.
+//!
+//! An estimator turns a [`Query`] (a point with a tangent plane) into **weights**: it calls
+//! `visit(i, wᵢ)` for every point `i` of a [`PointSet`] that contributes, with `wᵢ` in 1/m², so
+//! that `Σᵢ wᵢ mᵢ` estimates the density of the masses `mᵢ` per m². With photon fluxes Φᵢ (W)
+//! as masses this is irradiance (W/m²); with BRDF values in the sum it is the radiance estimate
+//! eq. 3.2 (W/m²/sr); with masses `1/n` it is a probability density (1/m²).
+//!
+//! The estimators (Schjøth 2009, ch. 2 and 4):
+//!
+//! | [`EstimatorSpec`] | weight of point i | equation |
+//! |---|---|---|
+//! | `Fixed { h }` | `K(dᵢ²/h²) / h²` | 2.15 |
+//! | `Knn { k }` | `K(dᵢ²/h(x)²) / h(x)²`, `h(x)` the distance to the k-th nearest point | 2.12, 3.2 |
+//! | `Variable { k }` | `K(dᵢ²/hᵢ²) / hᵢ²`, `hᵢ` the k-NN distance at xᵢ (the pilot) | 2.13, fig. 2.5b |
+//! | `Diffusion(..)` | `K(dᵢᵀD⁻¹dᵢ/h²) / (h² √det D)`, D from the structure tensor | 4.19, see [`crate::diffusion`] |
+//!
+//! `K` is a kernel normalised over the 2-D unit disc ([`Kernel::eval`] with [`Dim::Two`]) and
+//! `dᵢ` the point's offset from the query as the point set defines it ([`PointSet::offset`]:
+//! plain difference, or a tangent-plane projection, eq. A.1–A.2). A point set can also veto a
+//! point (photons from the other side of a surface, the disc test).
+//!
+//! Estimators that need per-point data (the pilot bandwidths, the photon-map gradients) are
+//! prepared once per point set by [`Estimator::prepare`]; the others are ready at once. The
+//! preparation is deterministic: it does not depend on the number of threads.
+
+use crate::diffusion::{DiffusionEstimator, DiffusionParams};
+use crate::kdtree::{KdTree, Neighbor};
+use crate::kernel::{Dim, Kernel};
+use caustica_core::{Frame, Vec2, Vec3};
+use rayon::prelude::*;
+
+/// Where a density is estimated: a point and the tangent frame of the surface there, whose
+/// normal `frame.n` (unit) points to the side the density is wanted for.
+#[derive(Clone, Copy, Debug)]
+pub struct Query {
+    /// Position (m).
+    pub p: Vec3,
+    /// Tangent frame (`s`, `t` span the tangent plane).
+    pub frame: Frame,
+}
+
+impl Query {
+    /// A query at `p` with unit normal `n` (the tangent axes are chosen from `n` alone).
+    pub fn new(p: Vec3, n: Vec3) -> Self {
+        Self {
+            p,
+            frame: Frame::from_normal(n),
+        }
+    }
+
+    /// Unit normal of the query's side.
+    pub fn n(&self) -> Vec3 {
+        self.frame.n
+    }
+
+    /// Coordinates (m) of a world-space offset `d` in the tangent plane.
+    #[inline]
+    pub fn tangent(&self, d: Vec3) -> Vec2 {
+        Vec2::new(d.dot(self.frame.s), d.dot(self.frame.t))
+    }
+}
+
+/// Points with masses in a k-d tree: what an estimator draws on.
+pub trait PointSet: Sync {
+    /// The tree over the points' positions (indices as in the other methods).
+    fn tree(&self) -> &KdTree;
+    /// Number of points (indices are `0..len`).
+    fn len(&self) -> usize;
+    /// True when the set holds no point.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Position of point `i` (m).
+    fn position(&self, i: u32) -> Vec3;
+    /// Unit surface normal at point `i`, on the side its mass arrived from.
+    fn normal(&self, i: u32) -> Vec3;
+    /// Scalar mass of point `i`, for estimators that look at the structure of the density (the
+    /// photon-map gradient of the diffusion estimator): a photon's flux luminance (W), or `1/n`.
+    fn mass(&self, i: u32) -> f32;
+    /// Offset (m, world space) of point `i` from the query point at which to evaluate its kernel,
+    /// or `None` when the point must not contribute to this query. `h` is the estimate's
+    /// bandwidth (m) for this point. The plain choice is `position(i) − q.p`.
+    fn offset(&self, q: &Query, i: u32, h: f32) -> Option<Vec3>;
+}
+
+/// Points with unit masses or given masses and no filtering: the testbed's samples, and a
+/// reference implementation of [`PointSet`].
+pub struct WeightedPoints {
+    tree: KdTree,
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    masses: Vec<f32>,
+}
+
+impl WeightedPoints {
+    /// Points at `positions` with `normals` and `masses` (all of the same length).
+    ///
+    /// # Panics
+    /// If the lengths differ (a programming error, not user input).
+    pub fn new(positions: Vec<Vec3>, normals: Vec<Vec3>, masses: Vec<f32>) -> Self {
+        assert_eq!(positions.len(), normals.len());
+        assert_eq!(positions.len(), masses.len());
+        Self {
+            tree: KdTree::build(&positions),
+            positions,
+            normals,
+            masses,
+        }
+    }
+
+    /// Points in the plane z = 0 (normal +z), each of mass `1/n`: a probability density.
+    pub fn planar(points: &[[f64; 2]]) -> Self {
+        let n = points.len().max(1) as f32;
+        let positions: Vec<Vec3> = points
+            .iter()
+            .map(|p| Vec3::new(p[0] as f32, p[1] as f32, 0.0))
+            .collect();
+        let len = positions.len();
+        Self::new(positions, vec![Vec3::Z; len], vec![1.0 / n; len])
+    }
+}
+
+impl PointSet for WeightedPoints {
+    fn tree(&self) -> &KdTree {
+        &self.tree
+    }
+    fn len(&self) -> usize {
+        self.positions.len()
+    }
+    fn position(&self, i: u32) -> Vec3 {
+        self.positions[i as usize]
+    }
+    fn normal(&self, i: u32) -> Vec3 {
+        self.normals[i as usize]
+    }
+    fn mass(&self, i: u32) -> f32 {
+        self.masses[i as usize]
+    }
+    fn offset(&self, q: &Query, i: u32, _h: f32) -> Option<Vec3> {
+        Some(self.positions[i as usize] - q.p)
+    }
+}
+
+/// Reusable buffers of one thread's queries.
+#[derive(Default)]
+pub struct Scratch {
+    pub(crate) neighbors: Vec<Neighbor>,
+    /// (index, tangent-plane offset) of the points within the bandwidth.
+    pub(crate) offsets: Vec<(u32, Vec2)>,
+}
+
+/// What estimator to use and its parameters (before any per-point preparation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EstimatorSpec {
+    /// Fixed bandwidth `h` (m), eq. 2.15.
+    Fixed { h: f32, kernel: Kernel },
+    /// k-th nearest neighbour, eq. 2.12 / 3.2; the bandwidth is capped at `max_radius` (m).
+    Knn {
+        k: usize,
+        max_radius: Option<f32>,
+        kernel: Kernel,
+    },
+    /// Variable bandwidth with a k-NN pilot, eq. 2.13: each point's bandwidth is its distance to
+    /// its k-th nearest other point (fig. 2.5b), capped at `max_radius` (m).
+    Variable {
+        k: usize,
+        max_radius: Option<f32>,
+        kernel: Kernel,
+    },
+    /// Diffusion-based estimate, eq. 4.19 (anisotropic, or isotropic with
+    /// [`DiffusionParams::isotropic`]).
+    Diffusion(DiffusionParams),
+}
+
+impl EstimatorSpec {
+    /// Checks the parameters; the message names the offending one.
+    pub fn validate(&self) -> Result<(), String> {
+        let positive = |name: &str, v: f32| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{name} must be a positive finite number, got {v}"))
+            }
+        };
+        match self {
+            EstimatorSpec::Fixed { h, .. } => positive("the bandwidth h", *h),
+            EstimatorSpec::Knn { k, max_radius, .. }
+            | EstimatorSpec::Variable { k, max_radius, .. } => {
+                if *k == 0 {
+                    return Err("k (points per estimate) must be at least 1".into());
+                }
+                max_radius.map_or(Ok(()), |r| positive("the maximum radius", r))
+            }
+            EstimatorSpec::Diffusion(p) => p.validate(),
+        }
+    }
+
+    /// Short name for reports: `fixed`, `knn`, `variable`, `diffusion`, `isotropic-diffusion`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            EstimatorSpec::Fixed { .. } => "fixed",
+            EstimatorSpec::Knn { .. } => "knn",
+            EstimatorSpec::Variable { .. } => "variable",
+            EstimatorSpec::Diffusion(p) if p.isotropic => "isotropic-diffusion",
+            EstimatorSpec::Diffusion(_) => "diffusion",
+        }
+    }
+}
+
+/// A density estimator prepared for one point set (see the [module docs](self)).
+#[derive(Clone, Debug)]
+pub enum Estimator {
+    Fixed {
+        h: f32,
+        kernel: Kernel,
+    },
+    Knn {
+        k: usize,
+        max_radius: Option<f32>,
+        kernel: Kernel,
+    },
+    Variable(VariableBandwidth),
+    Diffusion(DiffusionEstimator),
+}
+
+impl Estimator {
+    /// Prepares `spec` for `points` (per-point pilot bandwidths or gradients, if it needs them).
+    /// `spec` must be valid ([`EstimatorSpec::validate`]).
+    pub fn prepare<P: PointSet>(spec: &EstimatorSpec, points: &P) -> Self {
+        match *spec {
+            EstimatorSpec::Fixed { h, kernel } => Estimator::Fixed { h, kernel },
+            EstimatorSpec::Knn {
+                k,
+                max_radius,
+                kernel,
+            } => Estimator::Knn {
+                k,
+                max_radius,
+                kernel,
+            },
+            EstimatorSpec::Variable {
+                k,
+                max_radius,
+                kernel,
+            } => Estimator::Variable(VariableBandwidth::new(points, k, max_radius, kernel)),
+            EstimatorSpec::Diffusion(params) => {
+                Estimator::Diffusion(DiffusionEstimator::new(points, params))
+            }
+        }
+    }
+
+    /// Calls `visit(i, wᵢ)` (wᵢ in 1/m²) for the points contributing to the estimate at `q`; the
+    /// density estimate of masses mᵢ is `Σ wᵢ mᵢ` (per m²). Each point is visited at most once.
+    pub fn weights<P: PointSet>(
+        &self,
+        points: &P,
+        q: &Query,
+        scratch: &mut Scratch,
+        mut visit: impl FnMut(u32, f32),
+    ) {
+        if points.is_empty() || !q.p.is_finite() {
+            return;
+        }
+        match self {
+            Estimator::Fixed { h, kernel } => {
+                // Eq. 2.15 with H = h² I.
+                let h2 = h * h;
+                points.tree().range(q.p, h2, |i, _| {
+                    if let Some(d) = points.offset(q, i, *h) {
+                        let w = kernel.eval(d.length_squared() / h2, Dim::Two) / h2;
+                        if w > 0.0 {
+                            visit(i, w);
+                        }
+                    }
+                });
+            }
+            Estimator::Knn {
+                k,
+                max_radius,
+                kernel,
+            } => knn_weights(points, q, *k, *max_radius, *kernel, scratch, visit),
+            Estimator::Variable(v) => v.weights(points, q, visit),
+            Estimator::Diffusion(d) => d.weights(points, q, scratch, visit),
+        }
+    }
+
+    /// Bytes of per-point data the preparation added.
+    pub fn memory_bytes(&self) -> usize {
+        match self {
+            Estimator::Fixed { .. } | Estimator::Knn { .. } => 0,
+            Estimator::Variable(v) => v.memory_bytes(),
+            Estimator::Diffusion(d) => d.memory_bytes(),
+        }
+    }
+
+    /// The density estimate of the points' own masses at `q` (`Σ wᵢ mᵢ`, per m²).
+    pub fn density<P: PointSet>(&self, points: &P, q: &Query, scratch: &mut Scratch) -> f32 {
+        let mut sum = 0.0f32;
+        self.weights(points, q, scratch, |i, w| sum += w * points.mass(i));
+        sum
+    }
+}
+
+/// Eq. 2.12 / 3.2: the bandwidth is the distance to the k-th nearest point (or the maximum
+/// radius when fewer lie within it).
+fn knn_weights<P: PointSet>(
+    points: &P,
+    q: &Query,
+    k: usize,
+    max_radius: Option<f32>,
+    kernel: Kernel,
+    scratch: &mut Scratch,
+    mut visit: impl FnMut(u32, f32),
+) {
+    let max_r2 = max_radius.map_or(f32::INFINITY, |r| r * r);
+    let buf = &mut scratch.neighbors;
+    // Heap order: buf[0] is the farthest of the k, which sets the bandwidth.
+    points.tree().knn_unsorted(q.p, k, max_r2, buf);
+    let Some(farthest) = buf.first() else {
+        return;
+    };
+    let h2 = if buf.len() < k && max_r2.is_finite() {
+        max_r2
+    } else {
+        farthest.dist2
+    };
+    if h2 <= 0.0 || !h2.is_finite() {
+        return;
+    }
+    let h = h2.sqrt();
+    for nb in buf.iter() {
+        let Some(d) = points.offset(q, nb.index, h) else {
+            continue;
+        };
+        let w = kernel.eval(d.length_squared() / h2, Dim::Two) / h2;
+        if w > 0.0 {
+            visit(nb.index, w);
+        }
+    }
+}
+
+/// Eq. 2.13 with the k-NN pilot of fig. 2.5b: point i spreads its mass with its own bandwidth
+/// hᵢ, the distance from xᵢ to its k-th nearest other point.
+///
+/// A query must find every point whose ball of radius hᵢ contains it. Pilot bandwidths span
+/// orders of magnitude (a lone photon far from the others has a huge one), so one range query
+/// at max hᵢ would visit the whole map. Instead the points are grouped by hᵢ into octaves
+/// [2ᵉ, 2ᵉ⁺¹) with a k-d tree each, and each tree is searched with its own largest radius: a
+/// query visits only points within twice their own bandwidth.
+#[derive(Clone, Debug)]
+pub struct VariableBandwidth {
+    /// Per-point bandwidth hᵢ (m); 0 for points that cannot contribute.
+    h: Vec<f32>,
+    /// One tree per bandwidth octave: (largest hᵢ in it, tree, global index of each local one).
+    octaves: Vec<(f32, KdTree, Vec<u32>)>,
+    kernel: Kernel,
+}
+
+impl VariableBandwidth {
+    fn new<P: PointSet>(points: &P, k: usize, max_radius: Option<f32>, kernel: Kernel) -> Self {
+        let cap = max_radius.unwrap_or(f32::INFINITY);
+        let h: Vec<f32> = (0..points.len() as u32)
+            .into_par_iter()
+            .map_init(Vec::new, |buf, i| {
+                // k + 1: the point itself is its own nearest neighbour.
+                points
+                    .tree()
+                    .knn_unsorted(points.position(i), k + 1, f32::INFINITY, buf);
+                let h = buf.first().map_or(0.0, |f| f.dist2.sqrt().min(cap));
+                if h.is_finite() && h > 0.0 { h } else { 0.0 }
+            })
+            .collect();
+        // Group by octave (ordered map: deterministic layout).
+        let mut groups: std::collections::BTreeMap<i32, Vec<u32>> = Default::default();
+        for (i, &hi) in h.iter().enumerate() {
+            if hi > 0.0 {
+                groups
+                    .entry(hi.log2().floor() as i32)
+                    .or_default()
+                    .push(i as u32);
+            }
+        }
+        let octaves = groups
+            .into_values()
+            .map(|idx| {
+                let pos: Vec<Vec3> = idx.iter().map(|&i| points.position(i)).collect();
+                let hmax = idx.iter().map(|&i| h[i as usize]).fold(0.0, f32::max);
+                (hmax, KdTree::build(&pos), idx)
+            })
+            .collect();
+        Self { h, octaves, kernel }
+    }
+
+    /// The pilot bandwidth of point `i` (m).
+    pub fn bandwidth(&self, i: u32) -> f32 {
+        self.h[i as usize]
+    }
+
+    /// Bytes of per-point data (bandwidths, octave trees and their index maps).
+    fn memory_bytes(&self) -> usize {
+        self.h.capacity() * 4
+            + self
+                .octaves
+                .iter()
+                .map(|(_, t, idx)| t.memory_bytes() + idx.capacity() * 4)
+                .sum::<usize>()
+    }
+
+    fn weights<P: PointSet>(&self, points: &P, q: &Query, mut visit: impl FnMut(u32, f32)) {
+        for (hmax, tree, idx) in &self.octaves {
+            tree.range(q.p, hmax * hmax, |local, _| {
+                let i = idx[local as usize];
+                let hi = self.h[i as usize];
+                if let Some(d) = points.offset(q, i, hi) {
+                    let h2 = hi * hi;
+                    let w = self.kernel.eval(d.length_squared() / h2, Dim::Two) / h2;
+                    if w > 0.0 {
+                        visit(i, w);
+                    }
+                }
+            });
+        }
+    }
+}
+
+/// A data-driven bandwidth (m): the median, over up to 1024 evenly spaced points, of the
+/// distance from a point to its k-th nearest other point; `None` for an empty set. Used as the
+/// default fixed bandwidth of the diffusion estimate (a fixed-bandwidth estimate that smooths
+/// about as much as a k-NN estimate does in typical regions).
+pub fn median_knn_radius<P: PointSet>(points: &P, k: usize) -> Option<f32> {
+    let n = points.len();
+    if n == 0 {
+        return None;
+    }
+    let samples = n.min(1024);
+    let mut buf = Vec::new();
+    let mut radii: Vec<f32> = (0..samples)
+        .filter_map(|j| {
+            let i = (j * n / samples) as u32;
+            points
+                .tree()
+                .knn_unsorted(points.position(i), k + 1, f32::INFINITY, &mut buf);
+            buf.first()
+                .map(|f| f.dist2.sqrt())
+                .filter(|r| r.is_finite() && *r > 0.0)
+        })
+        .collect();
+    if radii.is_empty() {
+        return None;
+    }
+    let mid = radii.len() / 2;
+    radii.select_nth_unstable_by(mid, f32::total_cmp);
+    Some(radii[mid])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use caustica_core::sampling::Pcg32;
+
+    fn uniform_square(n: usize, seed: u64) -> WeightedPoints {
+        let mut rng = Pcg32::new(seed, 1);
+        let pts: Vec<[f64; 2]> = (0..n)
+            .map(|_| [rng.next_f32() as f64, rng.next_f32() as f64])
+            .collect();
+        WeightedPoints::planar(&pts)
+    }
+
+    /// Every estimator recovers the uniform density 1 on the unit square in its middle, within
+    /// a tolerance from the number of points it averages.
+    #[test]
+    fn estimators_recover_a_uniform_density() {
+        let pts = uniform_square(40_000, 7);
+        let kernel = Kernel::Epanechnikov;
+        let specs = [
+            EstimatorSpec::Fixed { h: 0.05, kernel },
+            EstimatorSpec::Knn {
+                k: 300,
+                max_radius: None,
+                kernel,
+            },
+            EstimatorSpec::Variable {
+                k: 300,
+                max_radius: None,
+                kernel,
+            },
+            EstimatorSpec::Diffusion(DiffusionParams::new(0.05)),
+        ];
+        let mut scratch = Scratch::default();
+        for spec in specs {
+            let est = Estimator::prepare(&spec, &pts);
+            // Average over a grid of interior queries: the mean is within ~1 %; each estimate
+            // averages ≥ ~150 effective points, so single values are within ~35 % (4σ).
+            let mut mean = 0.0;
+            let m = 10;
+            for a in 0..m {
+                for b in 0..m {
+                    let p = Vec3::new(
+                        0.25 + 0.5 * a as f32 / m as f32,
+                        0.25 + 0.5 * b as f32 / m as f32,
+                        0.0,
+                    );
+                    let d = est.density(&pts, &Query::new(p, Vec3::Z), &mut scratch);
+                    assert!((d - 1.0).abs() < 0.35, "{}: {d} at {p}", spec.name());
+                    mean += d / (m * m) as f32;
+                }
+            }
+            assert!((mean - 1.0).abs() < 0.03, "{}: mean {mean}", spec.name());
+        }
+    }
+
+    /// The k-NN weights are exactly eq. 3.2's: K(d²/h²)/h² with h the k-th distance.
+    #[test]
+    fn knn_weights_match_the_definition() {
+        let pts = uniform_square(1000, 3);
+        let q = Query::new(Vec3::new(0.5, 0.5, 0.0), Vec3::Z);
+        let est = Estimator::prepare(
+            &EstimatorSpec::Knn {
+                k: 20,
+                max_radius: None,
+                kernel: Kernel::Epanechnikov,
+            },
+            &pts,
+        );
+        let mut all: Vec<(f32, u32)> = (0..1000u32)
+            .map(|i| ((pts.position(i) - q.p).length_squared(), i))
+            .collect();
+        all.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let h2 = all[19].0;
+        let mut got = Vec::new();
+        est.weights(&pts, &q, &mut Scratch::default(), |i, w| got.push((i, w)));
+        got.sort_by_key(|g| g.0);
+        let mut want: Vec<(u32, f32)> = all[..20]
+            .iter()
+            .map(|&(d2, i)| (i, Kernel::Epanechnikov.eval(d2 / h2, Dim::Two) / h2))
+            .filter(|x| x.1 > 0.0)
+            .collect();
+        want.sort_by_key(|g| g.0);
+        assert_eq!(got.len(), want.len());
+        for (g, w) in got.iter().zip(&want) {
+            assert_eq!(g.0, w.0);
+            assert!((g.1 - w.1).abs() <= 1e-5 * w.1);
+        }
+    }
+
+    /// The pilot bandwidth is the distance to the k-th nearest other point.
+    #[test]
+    fn variable_pilot_is_the_kth_neighbour_distance() {
+        let pts = WeightedPoints::planar(&[[0.0, 0.0], [1.0, 0.0], [3.0, 0.0], [7.0, 0.0]]);
+        let Estimator::Variable(v) = Estimator::prepare(
+            &EstimatorSpec::Variable {
+                k: 2,
+                max_radius: None,
+                kernel: Kernel::Uniform,
+            },
+            &pts,
+        ) else {
+            panic!("not a variable estimator");
+        };
+        assert_eq!(v.bandwidth(0), 3.0);
+        assert_eq!(v.bandwidth(1), 2.0);
+        assert_eq!(v.bandwidth(2), 3.0);
+        assert_eq!(v.bandwidth(3), 6.0);
+    }
+
+    /// The octave search finds exactly the points a brute-force eq. 2.13 sums over, on points
+    /// whose pilot bandwidths span orders of magnitude (a dense blob and sparse outliers).
+    #[test]
+    fn variable_weights_match_brute_force() {
+        let mut rng = Pcg32::new(8, 8);
+        let pts: Vec<[f64; 2]> = (0..3000)
+            .map(|i| {
+                let (a, b) = (rng.next_f32() as f64, rng.next_f32() as f64);
+                if i % 20 == 0 {
+                    [10.0 * a, 10.0 * b]
+                } else {
+                    [0.5 + 0.01 * a, 0.5 + 0.01 * b]
+                }
+            })
+            .collect();
+        let pts = WeightedPoints::planar(&pts);
+        let spec = EstimatorSpec::Variable {
+            k: 8,
+            max_radius: None,
+            kernel: Kernel::Epanechnikov,
+        };
+        let Estimator::Variable(v) = Estimator::prepare(&spec, &pts) else {
+            panic!("not a variable estimator");
+        };
+        assert!(v.octaves.len() > 3, "{} octaves", v.octaves.len());
+        let est = Estimator::Variable(v.clone());
+        let mut scratch = Scratch::default();
+        for j in 0..40 {
+            let p = Vec3::new(0.25 * j as f32 % 10.0, 0.5 + 0.0003 * j as f32, 0.0);
+            let q = Query::new(p, Vec3::Z);
+            let got = est.density(&pts, &q, &mut scratch);
+            let want: f32 = (0..pts.len() as u32)
+                .map(|i| {
+                    let h2 = v.bandwidth(i).powi(2);
+                    let d2 = (pts.position(i) - p).length_squared();
+                    Kernel::Epanechnikov.eval(d2 / h2, Dim::Two) / h2 * pts.mass(i)
+                })
+                .sum();
+            assert!(
+                (got - want).abs() <= 1e-4 * want.max(1e-6),
+                "{got} vs {want} at {p}"
+            );
+        }
+    }
+
+    #[test]
+    fn validation_names_the_parameter() {
+        let kernel = Kernel::Epanechnikov;
+        assert!(
+            EstimatorSpec::Fixed { h: 0.0, kernel }
+                .validate()
+                .unwrap_err()
+                .contains("bandwidth")
+        );
+        assert!(
+            EstimatorSpec::Knn {
+                k: 0,
+                max_radius: None,
+                kernel
+            }
+            .validate()
+            .unwrap_err()
+            .contains("k ")
+        );
+        assert!(
+            EstimatorSpec::Variable {
+                k: 5,
+                max_radius: Some(f32::NAN),
+                kernel
+            }
+            .validate()
+            .is_err()
+        );
+    }
+
+    #[test]
+    fn median_radius_of_a_lattice() {
+        // A unit lattice: every interior point's 4th nearest other point is at distance 1.
+        let pts: Vec<[f64; 2]> = (0..400)
+            .map(|i| [(i % 20) as f64, (i / 20) as f64])
+            .collect();
+        let r = median_knn_radius(&WeightedPoints::planar(&pts), 4).unwrap();
+        assert_eq!(r, 1.0);
+        assert!(median_knn_radius(&WeightedPoints::planar(&[]), 4).is_none());
+    }
+}
