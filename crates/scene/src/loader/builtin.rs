@@ -1,12 +1,16 @@
-//! Built-in scenes, also shipped as TOML files in `scenes/` (a test checks they agree).
+//! Built-in scenes, also shipped as TOML files in `scenes/` (a test checks they agree). The
+//! case-study scenes (`water-wave`, `metal-ring`, `gold-ring`; `docs/scenes.md`) are also
+//! written as Mitsuba 3 XML in `scenes/mitsuba/`, with their meshes in `scenes/meshes/`.
 
 use super::toml_scene::look_at_transform;
 use crate::camera::{FovAxis, PerspectiveCamera};
 use crate::error::SceneError;
-use crate::light::{Light, PointLight};
-use crate::material::Material;
+use crate::light::{DirectionalLight, Light, PointLight};
+use crate::material::{Material, conductor_preset};
 use crate::scene::{FilterKind, SceneBuilder};
-use crate::shape::{ShapeGeometry, Sphere, TriangleMesh};
+use crate::shape::{
+    RingParams, ShapeGeometry, Sphere, TriangleMesh, WaveParams, ring_mesh, water_wave_mesh,
+};
 use crate::texture::Texture;
 use caustica_core::{Affine3A, Spectrum, Vec3};
 
@@ -16,7 +20,13 @@ use caustica_core::{Affine3A, Spectrum, Vec3};
 /// point light.
 pub const DEFAULT_SCENE: &str = "cornell-box";
 
-const NAMES: &[&str] = &["cornell-box", "glass-sphere"];
+const NAMES: &[&str] = &[
+    "cornell-box",
+    "glass-sphere",
+    "water-wave",
+    "metal-ring",
+    "gold-ring",
+];
 
 /// Names accepted by [`builtin_scene`].
 pub fn builtin_names() -> &'static [&'static str] {
@@ -28,15 +38,30 @@ pub fn builtin_scene(name: &str) -> Option<SceneBuilder> {
     match name {
         "cornell-box" => cornell_box().ok(),
         "glass-sphere" => glass_sphere().ok(),
+        "water-wave" => water_wave().ok(),
+        "metal-ring" => metal_ring().ok(),
+        "gold-ring" => gold_ring().ok(),
         _ => None,
     }
 }
 
 fn camera(eye: Vec3, target: Vec3, fov: f32, width: u32, height: u32) -> PerspectiveCamera {
+    camera_up(eye, target, Vec3::Y, fov, width, height)
+}
+
+/// As [`camera`] with an explicit up vector (for cameras looking straight down).
+fn camera_up(
+    eye: Vec3,
+    target: Vec3,
+    up: Vec3,
+    fov: f32,
+    width: u32,
+    height: u32,
+) -> PerspectiveCamera {
     PerspectiveCamera {
         width,
         height,
-        to_world: look_at_transform(eye, target, Vec3::Y).unwrap_or(Affine3A::IDENTITY),
+        to_world: look_at_transform(eye, target, up).unwrap_or(Affine3A::IDENTITY),
         fov_deg: fov,
         fov_axis: FovAxis::X,
         lens_radius: 0.0,
@@ -197,10 +222,201 @@ fn glass_sphere() -> Result<SceneBuilder, SceneError> {
     Ok(b)
 }
 
+/// The water surface of `water-wave` (seed 000 §6.2, fig. 6.2(a)): one wavelength (2 m) of
+/// `y = 3 + 0.25 cos(π x)` over `|x|, |z| ≤ 1`, 128 × 8 grid cells (2048 triangles). The crest
+/// is a cylindrical lens of focal length n/((n − 1) κ) ≈ 1.63 m (κ = 0.25 π² the crest's
+/// curvature), so the floor 3 m below lies beyond the focus: the refracted rays cross and fold
+/// into two bright bands at x ≈ ±0.18 m with a less bright region between them and dark floor
+/// outside.
+pub const WATER_WAVE: WaveParams = WaveParams {
+    half_width: 1.0,
+    mean_height: 3.0,
+    amplitude: 0.25,
+    cells_x: 128,
+    cells_z: 8,
+};
+
+/// Index of refraction of the water in `water-wave` (one interface: air above, water below).
+pub const WATER_IOR: f32 = 1.33;
+
+/// The ring of `metal-ring` and `gold-ring`: inner radius 1 m, wall 0.1 m thick, 0.5 m high
+/// (half its inner radius — the "clipped" ring of seed 000 §6.3), 128 segments (1024
+/// triangles).
+pub const RING: RingParams = RingParams {
+    inner_radius: 1.0,
+    outer_radius: 1.1,
+    height: 0.5,
+    segments: 128,
+};
+
+/// Elevation of the collimated light of `metal-ring` above the floor (degrees). Light enters
+/// the ring over its near wall and reflects off the far inner wall; a ray reflected at
+/// azimuth φ touches the nephroid caustic R cos φ / 2 from the wall (horizontally), but
+/// reaches the floor between 2R(k − cos φ) and 2Rk from it, with k = H cot(elevation) / 2R
+/// ≈ 1.42 here (H the height, R the inner radius). For
+/// k > 5/4 the floor stops the two envelopes before they meet in the cusp (seed 000 §6.3);
+/// the whole floor inside the ring is in the near wall's shadow (k > 1).
+pub const METAL_RING_ELEVATION_DEG: f32 = 10.0;
+
+/// Elevation of the area light of `gold-ring` seen from the ring's centre (degrees): k ≈ 1.08,
+/// so the whole cardioid with its cusp reaches the floor, which is otherwise in shadow inside
+/// the ring.
+pub const GOLD_RING_ELEVATION_DEG: f32 = 13.0;
+
+/// Distance of the `gold-ring` area light's centre from the ring's centre (m).
+pub const GOLD_RING_LIGHT_DISTANCE: f32 = 10.0;
+
+/// Unit direction of light travelling toward +x and down at `elevation_deg`.
+pub fn slanted_direction(elevation_deg: f32) -> Vec3 {
+    let (s, c) = elevation_deg.to_radians().sin_cos();
+    Vec3::new(c, -s, 0.0)
+}
+
+/// A square diffuse floor `[−half, half]²` in the plane y = 0, facing up.
+fn add_floor(b: &mut SceneBuilder, half: f32, material: u32) -> Result<(), SceneError> {
+    b.add_shape(
+        ShapeGeometry::Mesh(TriangleMesh::rectangle(&trs(
+            Vec3::ZERO,
+            Vec3::X,
+            -90.0,
+            Vec3::splat(half),
+        ))),
+        material,
+        None,
+        false,
+    )
+}
+
+/// Settings shared by the case scenes.
+fn case_settings(b: &mut SceneBuilder, integrator: &str) {
+    b.settings.spp = Some(64);
+    b.settings.max_depth = Some(16);
+    b.settings.integrator = Some(integrator.to_string());
+}
+
+/// Seed 000 §6.2, the refraction case: collimated light straight down through a sinusoidal
+/// water surface ([`WATER_WAVE`], IOR 1.33, a single open interface whose normals face the air)
+/// onto a diffuse floor 3 m below. The camera is under the surface, 1.2 m above the floor,
+/// looking straight down, so it sees only the caustic (x to the image's right); the light
+/// tracer can connect floor points to it.
+fn water_wave() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("water-wave");
+    b.set_camera(camera_up(
+        Vec3::new(0.0, 1.2, 0.0),
+        Vec3::ZERO,
+        Vec3::NEG_Z,
+        45.0,
+        256,
+        256,
+    ));
+    case_settings(&mut b, "ptracer");
+    let floor = b.add_material("floor", diffuse(0.8, 0.8, 0.8))?;
+    let water = b.add_material(
+        "water",
+        Material::Dielectric {
+            ior: WATER_IOR,
+            absorption: Spectrum::ZERO,
+        },
+    )?;
+    add_floor(&mut b, WATER_WAVE.half_width, floor)?;
+    b.add_shape(
+        ShapeGeometry::Mesh(water_wave_mesh(&WATER_WAVE)),
+        water,
+        None,
+        false,
+    )?;
+    b.add_light(Light::Directional(DirectionalLight::new(
+        Vec3::NEG_Y,
+        Spectrum::splat(0.5),
+    )));
+    Ok(b)
+}
+
+/// Seed 000 §6.3, the reflection case: the clipped mirror ring ([`RING`]) on a diffuse floor
+/// under collimated light at [`METAL_RING_ELEVATION_DEG`] travelling toward +x. The camera looks
+/// straight down into the ring from 4 m (light from the image's left).
+fn metal_ring() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("metal-ring");
+    b.set_camera(camera_up(
+        Vec3::new(0.0, 4.0, 0.0),
+        Vec3::ZERO,
+        Vec3::NEG_Z,
+        30.0,
+        256,
+        256,
+    ));
+    case_settings(&mut b, "ptracer");
+    let floor = b.add_material("floor", diffuse(0.8, 0.8, 0.8))?;
+    let metal = b.add_material(
+        "metal",
+        Material::Mirror {
+            reflectance: Spectrum::ONE,
+        },
+    )?;
+    add_floor(&mut b, 1.5, floor)?;
+    b.add_shape(ShapeGeometry::Mesh(ring_mesh(&RING)), metal, None, false)?;
+    b.add_light(Light::Directional(DirectionalLight::new(
+        slanted_direction(METAL_RING_ELEVATION_DEG),
+        Spectrum::splat(5.0),
+    )));
+    Ok(b)
+}
+
+/// Centre of the `gold-ring` area light.
+pub fn gold_ring_light_center() -> Vec3 {
+    -slanted_direction(GOLD_RING_ELEVATION_DEG) * GOLD_RING_LIGHT_DISTANCE
+}
+
+/// Seed 002 fig. 1: the same ring in gold (complex IOR, the `Au` conductor preset) on a diffuse
+/// floor, lit by a 0.6 m square diffuse area light 10 m away at [`GOLD_RING_ELEVATION_DEG`]
+/// facing the ring (radiance 1500 W/m²/sr, ≈ 5.4 W/m² across the beam), on a 10 × 10 m floor.
+/// The camera looks down at the ring from the front (light from the image's left), so it sees
+/// the ring, the cardioid inside it and the ring's long shadow. The suggested integrator is the
+/// path tracer, as for seed 002's reference (and Mitsuba); `lighttrace` or `pm` find the caustic
+/// with far less noise.
+fn gold_ring() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("gold-ring");
+    b.set_camera(camera(
+        Vec3::new(0.2, 4.8, 4.4),
+        Vec3::new(0.2, 0.0, 0.0),
+        40.0,
+        256,
+        192,
+    ));
+    case_settings(&mut b, "path");
+    let floor = b.add_material("floor", diffuse(0.8, 0.8, 0.8))?;
+    let (eta, k) = conductor_preset("Au")
+        .ok_or_else(|| SceneError::InvalidParameter("the Au conductor preset is missing".into()))?;
+    let gold = b.add_material(
+        "gold",
+        Material::Conductor {
+            eta,
+            k,
+            specular: Spectrum::ONE,
+        },
+    )?;
+    let black = b.add_material("light-black", diffuse(0.0, 0.0, 0.0))?;
+    add_floor(&mut b, 5.0, floor)?;
+    b.add_shape(ShapeGeometry::Mesh(ring_mesh(&RING)), gold, None, false)?;
+    let to_light = look_at_transform(gold_ring_light_center(), Vec3::ZERO, Vec3::Y)
+        .unwrap_or(Affine3A::IDENTITY);
+    b.add_shape(
+        ShapeGeometry::Mesh(TriangleMesh::rectangle(
+            &(to_light * Affine3A::from_scale(Vec3::splat(0.3))),
+        )),
+        black,
+        Some(Spectrum::splat(1500.0)),
+        false,
+    )?;
+    Ok(b)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::light::AreaShape;
     use crate::loader::parse_scene_file;
+    use caustica_core::Ray;
     use std::path::Path;
 
     #[test]
@@ -266,6 +482,429 @@ mod tests {
                 for (x, y) in pa.iter().zip(pb) {
                     assert!(x.abs_diff_eq(*y, 1e-5), "{name}: {x} vs {y}");
                 }
+            }
+        }
+    }
+
+    /// The meshes of the case scenes as shipped in `scenes/meshes/`: file name, mesh, header
+    /// comments.
+    fn case_meshes() -> Vec<(&'static str, TriangleMesh, [&'static str; 2])> {
+        vec![
+            (
+                "water-wave.ply",
+                water_wave_mesh(&WATER_WAVE),
+                [
+                    "caustica water-wave surface: y = 3 + 0.25 cos(pi x), |x|, |z| <= 1, 128 x 8 cells",
+                    "vertex normals are the analytic (-dy/dx, 1, 0) normalised; generated by crates/scene/src/loader/builtin.rs",
+                ],
+            ),
+            (
+                "ring.ply",
+                ring_mesh(&RING),
+                [
+                    "caustica ring: radii 1 and 1.1, height 0.5, 128 segments, closed, outward normals",
+                    "generated by crates/scene/src/loader/builtin.rs",
+                ],
+            ),
+        ]
+    }
+
+    fn meshes_dir() -> std::path::PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes")
+    }
+
+    /// Regenerates `scenes/meshes/{water-wave,ring}.ply` after a change to [`WATER_WAVE`] or
+    /// [`RING`]: `cargo test -p caustica-scene write_case_meshes -- --ignored`.
+    #[test]
+    #[ignore]
+    fn write_case_meshes() {
+        for (file, mesh, comments) in case_meshes() {
+            let text = crate::loader::ply::to_ascii_ply(&mesh, &comments);
+            std::fs::write(meshes_dir().join(file), text).unwrap();
+        }
+    }
+
+    #[test]
+    fn case_mesh_files_are_up_to_date() {
+        for (file, mesh, comments) in case_meshes() {
+            let expected = crate::loader::ply::to_ascii_ply(&mesh, &comments);
+            let found = std::fs::read_to_string(meshes_dir().join(file)).unwrap();
+            assert!(
+                found == expected,
+                "scenes/meshes/{file} differs from the procedural mesh; regenerate it with \
+                 `cargo test -p caustica-scene write_case_meshes -- --ignored`"
+            );
+            assert!(mesh.indices.len() <= 20_000);
+        }
+    }
+
+    const CASE_SCENES: [&str; 3] = ["water-wave", "metal-ring", "gold-ring"];
+
+    fn mitsuba_file(name: &str) -> std::path::PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenes/mitsuba")
+            .join(format!("{name}.xml"))
+    }
+
+    fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
+        a.abs_diff_eq(b, tol)
+    }
+
+    /// Everything a render depends on, shape by shape and light by light, within `tol` (m).
+    fn assert_same_scene(name: &str, a: &SceneBuilder, b: &SceneBuilder, tol: f32) {
+        assert_eq!(a.name, b.name);
+        assert_eq!(a.material_names(), b.material_names(), "{name}");
+        for (ma, mb) in a.materials().iter().zip(b.materials()) {
+            assert_eq!(
+                format!("{ma:?}"),
+                format!("{mb:?}"),
+                "{name}: materials differ"
+            );
+        }
+        assert_eq!(a.shape_count(), b.shape_count(), "{name}");
+        for (i, (sa, sb)) in a.shapes().iter().zip(b.shapes()).enumerate() {
+            assert_eq!(sa.material, sb.material, "{name}: shape {i}");
+            assert_eq!(sa.light, sb.light, "{name}: shape {i}");
+            assert_eq!(sa.flip_normals, sb.flip_normals, "{name}: shape {i}");
+            let (ShapeGeometry::Mesh(ma), ShapeGeometry::Mesh(mb)) = (&sa.geometry, &sb.geometry)
+            else {
+                panic!("{name}: shape {i}: the case scenes are made of meshes")
+            };
+            assert_eq!(ma.indices, mb.indices, "{name}: shape {i}");
+            assert_eq!(ma.positions.len(), mb.positions.len(), "{name}: shape {i}");
+            for (p, q) in ma.positions.iter().zip(&mb.positions) {
+                assert!(close(*p, *q, tol), "{name}: shape {i}: vertex {p} vs {q}");
+            }
+            assert_eq!(
+                ma.normals.is_some(),
+                mb.normals.is_some(),
+                "{name}: shape {i}"
+            );
+            for (p, q) in ma.normals.iter().flatten().zip(mb.normals.iter().flatten()) {
+                assert!(close(*p, *q, 1e-6), "{name}: shape {i}: normal {p} vs {q}");
+            }
+        }
+        assert_eq!(a.lights().len(), b.lights().len(), "{name}");
+        for (la, lb) in a.lights().iter().zip(b.lights()) {
+            match (la, lb) {
+                (Light::Directional(x), Light::Directional(y)) => {
+                    assert!(
+                        close(x.direction, y.direction, 1e-6),
+                        "{name}: light direction"
+                    );
+                    assert_eq!(x.irradiance, y.irradiance, "{name}");
+                }
+                (Light::Area(x), Light::Area(y)) => {
+                    assert_eq!(x.radiance, y.radiance, "{name}");
+                    assert_eq!(x.two_sided, y.two_sided, "{name}");
+                    let (AreaShape::Triangles(ta), AreaShape::Triangles(tb)) = (&x.shape, &y.shape)
+                    else {
+                        panic!("{name}: area lights are rectangles")
+                    };
+                    assert_eq!(ta.len(), tb.len());
+                    for (p, q) in ta.iter().flatten().zip(tb.iter().flatten()) {
+                        assert!(close(*p, *q, tol), "{name}: light vertex {p} vs {q}");
+                    }
+                }
+                _ => panic!("{name}: lights differ: {la:?} vs {lb:?}"),
+            }
+        }
+        let (ca, cb) = (a.camera().unwrap(), b.camera().unwrap());
+        assert_eq!(
+            (ca.width, ca.height, ca.fov_axis, ca.lens_radius),
+            (cb.width, cb.height, cb.fov_axis, cb.lens_radius),
+            "{name}"
+        );
+        assert!((ca.fov_deg - cb.fov_deg).abs() < 1e-6, "{name}");
+        assert!(ca.to_world.abs_diff_eq(cb.to_world, 1e-6), "{name}: camera");
+        assert_eq!(a.settings.spp, b.settings.spp, "{name}");
+        assert_eq!(a.settings.max_depth, b.settings.max_depth, "{name}");
+        assert_eq!(a.settings.filter, b.settings.filter, "{name}");
+    }
+
+    #[test]
+    fn case_scenes_match_their_mitsuba_files() {
+        for name in CASE_SCENES {
+            let builtin = builtin_scene(name).unwrap();
+            let xml = crate::loader::load_mitsuba(&mitsuba_file(name), &[]).unwrap();
+            assert!(
+                xml.pending_warnings().is_empty(),
+                "{name}.xml needs no approximation: {:?}",
+                xml.pending_warnings()
+            );
+            assert_same_scene(name, &builtin, &xml, 1e-6);
+            assert_eq!(
+                builtin.settings.integrator, xml.settings.integrator,
+                "{name}"
+            );
+            // The TOML version too (its rotations give the light's corners to rounding).
+            let toml = parse_scene_file(
+                &Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("../../scenes")
+                    .join(format!("{name}.toml")),
+            )
+            .unwrap();
+            assert_same_scene(name, &builtin, &toml, 1e-5);
+        }
+    }
+
+    fn mesh_of(b: &SceneBuilder, i: usize) -> &TriangleMesh {
+        match &b.shapes()[i].geometry {
+            ShapeGeometry::Mesh(m) => m,
+            _ => panic!("shape {i} is not a mesh"),
+        }
+    }
+
+    fn winding_normal(m: &TriangleMesh, t: usize) -> Vec3 {
+        let [a, b, c] = m.triangle(t).unwrap();
+        (b - a).cross(c - a).normalize()
+    }
+
+    #[test]
+    fn case_scenes_build_with_the_documented_lights_and_materials() {
+        for name in CASE_SCENES {
+            let b = builtin_scene(name).unwrap();
+            // Shape 0 is the floor: diffuse, at y = 0, facing up.
+            let floor = mesh_of(&b, 0);
+            assert!(floor.positions.iter().all(|p| p.y.abs() < 1e-6), "{name}");
+            assert!(close(winding_normal(floor, 0), Vec3::Y, 1e-6), "{name}");
+            assert!(matches!(
+                b.materials()[b.shapes()[0].material as usize],
+                Material::Diffuse { .. }
+            ));
+            let specular = &b.materials()[b.shapes()[1].material as usize];
+            match name {
+                "water-wave" => {
+                    assert!(matches!(specular, Material::Dielectric { ior, .. } if *ior == 1.33));
+                    let [Light::Directional(l)] = b.lights() else {
+                        panic!("{name}: one directional light")
+                    };
+                    assert_eq!(l.direction, Vec3::NEG_Y);
+                }
+                "metal-ring" => {
+                    assert!(
+                        matches!(specular, Material::Mirror { reflectance } if *reflectance == Spectrum::ONE)
+                    );
+                    let [Light::Directional(l)] = b.lights() else {
+                        panic!("{name}: one directional light")
+                    };
+                    let elevation = (-l.direction.y).asin().to_degrees();
+                    assert!((elevation - 10.0).abs() < 1e-4 && l.direction.x > 0.0);
+                }
+                "gold-ring" => {
+                    let (eta, k) = conductor_preset("Au").unwrap();
+                    assert!(
+                        matches!(specular, Material::Conductor { eta: e, k: kk, .. } if *e == eta && *kk == k)
+                    );
+                    let [Light::Area(l)] = b.lights() else {
+                        panic!("{name}: one area light")
+                    };
+                    // The light faces the ring's centre from 13° above the horizon.
+                    let m = mesh_of(&b, 2);
+                    let c = m.positions.iter().sum::<Vec3>() / 4.0;
+                    assert!((c.length() - 10.0).abs() < 1e-4);
+                    assert!(((c.y / c.length()).asin().to_degrees() - 13.0).abs() < 1e-3);
+                    for t in 0..2 {
+                        assert!(winding_normal(m, t).dot(-c.normalize()) > 1.0 - 1e-6);
+                    }
+                    assert!((m.triangle_area(0) + m.triangle_area(1) - 0.36).abs() < 1e-5);
+                    assert!(!l.two_sided);
+                }
+                _ => unreachable!(),
+            }
+            let scene = b.build().unwrap();
+            assert!(scene.warnings.is_empty(), "{name}: {:?}", scene.warnings);
+            assert!(scene.total_power().average() > 0.0);
+            // The camera sees the floor through the centre of the image.
+            let c = &scene.camera;
+            let ray = Ray::new(
+                c.to_world.transform_point3(Vec3::ZERO),
+                c.to_world.transform_vector3(Vec3::Z).normalize(),
+            );
+            let hit = scene.intersect(&ray).unwrap();
+            assert_eq!(
+                hit.shape, 0,
+                "{name}: the image centre does not show the floor"
+            );
+        }
+    }
+
+    /// Follows a ray through specular surfaces (reflection about the shading normal at opaque
+    /// ones, refraction without Fresnel reflection at dielectrics) to its first floor hit.
+    fn trace_to_floor(scene: &crate::Scene, mut ray: Ray) -> Option<(Vec3, u32)> {
+        for bounces in 0..8 {
+            let si = scene.intersect(&ray)?;
+            if si.shape == 0 {
+                return Some((si.p, bounces));
+            }
+            let d = ray.d.normalize();
+            let n = si.ns;
+            let out = match scene.materials[si.material as usize] {
+                Material::Dielectric { ior, .. } => {
+                    // Entering when the ray comes from the side ng faces.
+                    let (eta, n) = if d.dot(si.ng) < 0.0 {
+                        (1.0 / ior, n)
+                    } else {
+                        (ior, -n)
+                    };
+                    let cos_i = -d.dot(n);
+                    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+                    if k < 0.0 {
+                        return None;
+                    }
+                    d * eta + n * (eta * cos_i - k.sqrt())
+                }
+                _ => d - n * (2.0 * d.dot(n)),
+            };
+            ray = si.spawn_ray(out);
+        }
+        None
+    }
+
+    /// Landing point on y = 0 of a vertical ray refracted once at x by the analytic surface.
+    fn analytic_landing(x: f64) -> f64 {
+        let w = &WATER_WAVE;
+        let [nx, ny, _] = w.normal(x);
+        let eta = 1.0 / WATER_IOR as f64;
+        let cos_i = ny; // d = (0, −1, 0)
+        let k = (1.0 - eta * eta * (1.0 - cos_i * cos_i)).sqrt();
+        let (tx, ty) = (nx * (eta * cos_i - k), -eta + ny * (eta * cos_i - k));
+        x + w.height(x) * tx / -ty
+    }
+
+    #[test]
+    fn water_wave_caustic_bands_are_where_geometric_optics_puts_them() {
+        // The fold caustics are the extrema of the landing point X(x) (dX/dx = 0).
+        let n = 200_000;
+        let xs: Vec<f64> = (0..=n).map(|i| -1.0 + 2.0 * i as f64 / n as f64).collect();
+        let landing: Vec<f64> = xs.iter().map(|&x| analytic_landing(x)).collect();
+        let folds: Vec<f64> = (1..n)
+            .filter(|&i| (landing[i] - landing[i - 1]) * (landing[i + 1] - landing[i]) <= 0.0)
+            .map(|i| landing[i])
+            .collect();
+        assert_eq!(folds.len(), 2, "{folds:?}");
+        let fold = folds[0].abs();
+        assert!(
+            (folds[0] + folds[1]).abs() < 1e-6 && (0.15..0.22).contains(&fold),
+            "{folds:?}"
+        );
+
+        // Trace vertical rays through the built scene: the Phong-interpolated mesh normals refract
+        // like the analytic surface, and the histogram of landing points peaks at the folds.
+        let scene = builtin_scene("water-wave").unwrap().build().unwrap();
+        let bins = 200; // 1 cm over [−1, 1]
+        let mut hist = vec![0u32; bins];
+        let rays = 40_000;
+        for i in 0..rays {
+            let x = -1.0 + 2.0 * (i as f64 + 0.5) / rays as f64;
+            let ray = Ray::new(Vec3::new(x as f32, 10.0, 0.3), Vec3::NEG_Y);
+            let (p, bounces) = trace_to_floor(&scene, ray).expect("every ray reaches the floor");
+            assert_eq!(bounces, 1);
+            let expected = analytic_landing(x);
+            assert!(
+                (p.x as f64 - expected).abs() < 2e-3,
+                "ray at x = {x}: lands at {} instead of {expected}",
+                p.x
+            );
+            if (-1.0..1.0).contains(&p.x) {
+                hist[((p.x + 1.0) * 100.0) as usize] += 1;
+            }
+        }
+        let peak = |range: std::ops::Range<usize>| {
+            let i = range.clone().max_by_key(|&i| hist[i]).unwrap();
+            -1.0 + (i as f64 + 0.5) / 100.0
+        };
+        let (left, right) = (peak(0..100), peak(100..200));
+        assert!(
+            (left + fold).abs() <= 0.01,
+            "left band at {left}, fold at {}",
+            -fold
+        );
+        assert!(
+            (right - fold).abs() <= 0.01,
+            "right band at {right}, fold at {fold}"
+        );
+        // Between the bands brighter than outside them, dimmer than the bands.
+        let mean = |r: std::ops::Range<usize>| {
+            r.clone().map(|i| hist[i] as f64).sum::<f64>() / r.len() as f64
+        };
+        let (inside, outside) = (mean(90..110), mean(20..60));
+        assert!(inside > 2.0 * outside, "inside {inside}, outside {outside}");
+        assert!((hist[((left + 1.0) * 100.0) as usize] as f64) > 1.5 * inside);
+    }
+
+    /// Floor hits of parallel rays along `dir` entering the ring's opening (uniform over the
+    /// disk of radius 0.999 at the ring's top), and how many rays were shot.
+    fn ring_floor_hits(scene: &crate::Scene, dir: Vec3) -> (Vec<Vec3>, usize) {
+        let n = 300;
+        let mut hits = Vec::new();
+        let mut shot = 0;
+        for i in 0..n {
+            for j in 0..n {
+                let p = Vec3::new(
+                    -1.0 + 2.0 * (i as f32 + 0.5) / n as f32,
+                    RING.height + 1e-3,
+                    -1.0 + 2.0 * (j as f32 + 0.5) / n as f32,
+                );
+                if p.x * p.x + p.z * p.z > 0.999 * 0.999 {
+                    continue;
+                }
+                shot += 1;
+                // Start upstream so the ray also meets whatever lies before the opening.
+                let ray = Ray::new(p - dir * 5.0, dir);
+                if let Some((q, bounces)) = trace_to_floor(scene, ray)
+                    && bounces > 0
+                    && q.x * q.x + q.z * q.z < 1.0
+                {
+                    hits.push(q);
+                }
+            }
+        }
+        (hits, shot)
+    }
+
+    #[test]
+    fn ring_floors_are_shadowed_and_the_cusp_is_cut_only_in_metal_ring() {
+        for (name, elevation) in [
+            ("metal-ring", METAL_RING_ELEVATION_DEG),
+            ("gold-ring", GOLD_RING_ELEVATION_DEG),
+        ] {
+            let scene = builtin_scene(name).unwrap().build().unwrap();
+            let dir = slanted_direction(elevation);
+            // k = H cot(e) / 2R > 1: no floor point inside the ring sees the light directly.
+            let k = RING.height / elevation.to_radians().tan() / (2.0 * RING.inner_radius);
+            assert!(k > 1.0, "{name}: k = {k}");
+            for i in 0..=20 {
+                for j in 0..=20 {
+                    let p = Vec3::new(-0.95 + 0.095 * i as f32, 0.0, -0.95 + 0.095 * j as f32);
+                    if p.length() > 0.95 {
+                        continue;
+                    }
+                    let ray = Ray::new(p + Vec3::Y * 1e-4, -dir);
+                    assert!(scene.occluded(&ray), "{name}: floor at {p} is lit directly");
+                }
+            }
+            // The nephroid's cusp lies R/2 in front of the far wall, at (0.5, 0, 0).
+            let (hits, shot) = ring_floor_hits(&scene, dir);
+            assert!(hits.len() > shot / 2, "{name}: {} of {shot}", hits.len());
+            let near_cusp = hits
+                .iter()
+                .filter(|q| (**q - Vec3::new(0.5, 0.0, 0.0)).length() < 0.05)
+                .count();
+            // Density near the cusp relative to the mean density over the inner floor.
+            let ratio = near_cusp as f32 / (0.05f32 * 0.05) / (hits.len() as f32 / 1.0);
+            if name == "metal-ring" {
+                // k > 5/4: the floor stops the envelopes before the cusp (seed 000 §6.3).
+                assert!(
+                    k > 1.25 && near_cusp == 0,
+                    "{name}: {near_cusp} hits near the cusp"
+                );
+            } else {
+                // k < 5/4: the whole cardioid with its cusp, the brightest spot.
+                assert!(
+                    k < 1.25 && ratio > 3.0,
+                    "{name}: cusp density ratio {ratio}"
+                );
             }
         }
     }

@@ -1,6 +1,7 @@
 //! Stanford PLY meshes (ASCII and binary, via `ply-rs-bw`): vertex `x, y, z`, optional
 //! `nx, ny, nz` and `u, v` (or `s, t`, `texture_u, texture_v`); faces as `vertex_indices` or
-//! `vertex_index` lists, polygons triangulated as fans.
+//! `vertex_index` lists, polygons triangulated as fans. [`to_ascii_ply`] writes a mesh back
+//! (the procedural meshes of `scenes/meshes/`).
 
 use crate::error::SceneError;
 use crate::shape::TriangleMesh;
@@ -93,6 +94,39 @@ pub fn load_ply(path: &Path) -> Result<TriangleMesh, SceneError> {
     Ok(mesh)
 }
 
+/// `mesh` as an ASCII PLY file (`x y z`, `nx ny nz` when the mesh has normals, triangles as
+/// `vertex_indices`), each `comment` line in the header. Numbers are written in the shortest
+/// form that reads back to the same `f32`, so [`load_ply`] returns the mesh bit for bit.
+pub fn to_ascii_ply(mesh: &TriangleMesh, comments: &[&str]) -> String {
+    use std::fmt::Write;
+    let normals = mesh
+        .normals
+        .as_ref()
+        .filter(|n| n.len() == mesh.positions.len());
+    let mut s = String::from("ply\nformat ascii 1.0\n");
+    for c in comments {
+        let _ = writeln!(s, "comment {c}");
+    }
+    let _ = writeln!(s, "element vertex {}", mesh.positions.len());
+    s.push_str("property float x\nproperty float y\nproperty float z\n");
+    if normals.is_some() {
+        s.push_str("property float nx\nproperty float ny\nproperty float nz\n");
+    }
+    let _ = writeln!(s, "element face {}", mesh.indices.len());
+    s.push_str("property list uchar int vertex_indices\nend_header\n");
+    for (i, p) in mesh.positions.iter().enumerate() {
+        let _ = write!(s, "{} {} {}", p.x, p.y, p.z);
+        if let Some(n) = normals {
+            let _ = write!(s, " {} {} {}", n[i].x, n[i].y, n[i].z);
+        }
+        s.push('\n');
+    }
+    for t in &mesh.indices {
+        let _ = writeln!(s, "3 {} {} {}", t[0], t[1], t[2]);
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -148,5 +182,36 @@ mod tests {
         assert!(e.to_string().contains("bad.ply"), "{e}");
         let e = load_ply(Path::new("/nonexistent/mesh.ply")).unwrap_err();
         assert!(e.to_string().contains("/nonexistent/mesh.ply"), "{e}");
+    }
+
+    #[test]
+    fn ascii_writer_round_trips_bit_for_bit() {
+        let mut m = crate::shape::TriangleMesh::cube(&caustica_core::Affine3A::from_scale(
+            Vec3::new(0.1, 1.0 / 3.0, 7.25e-9),
+        ));
+        m.normals = Some(
+            m.positions
+                .iter()
+                .map(|p| p.normalize() * if p.x > 0.0 { 1.0 } else { -1.0 })
+                .collect(),
+        );
+        let text = to_ascii_ply(&m, &["a cube", "scaled"]);
+        assert!(text.starts_with("ply\nformat ascii 1.0\ncomment a cube\ncomment scaled\n"));
+        let r = load_ply(&write("roundtrip.ply", text.as_bytes())).unwrap();
+        assert_eq!(r.indices, m.indices);
+        let bits = |v: &[Vec3]| {
+            v.iter()
+                .map(|p| p.to_array().map(f32::to_bits))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&r.positions), bits(&m.positions));
+        assert_eq!(
+            bits(r.normals.as_ref().unwrap()),
+            bits(m.normals.as_ref().unwrap())
+        );
+        m.normals = None;
+        let r = load_ply(&write("roundtrip2.ply", to_ascii_ply(&m, &[]).as_bytes())).unwrap();
+        assert!(r.normals.is_none());
+        assert_eq!(bits(&r.positions), bits(&m.positions));
     }
 }

@@ -1,14 +1,17 @@
 //! Shapes: triangle meshes and analytic spheres and disks. Rectangles and cubes are built as
-//! meshes ([`TriangleMesh::rectangle`], [`TriangleMesh::cube`]).
+//! meshes ([`TriangleMesh::rectangle`], [`TriangleMesh::cube`]); the case-study scenes' water
+//! wave and ring are generated in [`procedural`].
 
 pub mod aabb;
 pub mod disk;
 pub mod mesh;
+pub mod procedural;
 pub mod sphere;
 
 pub use aabb::Aabb;
 pub use disk::Disk;
 pub use mesh::{SanitizeReport, TriangleMesh};
+pub use procedural::{RingParams, WaveParams, ring_mesh, water_wave_mesh};
 pub use sphere::Sphere;
 
 use crate::intersection::NONE;
