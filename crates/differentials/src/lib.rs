@@ -1,14 +1,16 @@
 //! Differential algebra for ray and photon differentials (seed 000, appendix B: "Space and
-//! time ray differentials").
+//! time ray differentials"), and the emission and footprints of photon differentials (seed 002,
+//! "Photon Differential Splatting for Rendering Caustics", eq. 1–12 and app. B).
 //!
 //! A [`RayDiff<N>`] is a ray — origin `P` (m) and unit direction `V` — together with its
 //! first-order structure with respect to `N` scalar parameters θ = (θ₀ … θ_{N−1}):
 //! `dp[i] = ∂P/∂θᵢ` (m per unit of θᵢ) and `dv[i] = ∂V/∂θᵢ` (per unit of θᵢ). The
 //! parameters are whatever generated the ray: the two image-plane coordinates of a camera
 //! ray differential (Igehy 1999; `N = 2`, see [`caustica_core::RayDifferential`]), two
-//! positional and two directional parameters of a photon differential (seed 002; `N = 4`),
-//! plus time for moving scenes (seed 000 eq. B.12 and ch. 7; `N = 5`). Scene geometry may
-//! depend on the same parameters through [`TriangleMotion`].
+//! positional and two directional parameters of a photon differential (seed 002; `N = 4`, or
+//! `N = 2` with eq. 7's pairs, see below), plus time for moving scenes (seed 000 eq. B.12 and
+//! ch. 7; `N = 5`). Scene geometry may depend on the same parameters through
+//! [`TriangleMotion`].
 //!
 //! Following appendix B, a ray is propagated by alternating
 //!
@@ -27,9 +29,44 @@
 //! perpendicular to `v`. Derivatives of an unnormalised direction are converted with
 //! eq. B.5b ([`normalize_differential`], [`RayDiff::from_unnormalized`]).
 //!
+//! # Photon differentials (seed 002; seed 000 ch. 5)
+//!
+//! A photon differential is a [`RayDiff<2>`] whose parameter 0 pairs the light-surface
+//! coordinate u with the direction coordinate θ and parameter 1 pairs v with φ: seed 002's
+//! pairwise-parallel choice of the initial vectors (eq. 2–3) makes the transferred footprint
+//! the parallelogram of `(D_u + D_θ) x′` and `(D_v + D_φ) x′` (eq. 7), so the algebra above
+//! propagates it unchanged.
+//!
+//! * [`emission`] creates it for point, spot, directional, beam ("laser") and diffuse area
+//!   lights (eq. 1–6: `|D_u x| = 2 s √(A_e/(π N_e))` m, `|D_θ ω| = 2 s √(ω_e/(π N_e))` rad, so
+//!   that the `N_e` photons' footprints sum to `s² A_e` and their solid angles to `s² ω_e`),
+//!   from an [`EmissionBudget`] (`N_e`, smoothing `s`).
+//! * [`footprint`] turns it, at the non-specular surface where it lands, into a [`Footprint`]:
+//!   the inscribed ellipse of area `A_p = π/4 |D_u x × D_v x|` (m², eq. 4), irradiance
+//!   `E_p = Φ_p/A_p` (W/m²), the 2×3 filter matrix `M_p` of eq. 12, Silverman's kernel
+//!   (eq. 11) and the photon's term `π K(|M_p (x − x_p)|) E_p` of the radiance estimate
+//!   (eq. 10 = seed 000 eq. 5.14, W/m² before the BRDF), the gather radius and the anisotropy
+//!   metric of app. B. Collapsed footprints are a typed error.
+//!
+//! ```
+//! use caustica_core::Vec3;
+//! use caustica_differentials::{EmissionBudget, Footprint, emit_point, transfer_to_plane};
+//!
+//! // 10⁴ photons from a 1 W/sr point light 2 m above the floor, smoothing s = 5.
+//! let budget = EmissionBudget::new(10_000, 5.0).unwrap();
+//! let photon = emit_point(Vec3::new(0.0, 0.0, 2.0), -Vec3::Z, &budget).unwrap();
+//! let z = [Vec3::ZERO; 2];
+//! let hit = transfer_to_plane(&photon, Vec3::ZERO, &z, Vec3::Z, &z).unwrap();
+//! let fp = Footprint::from_ray(&hit.ray, Vec3::Z).unwrap();
+//! let flux = budget.photon_flux(4.0 * std::f32::consts::PI); // Φ_p = Φ/N_e (W)
+//! // E_p = I / (s² d²): the inverse-square law shared among the s² overlapping footprints
+//! assert!((fp.irradiance(flux) - 1.0 / (25.0 * 4.0)).abs() < 1e-5);
+//! assert!(fp.contains(Vec3::new(0.01, 0.0, 0.0)) && fp.irradiance_at(Vec3::ZERO, flux) > 0.0);
+//! ```
+//!
 //! Every operation returns finite values or a [`DiffError`] (ray parallel to the plane,
-//! degenerate triangle, vanishing interpolated normal, total internal reflection, overflow);
-//! none returns NaN.
+//! degenerate triangle, vanishing interpolated normal, total internal reflection, overflow,
+//! invalid emission parameters, collapsed footprint); none returns NaN.
 //!
 //! ```
 //! use caustica_core::Vec3;
@@ -48,14 +85,21 @@
 // every guard here turns garbage input into an error instead of propagating it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod emission;
 mod error;
+pub mod footprint;
 pub mod ray_differential;
 pub mod reflection;
 pub mod refraction;
 pub mod surface;
 pub mod transfer;
 
+pub use emission::{
+    EmissionBasis, EmissionBudget, emission_basis, emit, emit_area, emit_beam, emit_directional,
+    emit_point, emit_spot,
+};
 pub use error::DiffError;
+pub use footprint::{Footprint, footprint_area, photon_solid_angle, silverman};
 pub use ray_differential::{RayDiff, normalize_differential};
 pub use reflection::{reflect, reflection_jacobians};
 pub use refraction::{refract, refract_direction, refraction_jacobians};
