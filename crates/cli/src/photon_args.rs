@@ -71,6 +71,14 @@ pub struct PhotonArgs {
     /// Isotropic diffusion: a round kernel that shrinks near structure (seed 000 sec. 4.3.3).
     #[arg(long, help_heading = "Diffusion photon mapping (dpm)")]
     pub isotropic: bool,
+    /// Smoothing parameter s of photon differential mapping (seed 002 eq. 5-6): the emitted
+    /// footprints overlap s^2 times (default 1; > 0).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Photon differential mapping (pdm)"
+    )]
+    pub smoothing: Option<f32>,
 }
 
 impl PhotonArgs {
@@ -108,6 +116,9 @@ impl PhotonArgs {
         }
         o.diffusion.noise_scale = self.noise_scale;
         o.diffusion.isotropic = self.isotropic;
+        if let Some(s) = self.smoothing {
+            o.smoothing = s;
+        }
         if let Err(e) = o.validate() {
             bail!("{e}");
         }
@@ -131,5 +142,6 @@ impl PhotonArgs {
             || self.alpha.is_some()
             || self.noise_scale.is_some()
             || self.isotropic
+            || self.smoothing.is_some()
     }
 }

@@ -47,7 +47,7 @@ pub struct RenderSettings {
     #[arg(long, allow_negative_numbers = true)]
     pub max_depth: Option<i64>,
     /// Render only caustics seen directly (paths L S+ D E), for comparing the caustics of the
-    /// light tracer and photon mapping without the noise of other light (lighttrace, pm, dpm).
+    /// light tracer and photon mapping without the noise of other light (lighttrace, pm, dpm, pdm).
     #[arg(long)]
     pub caustics_only: bool,
     #[command(flatten)]
@@ -155,7 +155,7 @@ impl RenderSettings {
         };
         if self.caustics_only && kind == IntegratorKind::Path {
             bail!(
-                "--caustics-only needs --integrator lighttrace, pm or dpm: the path tracer cannot isolate L S+ D E paths"
+                "--caustics-only needs --integrator lighttrace, pm, dpm or pdm: the path tracer cannot isolate L S+ D E paths"
             );
         }
         if kind == IntegratorKind::DiffusionPhotonMapping
@@ -165,6 +165,19 @@ impl RenderSettings {
             bail!(
                 "--integrator dpm uses the diffusion estimator; for --estimator {e} use --integrator pm"
             );
+        }
+        if kind == IntegratorKind::PhotonDifferentialMapping
+            && let Some(e) = &self.photon.estimator
+        {
+            bail!(
+                "--integrator pdm estimates caustics from photon-differential footprints; for --estimator {e} use --integrator pm"
+            );
+        }
+        if self.photon.smoothing.is_some() && kind != IntegratorKind::PhotonDifferentialMapping {
+            warnings.push(format!(
+                "--smoothing only affects --integrator pdm, not '{}'",
+                kind.name()
+            ));
         }
         if self.photon.any_given() && !kind.uses_photons() {
             warnings.push(format!(
@@ -313,7 +326,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let what = match kind {
         IntegratorKind::Path
         | IntegratorKind::PhotonMapping
-        | IntegratorKind::DiffusionPhotonMapping => {
+        | IntegratorKind::DiffusionPhotonMapping
+        | IntegratorKind::PhotonDifferentialMapping => {
             format!("{:.1} spp", out.film.mean_samples())
         }
         IntegratorKind::LightTrace => format!("{} light paths", out.film.light_paths()),

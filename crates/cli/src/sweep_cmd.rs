@@ -25,7 +25,7 @@ pub struct SweepArgs {
     /// The render option to vary, by its long name: spp, seed, max-depth, sampler, time,
     /// integrator, photons, global-photons, k, global-k, max-radius, kernel, final-gather,
     /// tangent-projection, disc-test, caustics-only, estimator, bandwidth, q, alpha,
-    /// noise-scale or isotropic.
+    /// noise-scale, isotropic or smoothing.
     #[arg(long, value_name = "NAME")]
     pub param: String,
     /// The values of the parameter, comma-separated (e.g. 10,50,200 or uniform,cone:1.1);
@@ -130,6 +130,7 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("alpha", |s| &mut s.photon.alpha),
     ("noise-scale", |s| &mut s.photon.noise_scale),
     ("isotropic", |s| &mut s.photon.isotropic),
+    ("smoothing", |s| &mut s.photon.smoothing),
 ];
 
 /// The setter of parameter `name` (a long option name, with or without the leading `--`).

@@ -11,6 +11,8 @@
 //!   tracer.
 //! * [`photon_tracer`], [`photon_map`] — the photon tracer shared by every photon method, and
 //!   photon maps with the radiance estimate of seed 000 eq. 3.2.
+//! * [`photon_differential`] — caustic photons carrying photon differentials, their footprints
+//!   and the estimate of seed 002 eq. 10 (`pdm`).
 //! * [`integrator`] — the path tracer, the light tracer and photon mapping.
 
 pub mod direct;
@@ -20,6 +22,7 @@ pub mod image_loop;
 pub mod integrator;
 pub mod light_path;
 pub mod options;
+pub mod photon_differential;
 pub mod photon_map;
 pub mod photon_tracer;
 pub mod photon_view;

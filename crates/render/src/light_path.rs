@@ -11,7 +11,7 @@ use crate::surface::{Vertex, emission_ray, interior_transmittance, russian_roule
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec3};
 use caustica_scene::Scene;
-use caustica_scene::bsdf::TransportMode;
+use caustica_scene::bsdf::{BsdfSample, TransportMode};
 use caustica_scene::light::EmissionSample;
 
 /// The start of a light path.
@@ -45,6 +45,41 @@ pub enum LightEvent<'a> {
     Vertex(&'a LightVertex<'a>),
 }
 
+/// The scattering the walker sampled at a vertex, shown to [`LightVisitor::scatter`] before the
+/// path continues: photon differentials (`photon_differential`) need to know whether the sampled
+/// delta lobe reflected or refracted, and with which relative IOR.
+pub struct LightScatter<'a> {
+    pub v: &'a Vertex,
+    /// Unit direction back toward where the light came from (world space).
+    pub wo: Vec3,
+    /// Unit direction the path continues in (world space).
+    pub wi: Vec3,
+    /// The BSDF sample (local `wi`, lobe flags, relative IOR `eta` = η_t/η_i, 1 for
+    /// reflection).
+    pub sample: &'a BsdfSample,
+}
+
+/// A visitor of [`walk_light_path_with`]: `event` at the start and at every surface hit (as
+/// the closure of [`walk_light_path`]), and `scatter` after each successful BSDF sample, before
+/// throughput update and roulette. `scatter` returns false to end the path there (e.g. a caustic
+/// tracer after the first non-delta bounce); the default continues and draws nothing.
+pub trait LightVisitor {
+    fn event(&mut self, event: LightEvent, sampler: &mut Sampler, stats: &mut RenderStats);
+    fn scatter(&mut self, scatter: &LightScatter, stats: &mut RenderStats) -> bool {
+        let _ = (scatter, stats);
+        true
+    }
+}
+
+/// A closure as a [`LightVisitor`] that only sees events.
+struct EventsOnly<F>(F);
+
+impl<F: FnMut(LightEvent, &mut Sampler, &mut RenderStats)> LightVisitor for EventsOnly<F> {
+    fn event(&mut self, event: LightEvent, sampler: &mut Sampler, stats: &mut RenderStats) {
+        (self.0)(event, sampler, stats)
+    }
+}
+
 /// Walks one light path, calling `visit` once with [`LightEvent::Start`] and then with
 /// [`LightEvent::Vertex`] at every surface hit. Sampler use: 5 dimensions to start, then
 /// whatever the visitor draws at each event, and 4 per vertex for scattering and roulette.
@@ -53,7 +88,20 @@ pub fn walk_light_path(
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
-    mut visit: impl FnMut(LightEvent, &mut Sampler, &mut RenderStats),
+    visit: impl FnMut(LightEvent, &mut Sampler, &mut RenderStats),
+) {
+    walk_light_path_with(scene, sampler, opts, stats, &mut EventsOnly(visit))
+}
+
+/// [`walk_light_path`] with a [`LightVisitor`] that also sees each sampled scattering (and may
+/// end the path there). Same sampler use as [`walk_light_path`]: a visitor that never ends a
+/// path sees the same path.
+pub fn walk_light_path_with(
+    scene: &Scene,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+    visitor: &mut impl LightVisitor,
 ) {
     let u_light = sampler.next_1d();
     let u_pos = sampler.next_2d();
@@ -67,7 +115,7 @@ pub fn walk_light_path(
     if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() {
         return;
     }
-    visit(
+    visitor.event(
         LightEvent::Start(&LightStart {
             light: li,
             pmf,
@@ -88,7 +136,7 @@ pub fn walk_light_path(
         beta *= interior_transmittance(scene, &si, &ray);
         let v = Vertex::new(scene, si, &ray);
         let wo = -ray.d;
-        visit(
+        visitor.event(
             LightEvent::Vertex(&LightVertex {
                 v: &v,
                 wo,
@@ -110,6 +158,15 @@ pub fn walk_light_path(
         };
         let wi = v.frame.to_world(bs.wi);
         if !v.same_side_consistent(wo, wi, bs.wi) {
+            break;
+        }
+        let scatter = LightScatter {
+            v: &v,
+            wo,
+            wi,
+            sample: &bs,
+        };
+        if !visitor.scatter(&scatter, stats) {
             break;
         }
         beta *= bs.weight * v.shading_normal_correction(wo, wi, TransportMode::Importance);

@@ -59,6 +59,9 @@ pub struct PhotonOptions {
     pub bandwidth: Option<f32>,
     /// Parameters of the diffusion estimator (`dpm`).
     pub diffusion: DiffusionSettings,
+    /// Smoothing parameter s of photon differential mapping (`pdm`, seed 002 eq. 5–6): the
+    /// emitted footprints tile the light's area and solid angle s² times; > 0.
+    pub smoothing: f32,
 }
 
 /// Density estimators the caustic map can use (all behind `caustica_density::Estimator`).
@@ -132,6 +135,7 @@ impl Default for PhotonOptions {
             caustic_estimator: CausticEstimator::Knn,
             bandwidth: None,
             diffusion: DiffusionSettings::default(),
+            smoothing: 1.0,
         }
     }
 }
@@ -170,6 +174,7 @@ impl PhotonOptions {
         }
         positive("the diffusivity coefficient q", self.diffusion.q)?;
         positive("alpha", self.diffusion.alpha)?;
+        positive("the smoothing parameter s", self.smoothing)?;
         Ok(())
     }
 }

@@ -76,66 +76,9 @@ pub fn trace_photons(
     stream: u64,
     opts: &RenderOptions,
 ) -> TracedPhotons {
-    let mut photons: Vec<Photon> = Vec::new();
-    let mut stats = RenderStats::default();
-    let mut emitted = 0u64;
-    // Where to cut: (paths, photons) at the first path whose photons reach the target. Only the
-    // wave that crosses the target needs per-path counts, so earlier waves' counts are dropped
-    // (10⁶ caustic photons can take 2·10⁸ paths).
-    let mut cut: Option<(u64, usize)> = None;
-    let limit = (target as u64)
-        .saturating_mul(MAX_PATHS_PER_PHOTON)
-        .max(CHUNK);
-    while cut.is_none()
-        && emitted < limit
-        && !(photons.is_empty() && emitted >= MAX_PATHS_WITHOUT_PHOTON)
-    {
-        // Size the next wave from the yield so far (deterministic: counts only).
-        let wave = if photons.is_empty() {
-            16 * CHUNK
-        } else {
-            let per_path = photons.len() as f64 / emitted as f64;
-            (((target - photons.len()) as f64 / per_path * 1.05) as u64).clamp(CHUNK, 256 * CHUNK)
-        };
-        let chunks = wave.div_ceil(CHUNK);
-        let first_chunk = emitted / CHUNK;
-        // Per chunk: its photons, the photon count after each of its paths, its statistics.
-        let parts: Vec<(Vec<Photon>, Vec<u32>, RenderStats)> = (first_chunk..first_chunk + chunks)
-            .into_par_iter()
-            .map(|c| {
-                let mut out = Vec::new();
-                let mut counts = Vec::with_capacity(CHUNK as usize);
-                let mut st = RenderStats::default();
-                let mut sampler = Sampler::new(opts.sampler, opts.seed);
-                for path in c * CHUNK..(c + 1) * CHUNK {
-                    sampler.start_path(stream, path);
-                    trace_one(scene, &mut sampler, opts, kind, &mut out, &mut st);
-                    counts.push(out.len() as u32);
-                }
-                st.samples += CHUNK;
-                (out, counts, st)
-            })
-            .collect();
-        for (c, (p, counts, st)) in parts.into_iter().enumerate() {
-            stats += st;
-            if cut.is_some() {
-                continue; // paths beyond the cut are not part of the map
-            }
-            let base = photons.len();
-            if base + p.len() >= target {
-                let i = counts
-                    .iter()
-                    .position(|&n| base + n as usize >= target)
-                    .expect("the chunk reaches the target");
-                let chunk_start = emitted + c as u64 * CHUNK;
-                cut = Some((chunk_start + i as u64 + 1, base + counts[i] as usize));
-            }
-            photons.extend_from_slice(&p);
-        }
-        emitted += chunks * CHUNK;
-    }
-    let (paths, keep) = cut.unwrap_or((emitted, photons.len()));
-    photons.truncate(keep);
+    let (mut photons, paths, stats) = trace_paths(target, stream, opts, |sampler, out, st| {
+        trace_one(scene, sampler, opts, kind, out, st)
+    });
     let inv_n = 1.0 / paths.max(1) as f32;
     for p in &mut photons {
         p.flux *= inv_n;
@@ -167,6 +110,80 @@ pub fn trace_photons(
         stats,
         warning,
     }
+}
+
+/// The chunked, deterministic path loop behind [`trace_photons`] (and the photon-differential
+/// tracer): emits numbered light paths (path `i` seeds the sampler with `(stream, i)`) in fixed
+/// chunks of [`CHUNK`], `trace_one` storing each path's records, until `target` records exist;
+/// cut at the path where the count reaches `target`. Returns the records in path order (not
+/// divided by the path count), the number of paths and the statistics.
+pub(crate) fn trace_paths<P: Clone + Send>(
+    target: usize,
+    stream: u64,
+    opts: &RenderOptions,
+    trace_one: impl Fn(&mut Sampler, &mut Vec<P>, &mut RenderStats) + Sync,
+) -> (Vec<P>, u64, RenderStats) {
+    let mut photons: Vec<P> = Vec::new();
+    let mut stats = RenderStats::default();
+    let mut emitted = 0u64;
+    // Where to cut: (paths, photons) at the first path whose photons reach the target. Only the
+    // wave that crosses the target needs per-path counts, so earlier waves' counts are dropped
+    // (10⁶ caustic photons can take 2·10⁸ paths).
+    let mut cut: Option<(u64, usize)> = None;
+    let limit = (target as u64)
+        .saturating_mul(MAX_PATHS_PER_PHOTON)
+        .max(CHUNK);
+    while cut.is_none()
+        && emitted < limit
+        && !(photons.is_empty() && emitted >= MAX_PATHS_WITHOUT_PHOTON)
+    {
+        // Size the next wave from the yield so far (deterministic: counts only).
+        let wave = if photons.is_empty() {
+            16 * CHUNK
+        } else {
+            let per_path = photons.len() as f64 / emitted as f64;
+            (((target - photons.len()) as f64 / per_path * 1.05) as u64).clamp(CHUNK, 256 * CHUNK)
+        };
+        let chunks = wave.div_ceil(CHUNK);
+        let first_chunk = emitted / CHUNK;
+        // Per chunk: its photons, the photon count after each of its paths, its statistics.
+        let parts: Vec<(Vec<P>, Vec<u32>, RenderStats)> = (first_chunk..first_chunk + chunks)
+            .into_par_iter()
+            .map(|c| {
+                let mut out = Vec::new();
+                let mut counts = Vec::with_capacity(CHUNK as usize);
+                let mut st = RenderStats::default();
+                let mut sampler = Sampler::new(opts.sampler, opts.seed);
+                for path in c * CHUNK..(c + 1) * CHUNK {
+                    sampler.start_path(stream, path);
+                    trace_one(&mut sampler, &mut out, &mut st);
+                    counts.push(out.len() as u32);
+                }
+                st.samples += CHUNK;
+                (out, counts, st)
+            })
+            .collect();
+        for (c, (p, counts, st)) in parts.into_iter().enumerate() {
+            stats += st;
+            if cut.is_some() {
+                continue; // paths beyond the cut are not part of the map
+            }
+            let base = photons.len();
+            if base + p.len() >= target {
+                let i = counts
+                    .iter()
+                    .position(|&n| base + n as usize >= target)
+                    .expect("the chunk reaches the target");
+                let chunk_start = emitted + c as u64 * CHUNK;
+                cut = Some((chunk_start + i as u64 + 1, base + counts[i] as usize));
+            }
+            photons.extend_from_slice(&p);
+        }
+        emitted += chunks * CHUNK;
+    }
+    let (paths, keep) = cut.unwrap_or((emitted, photons.len()));
+    photons.truncate(keep);
+    (photons, paths, stats)
 }
 
 fn trace_one(

@@ -26,16 +26,21 @@ pub enum IntegratorKind {
     /// Diffusion-based photon mapping (seed 000 ch. 4): `pm` with the caustic map estimated by
     /// the anisotropic diffusion estimate eq. 4.19.
     DiffusionPhotonMapping,
+    /// Photon differential mapping (seed 002; seed 000 ch. 5, eq. 5.14): `pm` with the caustic
+    /// photons traced as photon differentials and estimated by their footprints (seed 002
+    /// eq. 10); direct light by NEE and indirect light by final gathering as in `pm`.
+    PhotonDifferentialMapping,
 }
 
 impl IntegratorKind {
-    pub const NAMES: &'static [&'static str] = &["path", "lighttrace", "pm", "dpm"];
+    pub const NAMES: &'static [&'static str] = &["path", "lighttrace", "pm", "dpm", "pdm"];
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Path => "path",
             IntegratorKind::LightTrace => "lighttrace",
             IntegratorKind::PhotonMapping => "pm",
             IntegratorKind::DiffusionPhotonMapping => "dpm",
+            IntegratorKind::PhotonDifferentialMapping => "pdm",
         }
     }
 
@@ -43,7 +48,9 @@ impl IntegratorKind {
     pub fn uses_photons(self) -> bool {
         matches!(
             self,
-            IntegratorKind::PhotonMapping | IntegratorKind::DiffusionPhotonMapping
+            IntegratorKind::PhotonMapping
+                | IntegratorKind::DiffusionPhotonMapping
+                | IntegratorKind::PhotonDifferentialMapping
         )
     }
 }
@@ -56,6 +63,7 @@ impl std::str::FromStr for IntegratorKind {
             "lighttrace" | "ptracer" | "light" => Ok(Self::LightTrace),
             "pm" | "photonmapper" => Ok(Self::PhotonMapping),
             "dpm" => Ok(Self::DiffusionPhotonMapping),
+            "pdm" => Ok(Self::PhotonDifferentialMapping),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -99,7 +107,9 @@ pub fn render(
                 light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
             })
         }
-        IntegratorKind::PhotonMapping | IntegratorKind::DiffusionPhotonMapping => {
+        IntegratorKind::PhotonMapping
+        | IntegratorKind::DiffusionPhotonMapping
+        | IntegratorKind::PhotonDifferentialMapping => {
             let mut pm_opts;
             let opts = if kind == IntegratorKind::DiffusionPhotonMapping {
                 pm_opts = opts.clone();
@@ -109,17 +119,37 @@ pub fn render(
                 opts
             };
             let t = Instant::now();
-            let maps = photon_mapping::PhotonMaps::build(scene, opts);
+            let maps = if kind == IntegratorKind::PhotonDifferentialMapping {
+                photon_mapping::PhotonMaps::build_differential(scene, opts)
+            } else {
+                photon_mapping::PhotonMaps::build(scene, opts)
+            };
             let secs = t.elapsed().as_secs_f64().max(1e-9);
+            let (caustic_len, caustic_bytes) = match &maps.differential {
+                Some(d) => (d.len(), d.memory_bytes()),
+                None => (maps.caustic.len(), maps.caustic.memory_bytes()),
+            };
             notes.push(format!(
                 "photons: caustic {} from {} paths, global {} from {} paths, in {secs:.2} s ({:.2} M paths/s), {:.1} MB",
-                maps.caustic.len(),
+                caustic_len,
                 maps.caustic.paths,
                 maps.global.len(),
                 maps.global.paths,
                 (maps.caustic.paths + maps.global.paths) as f64 / secs / 1e6,
-                (maps.caustic.memory_bytes() + maps.global.memory_bytes()) as f64 / 1e6,
+                (caustic_bytes + maps.global.memory_bytes()) as f64 / 1e6,
             ));
+            if let Some(d) = &maps.differential {
+                notes.push(format!(
+                    "photon differentials: smoothing s = {}, {} caustic landings, {} stored, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated; gather radius median {:.4} m, max {:.4} m",
+                    opts.photons.smoothing,
+                    d.landings,
+                    d.len(),
+                    d.collapsed,
+                    d.failed,
+                    d.median_gather_radius(),
+                    d.max_gather_radius(),
+                ));
+            }
             if let Estimator::Diffusion(d) = &maps.caustic_estimator {
                 let p = d.params();
                 notes.push(format!(

@@ -15,6 +15,7 @@
 use crate::direct::sample_direct;
 use crate::options::RenderOptions;
 use crate::options::{CausticEstimator, PhotonOptions};
+use crate::photon_differential::{PdmMap, trace_photon_differentials};
 use crate::photon_map::PhotonMap;
 use crate::photon_tracer::{MapKind, trace_photons};
 use crate::stats::RenderStats;
@@ -42,6 +43,9 @@ pub struct PhotonMaps {
     pub caustic_estimator: Estimator,
     /// Seconds spent preparing the caustic estimator (the diffusion pre-passes).
     pub prepare_secs: f64,
+    /// `pdm`: the caustic photons as photon differentials, whose footprint estimate (seed 002
+    /// eq. 10) replaces the caustic map's (`caustic` is then empty).
+    pub differential: Option<PdmMap>,
     /// Photon-tracing work.
     pub stats: RenderStats,
     /// Messages for the user (e.g. fewer photons than requested).
@@ -60,8 +64,53 @@ impl PhotonMaps {
             CAUSTIC_STREAM,
             opts,
         );
+        let g = Self::trace_global(scene, opts);
+        let mut stats = c.stats;
+        stats += g.stats;
+        let warnings = c.warning.into_iter().chain(g.warning).collect();
+        let caustic = PhotonMap::new(c.photons, c.paths);
+        let spec = caustic_spec(&caustic, &opts.photons);
+        let t = std::time::Instant::now();
+        let caustic_estimator = Estimator::prepare(&spec, &caustic.points(&p.estimate));
+        let prepare_secs = t.elapsed().as_secs_f64();
+        Self {
+            caustic,
+            global: PhotonMap::new(g.photons, g.paths),
+            caustic_estimator,
+            prepare_secs,
+            differential: None,
+            stats,
+            warnings,
+        }
+    }
+
+    /// The maps of `pdm`: the caustic light paths of [`PhotonMaps::build`] (same stream) traced
+    /// as photon differentials with smoothing `opts.photons.smoothing`
+    /// ([`trace_photon_differentials`]), and the global map as for `pm`.
+    pub fn build_differential(scene: &Scene, opts: &RenderOptions) -> Self {
+        let p = &opts.photons;
+        let d =
+            trace_photon_differentials(scene, p.caustic_photons, p.smoothing, CAUSTIC_STREAM, opts);
+        let g = Self::trace_global(scene, opts);
+        let mut stats = d.stats;
+        stats += g.stats;
+        let warnings = d.warning.iter().cloned().chain(g.warning).collect();
+        Self {
+            caustic: PhotonMap::new(Vec::new(), d.paths),
+            global: PhotonMap::new(g.photons, g.paths),
+            caustic_estimator: PhotonMap::knn_estimator(&p.estimate),
+            prepare_secs: 0.0,
+            differential: Some(PdmMap::new(d)),
+            stats,
+            warnings,
+        }
+    }
+
+    /// The global map, or none when it is not needed.
+    fn trace_global(scene: &Scene, opts: &RenderOptions) -> crate::photon_tracer::TracedPhotons {
+        let p = &opts.photons;
         // Caustics alone need no global map.
-        let g = if p.global_photons > 0 && !opts.caustics_only {
+        if p.global_photons > 0 && !opts.caustics_only {
             trace_photons(
                 scene,
                 p.global_photons,
@@ -76,22 +125,6 @@ impl PhotonMaps {
                 stats: RenderStats::default(),
                 warning: None,
             }
-        };
-        let mut stats = c.stats;
-        stats += g.stats;
-        let warnings = c.warning.into_iter().chain(g.warning).collect();
-        let caustic = PhotonMap::new(c.photons, c.paths);
-        let spec = caustic_spec(&caustic, &opts.photons);
-        let t = std::time::Instant::now();
-        let caustic_estimator = Estimator::prepare(&spec, &caustic.points(&p.estimate));
-        let prepare_secs = t.elapsed().as_secs_f64();
-        Self {
-            caustic,
-            global: PhotonMap::new(g.photons, g.paths),
-            caustic_estimator,
-            prepare_secs,
-            stats,
-            warnings,
         }
     }
 }
@@ -141,6 +174,9 @@ thread_local! {
 
 /// The caustic map's radiance estimate at `v`, with the maps' caustic estimator.
 fn caustic_estimate(maps: &PhotonMaps, v: &Vertex, opts: &RenderOptions) -> Spectrum {
+    if let Some(d) = &maps.differential {
+        return d.radiance(v);
+    }
     SCRATCH.with(|b| {
         maps.caustic.estimate_with(
             v,

@@ -1,0 +1,512 @@
+//! Photon differentials for caustics (seed 002 sec. 3; seed 000 ch. 5): caustic photons that
+//! carry a first-order [`RayDiff<2>`] from the light to the diffuse surface where they land, the
+//! elliptic [`Footprint`] each covers there, and the radiance estimate of seed 002 eq. 10 =
+//! seed 000 eq. 5.14 over those footprints.
+//!
+//! # Tracing
+//!
+//! The photon differentials follow exactly the light paths of the caustic photon tracer
+//! ([`crate::photon_tracer`]): the same walker ([`walk_light_path_with`]), stream and chunks, so
+//! with the same seed a landing here is a caustic photon there (same position, same flux
+//! Φ = β/N). Along the path the differential is
+//!
+//! * emitted with the differentials crate's [`emit`] (seed 002 eq. 1–6) from the light's
+//!   [`emission_extent`](caustica_scene::light::Light::emission_extent) `(A_e, ω_e)` and the
+//!   emission sample's normal;
+//! * transferred onto every surface hit and reflected or refracted at every delta vertex with
+//!   the lobe the walker sampled (`BsdfSample::flags`, relative IOR `1/eta`): on meshes with
+//!   vertex normals by the Phong triangle model (eq. B.35–B.55), on meshes without by the flat
+//!   triangle (eq. B.24–B.34), on analytic spheres by the exact sphere normal `N = (Q − c)/r`
+//!   with `dN = dQ/r` (the tangent-plane transfer is first-order exact on the sphere and
+//!   `dQ` is tangent), on disks by their plane (`dN = 0`);
+//! * at each caustic landing (a non-delta surface reached through one or more delta vertices,
+//!   L S+ D) turned into a footprint on the hit's tangent plane (eq. 4, 12).
+//!
+//! **The budget N_e.** Seed 002 eq. 5–6 size the initial vectors by the number `N_e` of photons
+//! *emitted* from the light, so that their footprints tile `s² A_e` (and solid angles `s² ω_e`).
+//! The caustic map is grown until it holds the requested number of landings, so `N_e` is only
+//! known at the end: the paths are traced with the budget `N_e = 1` and, since every operation
+//! of the first-order algebra is linear in the differential vectors, the landed vectors are
+//! scaled afterwards by `1/√N_l`, `N_l = N · pmf_l` the expected number of the `N` emitted
+//! paths that start at light `l` (light selection is proportional to power). The requested
+//! photon count is therefore the number of caustic landings (as for `pm`'s caustic map); `N` the
+//! light paths emitted to find them. Collapse is scale invariant, so nothing else changes.
+//!
+//! **Dropped photons.** A landing whose footprint has collapsed (`DiffError::CollapsedFootprint`,
+//! seed 002 sec. 3.3) is dropped and counted; so is one whose differential could not be
+//! propagated (ray parallel to a plane, total internal reflection of the differential where the
+//! sampled lobe refracted, overflow, or a differential direction more than ~8° from the
+//! direction the walker sampled — a shading normal the surface model does not reproduce).
+//! Dropping loses their energy; the counts are in the render notes.
+//!
+//! # Estimate
+//!
+//! `L(x, ω) = Σ_p f_r(x, ω_p, ω) π K(|M_p (x − x_p)|) Φ_p / A_p` (eq. 10–12, Silverman's kernel,
+//! [`Footprint::irradiance_at`]), over the footprints that contain `x`, arrived on the query's
+//! side, lie on a surface whose normal is within ~25° of the query's (cos ≥ 0.9) and whose
+//! tangent plane passes within a quarter of the footprint's gather radius of `x` (the filter of
+//! eq. 12 ignores the normal offset; these two tests keep footprints from leaking onto nearby
+//! surfaces of another orientation, like the disc test of `pm`). Footprints are bucketed by
+//! gather radius (powers of two) with one k-d tree per bucket, queried within that bucket's
+//! largest radius, so a few huge footprints do not slow every query.
+
+use crate::light_path::{LightEvent, LightScatter, LightVisitor, walk_light_path_with};
+use crate::options::RenderOptions;
+use crate::photon_tracer::trace_paths;
+use crate::stats::RenderStats;
+use crate::surface::{Vertex, emission_ray};
+use caustica_core::sampling::Sampler;
+use caustica_core::{Spectrum, Vec3};
+use caustica_density::kdtree::KdTree;
+use caustica_differentials::{
+    DiffError, EmissionBudget, FlatTriangle, Footprint, PhongTriangle, RayDiff, SurfaceHit, emit,
+    transfer_to_plane,
+};
+use caustica_scene::bsdf::{BsdfFlags, TransportMode};
+use caustica_scene::shape::ShapeGeometry;
+use caustica_scene::{Scene, SurfaceInteraction};
+
+/// A caustic photon with its footprint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiffPhoton {
+    /// The footprint on the tangent plane of the hit (centre = hit point).
+    pub footprint: Footprint,
+    /// Unit direction toward where the photon came from.
+    pub wi: Vec3,
+    /// Geometric normal at the hit, on the side the photon arrived from (unit).
+    pub n: Vec3,
+    /// Flux Φ_p = β/N (W).
+    pub flux: Spectrum,
+    /// Edges from the light.
+    pub depth: u16,
+}
+
+/// A caustic landing before the budget is known: its differential vectors for `N_e = 1`.
+#[derive(Clone, Copy, Debug)]
+pub struct Landing {
+    /// Hit point (m).
+    pub p: Vec3,
+    /// Unit direction toward where the photon came from.
+    pub wi: Vec3,
+    /// Geometric normal on the arrival side (unit).
+    pub n: Vec3,
+    /// Path throughput β (W, not yet divided by the path count).
+    pub beta: Spectrum,
+    pub depth: u16,
+    /// Selection probability of the light the path started at.
+    pub pmf: f32,
+    /// `D_u x`, `D_v x` on the receiving plane for `N_e = 1`; `None` when the differential
+    /// could not be propagated to it.
+    pub dp: Option<[Vec3; 2]>,
+}
+
+/// The photons of `landings` from `paths` emitted light paths: flux β/N, vectors scaled by
+/// `1/√(N pmf)` (eq. 5–6 with the light's share of the paths), footprints built on the
+/// landings' planes. Returns them with the counts of landings dropped for a collapsed footprint
+/// and for a failed propagation (no vectors, or vectors that are not finite).
+pub fn photons_from_landings(landings: &[Landing], paths: u64) -> (Vec<DiffPhoton>, u64, u64) {
+    let n = paths.max(1) as f64;
+    let mut photons = Vec::with_capacity(landings.len());
+    let (mut collapsed, mut failed) = (0u64, 0u64);
+    for l in landings {
+        let Some(dp) = l.dp else {
+            failed += 1;
+            continue;
+        };
+        // N_e of this light = N · pmf; vectors scale as 1/√N_e (eq. 5–6).
+        let scale = (1.0 / (n * l.pmf as f64).sqrt()) as f32;
+        let flux = l.beta / n as f32;
+        if !flux.is_finite() {
+            failed += 1;
+            continue;
+        }
+        match Footprint::new(l.p, dp[0] * scale, dp[1] * scale, l.n) {
+            Ok(footprint) => photons.push(DiffPhoton {
+                footprint,
+                wi: l.wi,
+                n: l.n,
+                flux,
+                depth: l.depth,
+            }),
+            Err(DiffError::CollapsedFootprint) => collapsed += 1,
+            Err(_) => failed += 1,
+        }
+    }
+    (photons, collapsed, failed)
+}
+
+/// Photon differentials of one caustic map and how they were made.
+pub struct TracedDiffPhotons {
+    /// Stored photons in path order.
+    pub photons: Vec<DiffPhoton>,
+    /// Light paths emitted (the N of Φ = β/N).
+    pub paths: u64,
+    /// Caustic landings found (stored + collapsed + failed).
+    pub landings: usize,
+    /// Landings dropped because their footprint collapsed.
+    pub collapsed: u64,
+    /// Landings dropped because the differential could not be propagated.
+    pub failed: u64,
+    pub stats: RenderStats,
+    pub warning: Option<String>,
+}
+
+/// Traces light paths until `target` caustic landings (L S+ D) are found — the paths of
+/// [`crate::photon_tracer::trace_photons`] with `MapKind::Caustic` and the same `stream` — and
+/// returns their photon differentials' footprints for smoothing `smoothing` (seed 002's `s`).
+/// Deterministic for a given seed whatever the thread count.
+pub fn trace_photon_differentials(
+    scene: &Scene,
+    target: usize,
+    smoothing: f32,
+    stream: u64,
+    opts: &RenderOptions,
+) -> TracedDiffPhotons {
+    // `PhotonOptions::validate` rejects a bad s; a caller that skipped it gets s = 1 and a warning.
+    let (budget, bad_smoothing) = match EmissionBudget::new(1, smoothing) {
+        Ok(b) => (b, None),
+        Err(_) => (
+            EmissionBudget::new(1, 1.0).expect("a budget of one photon with s = 1 is valid"),
+            Some(format!(
+                "smoothing s = {smoothing} is not a positive number; used s = 1"
+            )),
+        ),
+    };
+    let (landings, paths, stats) = trace_paths(target, stream, opts, |sampler, out, st| {
+        let mut v = DiffVisitor {
+            scene,
+            budget: &budget,
+            out,
+            ray: Err(DiffError::NonFinite),
+            hit: Err(DiffError::NonFinite),
+            pmf: 1.0,
+        };
+        walk_light_path_with(scene, sampler, opts, st, &mut v);
+    });
+    let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
+    let short = (landings.len() < target).then(|| {
+        format!(
+            "only {} caustic photon differentials found after {paths} light paths (requested {target}){}",
+            landings.len(),
+            if landings.is_empty() {
+                ": no light reaches a diffuse surface through glass or mirrors"
+            } else {
+                ""
+            }
+        )
+    });
+    let warning = match (bad_smoothing, short) {
+        (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+        (a, b) => a.or(b),
+    };
+    TracedDiffPhotons {
+        photons,
+        paths,
+        landings: landings.len(),
+        collapsed,
+        failed,
+        stats,
+        warning,
+    }
+}
+
+/// Per-path state: the differential along the current ray and at the current hit.
+struct DiffVisitor<'a> {
+    scene: &'a Scene,
+    budget: &'a EmissionBudget,
+    out: &'a mut Vec<Landing>,
+    /// The differential of the ray being traced (origin at the last vertex, direction the
+    /// sampled one).
+    ray: Result<RayDiff<2>, DiffError>,
+    /// The differential transferred onto the current vertex.
+    hit: Result<SurfaceHit<2>, DiffError>,
+    pmf: f32,
+}
+
+/// Cosine between the differential's scattered direction and the walker's below which the
+/// propagation counts as failed (~8°).
+const DIRECTION_COS: f32 = 0.99;
+
+impl LightVisitor for DiffVisitor<'_> {
+    fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
+        match event {
+            LightEvent::Start(start) => {
+                let es = start.emission;
+                let (area, solid_angle) = self.scene.lights[start.light].emission_extent();
+                let ray = emission_ray(es);
+                self.pmf = start.pmf;
+                self.ray = emit(ray.o, ray.d, es.normal, area, solid_angle, self.budget);
+            }
+            LightEvent::Vertex(lv) => {
+                self.hit = self.ray.and_then(|r| surface_hit(self.scene, &lv.v.si, &r));
+                if !(lv.v.bsdf.flags().is_smooth() && lv.after_specular_chain) {
+                    return;
+                }
+                let flux = lv.beta;
+                if !flux.is_finite() {
+                    return; // the photon tracer counts these in `nonfinite`
+                }
+                let ng = lv.v.si.ng;
+                self.out.push(Landing {
+                    p: lv.v.si.p,
+                    wi: lv.wo,
+                    n: if ng.dot(lv.wo) >= 0.0 { ng } else { -ng },
+                    beta: flux,
+                    depth: lv.depth.min(u16::MAX as u32) as u16,
+                    pmf: self.pmf,
+                    dp: self.hit.ok().map(|h| h.ray.dp),
+                });
+            }
+        }
+    }
+
+    fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+        let flags = sc.sample.flags;
+        if !flags.is_delta() {
+            // After a non-delta bounce no later vertex can receive caustic light (L S+ D).
+            return false;
+        }
+        let eta = sc.sample.eta;
+        self.ray = self.hit.and_then(|h| {
+            let out = if flags.intersects(BsdfFlags::TRANSMISSION) {
+                h.refract(1.0 / eta)? // eq. B.19–B.23 take n_incident / n_transmitted
+            } else {
+                h.reflect()? // eq. B.17–B.18
+            };
+            follow(out, sc.v, sc.wi)
+        });
+        true
+    }
+}
+
+/// The scattered differential re-anchored on the walker's path: origin at the hit, direction
+/// the sampled one, `dv` made perpendicular to it (eq. B.1b keeps `v · dv = 0`). An error if the
+/// directions disagree by more than [`DIRECTION_COS`].
+fn follow(out: RayDiff<2>, v: &Vertex, wi: Vec3) -> Result<RayDiff<2>, DiffError> {
+    let cos = out.v.dot(wi);
+    if cos.is_nan() || cos < DIRECTION_COS {
+        return Err(DiffError::NonFinite);
+    }
+    let dv = out.dv.map(|d| d - wi * wi.dot(d));
+    let r = RayDiff::new(v.si.p, wi, out.dp, dv);
+    if r.is_finite() {
+        Ok(r)
+    } else {
+        Err(DiffError::NonFinite)
+    }
+}
+
+/// Transfers `ray` onto the surface at `si` with the surface model of the hit shape (see the
+/// module docs): Phong or flat triangles, the sphere's curvature, the disk's plane.
+fn surface_hit(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    ray: &RayDiff<2>,
+) -> Result<SurfaceHit<2>, DiffError> {
+    let shape = scene.geometry.shapes.get(si.shape as usize);
+    match shape.map(|s| &s.geometry) {
+        Some(ShapeGeometry::Mesh(_)) if si.triangle.is_some() => {
+            let tri = si.triangle.expect("checked");
+            match tri.n {
+                Some(n) => PhongTriangle { q: tri.p, n }.hit(ray),
+                None => FlatTriangle { q: tri.p }.hit(ray),
+            }
+        }
+        Some(ShapeGeometry::Sphere(s)) => {
+            let n_out = (si.p - s.center) / s.radius;
+            let inv_r = 1.0 / s.radius;
+            tangent_plane_hit(ray, si.p, n_out, |dq| dq * inv_r)
+        }
+        // Disks (and, defensively, a mesh hit without its triangle): the tangent plane, dN = 0.
+        _ => tangent_plane_hit(ray, si.p, si.ng, |_| Vec3::ZERO),
+    }
+}
+
+/// Transfer onto the plane through `p` with normal `n` (unit, any orientation) whose normal
+/// changes with the hit point as `dN = dn(dQ)` for the orientation `n`.
+fn tangent_plane_hit(
+    ray: &RayDiff<2>,
+    p: Vec3,
+    n: Vec3,
+    dn: impl Fn(Vec3) -> Vec3,
+) -> Result<SurfaceHit<2>, DiffError> {
+    let z = [Vec3::ZERO; 2];
+    let t = transfer_to_plane(ray, p, &z, n, &z)?;
+    // Orientation of eq. B.30: V · N < 0; dN flips with N.
+    let sign = if n.dot(ray.v) > 0.0 { -1.0 } else { 1.0 };
+    let normal = sign * n;
+    let dnormal = t.ray.dp.map(|dq| sign * dn(dq));
+    if dnormal.iter().any(|d| !d.is_finite()) {
+        return Err(DiffError::NonFinite);
+    }
+    Ok(SurfaceHit {
+        ray: t.ray,
+        s: t.s,
+        ds: t.ds,
+        geometric_normal: normal,
+        dgeometric_normal: dnormal,
+        normal,
+        dnormal,
+        barycentrics: [0.0; 3],
+        dbarycentrics: [[0.0; 3]; 2],
+    })
+}
+
+/// Footprints whose surface normal is farther than this cosine from the query's are ignored.
+const NORMAL_COS: f32 = 0.9;
+/// Footprints whose tangent plane is farther from the query than this fraction of their gather
+/// radius are ignored.
+const PLANE_OFFSET: f32 = 0.25;
+
+/// One bucket of footprints of similar size: a k-d tree over their centres and the largest
+/// gather radius among them.
+struct Bucket {
+    radius: f32,
+    tree: KdTree,
+    /// Index into [`PdmMap::photons`] of each tree point.
+    index: Vec<u32>,
+}
+
+/// Photon differentials with k-d trees over their footprint centres, and the estimate of seed
+/// 002 eq. 10.
+pub struct PdmMap {
+    pub photons: Vec<DiffPhoton>,
+    /// Light paths emitted (the N of Φ = β/N).
+    pub paths: u64,
+    /// Caustic landings found; `collapsed` and `failed` of them were dropped.
+    pub landings: usize,
+    pub collapsed: u64,
+    pub failed: u64,
+    buckets: Vec<Bucket>,
+}
+
+impl PdmMap {
+    pub fn new(traced: TracedDiffPhotons) -> Self {
+        let photons = traced.photons;
+        // Bucket by ⌊log₂ r⌋ (deterministic: photons in path order within each bucket).
+        let mut keys: Vec<(i32, u32)> = photons
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p.footprint.gather_radius().log2().floor() as i32, i as u32))
+            .collect();
+        keys.sort_unstable();
+        let mut buckets = Vec::new();
+        let mut start = 0;
+        while start < keys.len() {
+            let k = keys[start].0;
+            let end = start + keys[start..].iter().take_while(|e| e.0 == k).count();
+            let index: Vec<u32> = keys[start..end].iter().map(|e| e.1).collect();
+            let pos: Vec<Vec3> = index
+                .iter()
+                .map(|&i| photons[i as usize].footprint.center())
+                .collect();
+            let radius = index
+                .iter()
+                .map(|&i| photons[i as usize].footprint.gather_radius())
+                .fold(0.0f32, f32::max);
+            buckets.push(Bucket {
+                radius,
+                tree: KdTree::build(&pos),
+                index,
+            });
+            start = end;
+        }
+        Self {
+            photons,
+            paths: traced.paths,
+            landings: traced.landings,
+            collapsed: traced.collapsed,
+            failed: traced.failed,
+            buckets,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.photons.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.photons.is_empty()
+    }
+
+    /// Largest gather radius of any footprint (m), 0 for an empty map.
+    pub fn max_gather_radius(&self) -> f32 {
+        self.buckets.iter().map(|b| b.radius).fold(0.0, f32::max)
+    }
+
+    /// Median gather radius of the footprints (m), 0 for an empty map.
+    pub fn median_gather_radius(&self) -> f32 {
+        let mut r: Vec<f32> = self
+            .photons
+            .iter()
+            .map(|p| p.footprint.gather_radius())
+            .collect();
+        if r.is_empty() {
+            return 0.0;
+        }
+        let mid = r.len() / 2;
+        *r.select_nth_unstable_by(mid, f32::total_cmp).1
+    }
+
+    /// Bytes held by the photons and the trees.
+    pub fn memory_bytes(&self) -> usize {
+        self.photons.capacity() * std::mem::size_of::<DiffPhoton>()
+            + self
+                .buckets
+                .iter()
+                .map(|b| b.tree.memory_bytes() + b.index.capacity() * 4)
+                .sum::<usize>()
+    }
+
+    /// Calls `f(photon, π K(|M_p (x − x_p)|) / A_p)` (1/m²) for every footprint that contains
+    /// `x` and passes the side, normal and plane tests for a surface with unit normal `n`
+    /// (oriented toward the viewer), in a deterministic order.
+    pub fn for_each(&self, x: Vec3, n: Vec3, mut f: impl FnMut(&DiffPhoton, f32)) {
+        if !(x.is_finite() && n.is_finite()) {
+            return;
+        }
+        for b in &self.buckets {
+            b.tree.range(x, b.radius * b.radius, |i, _| {
+                let ph = &self.photons[b.index[i as usize] as usize];
+                if ph.wi.dot(n) <= 0.0 || ph.n.dot(n) < NORMAL_COS {
+                    return;
+                }
+                let fp = &ph.footprint;
+                if (x - fp.center()).dot(fp.normal()).abs() > PLANE_OFFSET * fp.gather_radius() {
+                    return;
+                }
+                let w = fp.irradiance_at(x, 1.0); // eq. 10–12 without the BRDF, per W
+                if w > 0.0 && w.is_finite() {
+                    f(ph, w);
+                }
+            });
+        }
+    }
+
+    /// Irradiance (W/m²) at `x` on a surface with unit normal `n` facing the light's side:
+    /// `E(x) = Σ π K(|M_p (x − x_p)|) Φ_p / A_p` (seed 000 eq. 5.14 without the BRDF).
+    pub fn irradiance(&self, x: Vec3, n: Vec3) -> Spectrum {
+        let mut sum = Spectrum::ZERO;
+        self.for_each(x, n, |ph, w| sum += ph.flux * w);
+        if sum.is_finite() { sum } else { Spectrum::ZERO }
+    }
+
+    /// Reflected radiance (W/m²/sr) at vertex `v` toward its `wo`, seed 002 eq. 10:
+    /// `Σ f_r(x, ω_p, ω) π K(|M_p (x − x_p)|) Φ_p / A_p`.
+    pub fn radiance(&self, v: &Vertex) -> Spectrum {
+        if self.photons.is_empty() {
+            return Spectrum::ZERO;
+        }
+        let wo_world = v.frame.to_world(v.wo);
+        let ng = v.si.ng;
+        let n = if ng.dot(wo_world) >= 0.0 { ng } else { -ng };
+        let mut sum = Spectrum::ZERO;
+        self.for_each(v.si.p, n, |ph, w| {
+            let f = v
+                .bsdf
+                .eval(v.wo, v.frame.to_local(ph.wi), TransportMode::Radiance);
+            sum += f * ph.flux * w;
+        });
+        if sum.is_finite() { sum } else { Spectrum::ZERO }
+    }
+}
