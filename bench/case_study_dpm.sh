@@ -20,9 +20,9 @@ bin=./target/release/caustica
 out=docs/results/case-study-dpm; mkdir -p "$out"
 work=target/bench/case-study-dpm; mkdir -p "$work"
 ks="5,10,20,40,80,160,320"
-qs="0.8,0.4,0.2,0.1,0.05,1e9"
+qs="0.8,0.4,0.2,0.1,0.05,0.025,1e9"
 hs="0.01 0.02 0.035 0.05 0.07 0.1"
-pm_counts="20000 40000 80000 160000 320000"
+pm_counts="20000 40000 80000 160000 320000 640000"
 for scene in water-wave metal-ring; do
   w="$work/$scene"; mkdir -p "$w"
   ref="$w/reference-$ref_spp.exr"
@@ -33,11 +33,18 @@ for scene in water-wave metal-ring; do
   fi
   common=(--caustics-only --spp "$spp" --seed 1 --reference "$ref" --quiet)
   for n in $pm_counts; do
+    # Re-runs reuse finished sweeps of the same values (delete target/bench/case-study-dpm to redo).
+    if [ -f "$w/pm-n$n/sweep.csv" ] && [ "$(cut -d, -f1 "$w/pm-n$n/sweep.csv" | tail -n +2 | paste -sd,)" = "$ks" ]; then
+      continue
+    fi
     echo "== $scene: pm, $n photons, sweep k"
     "$bin" sweep "$scene" --integrator pm --photons "$n" --param k --values "$ks" "${common[@]}" \
       -o "$w/pm-n$n" > "$w/pm-n$n.txt"
   done
   for h in $hs; do
+    if [ -f "$w/dpm-h$h/sweep.csv" ] && [ "$(cut -d, -f1 "$w/dpm-h$h/sweep.csv" | tail -n +2 | paste -sd,)" = "$qs" ]; then
+      continue
+    fi
     echo "== $scene: dpm, $photons photons, h = $h, sweep q"
     "$bin" sweep "$scene" --integrator dpm --photons "$photons" --bandwidth "$h" --param q \
       --values "$qs" "${common[@]}" -o "$w/dpm-h$h" > "$w/dpm-h$h.txt"

@@ -162,19 +162,26 @@ pub fn run(args: TestbedArgs) -> Result<()> {
     Ok(())
 }
 
+/// A parameter for tables: the suite's values are f32, printed as such (0.016, not
+/// 0.01600000075995922); empty for NaN.
 fn num(v: f64) -> String {
     if v.is_nan() {
         String::new()
     } else {
-        format!("{v}")
+        format!("{}", v as f32)
     }
 }
 
 fn label(r: &Run) -> String {
     match r.estimator {
-        "knn" | "variable" => format!("{} k={}", r.estimator, r.parameter),
-        "fixed" => format!("fixed h={}", r.bandwidth),
-        _ => format!("{} h={} q={}", r.estimator, r.bandwidth, r.parameter),
+        "knn" | "variable" => format!("{} k={}", r.estimator, num(r.parameter)),
+        "fixed" => format!("fixed h={}", num(r.bandwidth)),
+        _ => format!(
+            "{} h={} q={}",
+            r.estimator,
+            num(r.bandwidth),
+            num(r.parameter)
+        ),
     }
 }
 
