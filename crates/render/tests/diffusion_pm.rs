@@ -33,10 +33,6 @@ fn render_caustics(
         .to_image()
 }
 
-fn mean_lum(img: &caustica_core::image_io::Image) -> f64 {
-    img.data.iter().map(|&p| common::lum(p)).sum::<f64>() / img.data.len() as f64
-}
-
 /// With a huge diffusivity coefficient the diffusion tensor is the identity (eq. 4.15: μ₂ → 1),
 /// so `dpm` is pm with the fixed-bandwidth estimate (eq. 2.15) at the same bandwidth, up to
 /// the order of floating-point sums.
@@ -87,7 +83,7 @@ fn every_caustic_estimator_conserves_the_light_tracers_caustic_power() {
     )
     .film
     .to_image();
-    let m_lt = mean_lum(&lt);
+    let m_lt = common::mean_lum(&lt);
     assert!(m_lt > 0.0);
     let mut opts = RenderOptions {
         spp: 256,
@@ -131,7 +127,7 @@ fn every_caustic_estimator_conserves_the_light_tracers_caustic_power() {
                 },
             );
             let img = film.to_image();
-            let m = mean_lum(&img);
+            let m = common::mean_lum(&img);
             eprintln!(
                 "{est:?} {:?} mean {m} lt {m_lt} rel {}",
                 spec,

@@ -73,10 +73,6 @@ fn mirror_scene() -> Scene {
     b.build().unwrap()
 }
 
-fn mean_lum(img: &Image) -> f64 {
-    img.data.iter().map(|&p| common::lum(p)).sum::<f64>() / img.data.len() as f64
-}
-
 fn bytes(img: &Image) -> Vec<u32> {
     img.data.iter().flat_map(|p| p.map(f32::to_bits)).collect()
 }
@@ -194,7 +190,11 @@ fn pdm_agrees_with_the_light_tracer(name: &str, photons: usize, smoothing: f32, 
         pdm.data.iter().all(|p| p.iter().all(|c| c.is_finite())),
         "{name}: non-finite pixel"
     );
-    let (m1, m2, mp) = (mean_lum(&lt1), mean_lum(&lt2), mean_lum(&pdm));
+    let (m1, m2, mp) = (
+        common::mean_lum(&lt1),
+        common::mean_lum(&lt2),
+        common::mean_lum(&pdm),
+    );
     assert!(m1 > 0.0, "{name}: no caustic in the light tracer");
     let lt_spread = (m1 / m2 - 1.0).abs();
     assert!(

@@ -164,10 +164,6 @@ fn render_pm(scene: &Scene, photons: PhotonOptions, spp: u32) -> caustica_core::
     .to_image()
 }
 
-fn mean_lum(img: &caustica_core::image_io::Image) -> f64 {
-    img.data.iter().map(|&p| common::lum(p)).sum::<f64>() / img.data.len() as f64
-}
-
 #[test]
 fn pm_with_final_gathering_agrees_with_the_path_tracer_on_a_diffuse_scene() {
     let scene = common::diffuse_box(40, 30);
@@ -182,7 +178,7 @@ fn pm_with_final_gathering_agrees_with_the_path_tracer_on_a_diffuse_scene() {
         },
         32,
     );
-    let (m_pm, m_ref) = (mean_lum(&pm), mean_lum(&reference));
+    let (m_pm, m_ref) = (common::mean_lum(&pm), common::mean_lum(&reference));
     assert!(
         (m_pm / m_ref - 1.0).abs() < 0.02,
         "pm mean {m_pm} vs path tracer {m_ref}"
@@ -276,7 +272,11 @@ fn caustics_only_light_tracer_and_pm_agree() {
     )
     .film
     .to_image();
-    let (m1, m2, mp) = (mean_lum(&lt1), mean_lum(&lt2), mean_lum(&pm));
+    let (m1, m2, mp) = (
+        common::mean_lum(&lt1),
+        common::mean_lum(&lt2),
+        common::mean_lum(&pm),
+    );
     assert!(m1 > 0.0, "no caustic in the light tracer");
     let lt_spread = (m1 / m2 - 1.0).abs();
     assert!(lt_spread < 0.01, "light tracer seeds differ by {lt_spread}");

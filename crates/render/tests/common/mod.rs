@@ -163,6 +163,11 @@ pub fn lum(p: [f32; 3]) -> f64 {
     (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0
 }
 
+/// Mean of [`lum`] over an image.
+pub fn mean_lum(img: &caustica_core::image_io::Image) -> f64 {
+    img.data.iter().map(|&p| lum(p)).sum::<f64>() / img.data.len() as f64
+}
+
 /// Averages `block × block` pixel blocks (channel mean), returning the block image.
 pub fn blocks(img: &Image, block: usize) -> Vec<f64> {
     let (bw, bh) = (img.width / block, img.height / block);
