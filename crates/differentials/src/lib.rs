@@ -85,6 +85,7 @@
 // every guard here turns garbage input into an error instead of propagating it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod camera;
 pub mod emission;
 mod error;
 pub mod footprint;
@@ -94,6 +95,7 @@ pub mod refraction;
 pub mod surface;
 pub mod transfer;
 
+pub use camera::camera_ray_diff;
 pub use emission::{
     EmissionBasis, EmissionBudget, emission_basis, emit, emit_area, emit_beam, emit_directional,
     emit_point, emit_spot,

@@ -105,7 +105,7 @@ impl PerspectiveCamera {
 
     /// Camera-space point on the plane z = 1 seen at raster position `raster`.
     #[inline]
-    fn raster_to_plane(&self, raster: Vec2, ext: Vec2) -> Vec3 {
+    pub fn raster_to_plane(&self, raster: Vec2, ext: Vec2) -> Vec3 {
         let w = self.width.max(1) as f32;
         let h = self.height.max(1) as f32;
         Vec3::new(
@@ -117,7 +117,7 @@ impl PerspectiveCamera {
 
     /// Change of the z = 1 plane point per pixel step in x and y (camera space).
     #[inline]
-    fn plane_steps(&self, ext: Vec2) -> (Vec3, Vec3) {
+    pub fn plane_steps(&self, ext: Vec2) -> (Vec3, Vec3) {
         let w = self.width.max(1) as f32;
         let h = self.height.max(1) as f32;
         (
@@ -128,7 +128,7 @@ impl PerspectiveCamera {
 
     /// Focus distance used by the thin lens (positive, finite).
     #[inline]
-    fn focus(&self) -> f32 {
+    pub fn focus(&self) -> f32 {
         if self.focus_distance.is_finite() && self.focus_distance > 0.0 {
             self.focus_distance
         } else {
@@ -139,7 +139,7 @@ impl PerspectiveCamera {
     /// Lens point (camera space, z = 0) for lens sample `u`, and the lens pdf (m⁻², 1 for a
     /// pinhole).
     #[inline]
-    fn lens_point(&self, u: Vec2) -> (Vec3, f32) {
+    pub fn lens_point(&self, u: Vec2) -> (Vec3, f32) {
         if self.lens_radius > 0.0 {
             let d = warp::square_to_disk_concentric(u) * self.lens_radius;
             (
