@@ -22,7 +22,8 @@ pub struct PhotonArgs {
     /// Largest gather radius in scene units (default: unbounded).
     #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub max_radius: Option<f32>,
-    /// Density-estimation kernel: uniform, epanechnikov (default), biweight, gaussian, cone,
+    /// Density-estimation kernel (pdm: of the footprints, default silverman): uniform,
+    /// epanechnikov (default), biweight, gaussian, cone,
     /// cone:G, silverman, cubic.
     #[arg(long, help_heading = "Photon mapping")]
     pub kernel: Option<String>,
@@ -98,6 +99,8 @@ impl PhotonArgs {
         o.estimate.max_radius = self.max_radius;
         if let Some(name) = &self.kernel {
             o.estimate.kernel = Kernel::from_name(name).map_err(anyhow::Error::msg)?;
+            // The same choice for pdm's footprints (Silverman's by default there).
+            o.footprint_kernel = o.estimate.kernel;
         }
         if let Some(g) = self.final_gather {
             o.final_gather = g;

@@ -237,16 +237,6 @@ impl DiffusionEstimator {
         &self.params
     }
 
-    /// The gradient ∇P stored at point `i` (world space).
-    pub fn gradient(&self, i: u32) -> Vec3 {
-        self.gradients[i as usize]
-    }
-
-    /// The normaliser of the primary eigenvalue (max λ₁ over the points).
-    pub fn lambda_max(&self) -> f32 {
-        self.lambda_max
-    }
-
     /// Bytes of per-point data (one gradient per point).
     pub fn memory_bytes(&self) -> usize {
         self.gradients.capacity() * std::mem::size_of::<Vec3>()
@@ -263,9 +253,8 @@ impl DiffusionEstimator {
                 offsets.push((i, q.tangent(d)));
             }
         });
-        // Range queries visit in tree order, which is deterministic; sorting by index makes the
-        // floating-point sums independent of the tree layout too.
-        offsets.sort_unstable_by_key(|o| o.0);
+        // Range queries visit in tree order, a function of the points alone (the build is
+        // deterministic), so the floating-point sums are too; no per-query sort is needed.
     }
 
     /// The structure tensor at `q` from the gathered points (Epanechnikov-weighted mean of

@@ -28,6 +28,7 @@
 use crate::diffusion::{DiffusionEstimator, DiffusionParams};
 use crate::kdtree::{KdTree, Neighbor};
 use crate::kernel::{Dim, Kernel};
+use crate::radius_buckets::RadiusBuckets;
 use caustica_core::{Frame, Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -342,19 +343,14 @@ fn knn_weights<P: PointSet>(
 }
 
 /// Eq. 2.13 with the k-NN pilot of fig. 2.5b: point i spreads its mass with its own bandwidth
-/// hᵢ, the distance from xᵢ to its k-th nearest other point.
-///
-/// A query must find every point whose ball of radius hᵢ contains it. Pilot bandwidths span
-/// orders of magnitude (a lone photon far from the others has a huge one), so one range query
-/// at max hᵢ would visit the whole map. Instead the points are grouped by hᵢ into octaves
-/// [2ᵉ, 2ᵉ⁺¹) with a k-d tree each, and each tree is searched with its own largest radius: a
-/// query visits only points within twice their own bandwidth.
+/// hᵢ, the distance from xᵢ to its k-th nearest other point. A query finds the points whose
+/// ball of radius hᵢ contains it through [`RadiusBuckets`] (pilot bandwidths span orders of
+/// magnitude, so one range query at max hᵢ would visit the whole map).
 #[derive(Clone, Debug)]
 pub struct VariableBandwidth {
     /// Per-point bandwidth hᵢ (m); 0 for points that cannot contribute.
     h: Vec<f32>,
-    /// One tree per bandwidth octave: (largest hᵢ in it, tree, global index of each local one).
-    octaves: Vec<(f32, KdTree, Vec<u32>)>,
+    buckets: RadiusBuckets,
     kernel: Kernel,
 }
 
@@ -372,25 +368,11 @@ impl VariableBandwidth {
                 if h.is_finite() && h > 0.0 { h } else { 0.0 }
             })
             .collect();
-        // Group by octave (ordered map: deterministic layout).
-        let mut groups: std::collections::BTreeMap<i32, Vec<u32>> = Default::default();
-        for (i, &hi) in h.iter().enumerate() {
-            if hi > 0.0 {
-                groups
-                    .entry(hi.log2().floor() as i32)
-                    .or_default()
-                    .push(i as u32);
-            }
-        }
-        let octaves = groups
-            .into_values()
-            .map(|idx| {
-                let pos: Vec<Vec3> = idx.iter().map(|&i| points.position(i)).collect();
-                let hmax = idx.iter().map(|&i| h[i as usize]).fold(0.0, f32::max);
-                (hmax, KdTree::build(&pos), idx)
-            })
+        let positions: Vec<Vec3> = (0..points.len() as u32)
+            .map(|i| points.position(i))
             .collect();
-        Self { h, octaves, kernel }
+        let buckets = RadiusBuckets::build(&positions, &h);
+        Self { h, buckets, kernel }
     }
 
     /// The pilot bandwidth of point `i` (m).
@@ -400,28 +382,20 @@ impl VariableBandwidth {
 
     /// Bytes of per-point data (bandwidths, octave trees and their index maps).
     fn memory_bytes(&self) -> usize {
-        self.h.capacity() * 4
-            + self
-                .octaves
-                .iter()
-                .map(|(_, t, idx)| t.memory_bytes() + idx.capacity() * 4)
-                .sum::<usize>()
+        self.h.capacity() * 4 + self.buckets.memory_bytes()
     }
 
     fn weights<P: PointSet>(&self, points: &P, q: &Query, mut visit: impl FnMut(u32, f32)) {
-        for (hmax, tree, idx) in &self.octaves {
-            tree.range(q.p, hmax * hmax, |local, _| {
-                let i = idx[local as usize];
-                let hi = self.h[i as usize];
-                if let Some(d) = points.offset(q, i, hi) {
-                    let h2 = hi * hi;
-                    let w = self.kernel.eval(d.length_squared() / h2, Dim::Two) / h2;
-                    if w > 0.0 {
-                        visit(i, w);
-                    }
+        self.buckets.for_each_candidate(q.p, |i| {
+            let hi = self.h[i as usize];
+            if let Some(d) = points.offset(q, i, hi) {
+                let h2 = hi * hi;
+                let w = self.kernel.eval(d.length_squared() / h2, Dim::Two) / h2;
+                if w > 0.0 {
+                    visit(i, w);
                 }
-            });
-        }
+            }
+        });
     }
 }
 
@@ -589,7 +563,7 @@ mod tests {
         let Estimator::Variable(v) = Estimator::prepare(&spec, &pts) else {
             panic!("not a variable estimator");
         };
-        assert!(v.octaves.len() > 3, "{} octaves", v.octaves.len());
+        assert!(v.buckets.octaves() > 3, "{} octaves", v.buckets.octaves());
         let est = Estimator::Variable(v.clone());
         let mut scratch = Scratch::default();
         for j in 0..40 {

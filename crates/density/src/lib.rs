@@ -13,6 +13,8 @@
 //! * [`estimator`] — [`Estimator`]: every density estimator behind one interface (fixed
 //!   bandwidth eq. 2.15, k-NN eq. 2.12/3.2, variable bandwidth eq. 2.13, diffusion eq. 4.19)
 //!   over any [`PointSet`] (the testbed's samples, a photon map).
+//! * [`radius_buckets`] — [`RadiusBuckets`]: points with their own support radius, searched by
+//!   "whose ball contains x" (variable bandwidths, photon-differential footprints).
 //! * [`diffusion`] — diffusion-based estimation (ch. 4, eq. 4.11–4.19): gradient pre-pass,
 //!   structure tensor, diffusion tensor.
 //!
@@ -52,6 +54,7 @@ pub mod estimate;
 pub mod estimator;
 pub mod kdtree;
 pub mod kernel;
+pub mod radius_buckets;
 
 pub use diffusion::{DiffusionEstimator, DiffusionParams, DiffusionTensor};
 pub use estimate::{disc_test, project_to_tangent_plane};
@@ -60,6 +63,7 @@ pub use estimator::{
 };
 pub use kdtree::{KdTree, Neighbor};
 pub use kernel::{Dim, Kernel};
+pub use radius_buckets::RadiusBuckets;
 
 /// Errors of the density crate.
 #[derive(Debug, thiserror::Error, PartialEq)]

@@ -61,6 +61,9 @@ pub struct PhotonOptions {
     pub diffusion: DiffusionSettings,
     /// Smoothing parameter s of photon differential mapping (`pdm`, seed 002 eq. 5–6): the
     /// emitted footprints tile the light's area and solid angle s² times; > 0.
+    /// Radial kernel of photon-differential footprints (`pdm`); seed 002 eq. 11's Silverman
+    /// kernel by default.
+    pub footprint_kernel: caustica_density::kernel::Kernel,
     pub smoothing: f32,
 }
 
@@ -136,6 +139,7 @@ impl Default for PhotonOptions {
             bandwidth: None,
             diffusion: DiffusionSettings::default(),
             smoothing: 1.0,
+            footprint_kernel: caustica_density::kernel::Kernel::Silverman,
         }
     }
 }

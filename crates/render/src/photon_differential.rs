@@ -57,7 +57,8 @@ use crate::stats::RenderStats;
 use crate::surface::{Vertex, emission_ray};
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec3};
-use caustica_density::kdtree::KdTree;
+use caustica_density::kernel::{Dim, Kernel};
+use caustica_density::radius_buckets::RadiusBuckets;
 use caustica_differentials::{
     DiffError, EmissionBudget, FlatTriangle, Footprint, PhongTriangle, RayDiff, SurfaceHit, emit,
     transfer_to_plane,
@@ -358,15 +359,6 @@ const NORMAL_COS: f32 = 0.9;
 /// radius are ignored.
 const PLANE_OFFSET: f32 = 0.25;
 
-/// One bucket of footprints of similar size: a k-d tree over their centres and the largest
-/// gather radius among them.
-struct Bucket {
-    radius: f32,
-    tree: KdTree,
-    /// Index into [`PdmMap::photons`] of each tree point.
-    index: Vec<u32>,
-}
-
 /// Photon differentials with k-d trees over their footprint centres, and the estimate of seed
 /// 002 eq. 10.
 pub struct PdmMap {
@@ -377,40 +369,24 @@ pub struct PdmMap {
     pub landings: usize,
     pub collapsed: u64,
     pub failed: u64,
-    buckets: Vec<Bucket>,
+    /// Footprint centres grouped by gather radius (one huge footprint must not slow every
+    /// query).
+    buckets: RadiusBuckets,
+    /// Radial kernel of the footprints (Silverman's, eq. 11, by default).
+    kernel: Kernel,
 }
 
 impl PdmMap {
-    pub fn new(traced: TracedDiffPhotons) -> Self {
+    /// The map of `traced`'s footprints, evaluated with `kernel` (normalised over the 2-D unit
+    /// disc; `Kernel::Silverman` is seed 002's eq. 11).
+    pub fn new(traced: TracedDiffPhotons, kernel: Kernel) -> Self {
         let photons = traced.photons;
-        // Bucket by ⌊log₂ r⌋ (deterministic: photons in path order within each bucket).
-        let mut keys: Vec<(i32, u32)> = photons
+        let centres: Vec<Vec3> = photons.iter().map(|p| p.footprint.center()).collect();
+        let radii: Vec<f32> = photons
             .iter()
-            .enumerate()
-            .map(|(i, p)| (p.footprint.gather_radius().log2().floor() as i32, i as u32))
+            .map(|p| p.footprint.gather_radius())
             .collect();
-        keys.sort_unstable();
-        let mut buckets = Vec::new();
-        let mut start = 0;
-        while start < keys.len() {
-            let k = keys[start].0;
-            let end = start + keys[start..].iter().take_while(|e| e.0 == k).count();
-            let index: Vec<u32> = keys[start..end].iter().map(|e| e.1).collect();
-            let pos: Vec<Vec3> = index
-                .iter()
-                .map(|&i| photons[i as usize].footprint.center())
-                .collect();
-            let radius = index
-                .iter()
-                .map(|&i| photons[i as usize].footprint.gather_radius())
-                .fold(0.0f32, f32::max);
-            buckets.push(Bucket {
-                radius,
-                tree: KdTree::build(&pos),
-                index,
-            });
-            start = end;
-        }
+        let buckets = RadiusBuckets::build(&centres, &radii);
         Self {
             photons,
             paths: traced.paths,
@@ -418,6 +394,7 @@ impl PdmMap {
             collapsed: traced.collapsed,
             failed: traced.failed,
             buckets,
+            kernel,
         }
     }
 
@@ -431,7 +408,7 @@ impl PdmMap {
 
     /// Largest gather radius of any footprint (m), 0 for an empty map.
     pub fn max_gather_radius(&self) -> f32 {
-        self.buckets.iter().map(|b| b.radius).fold(0.0, f32::max)
+        self.buckets.max_radius()
     }
 
     /// Median gather radius of the footprints (m), 0 for an empty map.
@@ -450,12 +427,7 @@ impl PdmMap {
 
     /// Bytes held by the photons and the trees.
     pub fn memory_bytes(&self) -> usize {
-        self.photons.capacity() * std::mem::size_of::<DiffPhoton>()
-            + self
-                .buckets
-                .iter()
-                .map(|b| b.tree.memory_bytes() + b.index.capacity() * 4)
-                .sum::<usize>()
+        self.photons.capacity() * std::mem::size_of::<DiffPhoton>() + self.buckets.memory_bytes()
     }
 
     /// Calls `f(photon, π K(|M_p (x − x_p)|) / A_p)` (1/m²) for every footprint that contains
@@ -465,22 +437,21 @@ impl PdmMap {
         if !(x.is_finite() && n.is_finite()) {
             return;
         }
-        for b in &self.buckets {
-            b.tree.range(x, b.radius * b.radius, |i, _| {
-                let ph = &self.photons[b.index[i as usize] as usize];
-                if ph.wi.dot(n) <= 0.0 || ph.n.dot(n) < NORMAL_COS {
-                    return;
-                }
-                let fp = &ph.footprint;
-                if (x - fp.center()).dot(fp.normal()).abs() > PLANE_OFFSET * fp.gather_radius() {
-                    return;
-                }
-                let w = fp.irradiance_at(x, 1.0); // eq. 10–12 without the BRDF, per W
-                if w > 0.0 && w.is_finite() {
-                    f(ph, w);
-                }
-            });
-        }
+        self.buckets.for_each_candidate(x, |i| {
+            let ph = &self.photons[i as usize];
+            if ph.wi.dot(n) <= 0.0 || ph.n.dot(n) < NORMAL_COS {
+                return;
+            }
+            let fp = &ph.footprint;
+            if (x - fp.center()).dot(fp.normal()).abs() > PLANE_OFFSET * fp.gather_radius() {
+                return;
+            }
+            // Eq. 10–12 without the BRDF, per W.
+            let w = fp.irradiance_at_with(x, 1.0, |d| self.kernel.eval(d * d, Dim::Two));
+            if w > 0.0 && w.is_finite() {
+                f(ph, w);
+            }
+        });
     }
 
     /// Irradiance (W/m²) at `x` on a surface with unit normal `n` facing the light's side:

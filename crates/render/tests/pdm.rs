@@ -6,6 +6,7 @@ mod common;
 
 use caustica_core::image_io::Image;
 use caustica_core::{Affine3A, Spectrum, Vec3};
+use caustica_density::kernel::Kernel;
 use caustica_render::integrator::photon_mapping::PhotonMaps;
 use caustica_render::photon_differential::{
     Landing, PdmMap, TracedDiffPhotons, photons_from_landings, trace_photon_differentials,
@@ -98,7 +99,7 @@ fn footprint_irradiance_matches_a_point_light_seen_in_a_mirror() {
     assert_eq!(traced.landings, 300_000);
     // A flat mirror neither collapses nor fails a footprint.
     assert_eq!((traced.collapsed, traced.failed), (0, 0));
-    let map = PdmMap::new(traced);
+    let map = PdmMap::new(traced, Kernel::Silverman);
     let d = 2.0 * MIRROR_Y - LIGHT_Y;
     let mut ratios = Vec::new();
     for i in -3..=3 {
@@ -314,7 +315,7 @@ fn collapsed_and_failed_footprints_are_dropped_and_counted_without_nan() {
     // its centre π K(0) Φ/A = 3 Φ/A (eq. 10–11).
     let fp = photons[0].footprint;
     assert!((fp.area() - std::f32::consts::PI / 16.0).abs() < 1e-6);
-    let map = PdmMap::new(TracedDiffPhotons {
+    let traced = |photons: Vec<_>| TracedDiffPhotons {
         photons,
         paths,
         landings: landings.len(),
@@ -322,12 +323,23 @@ fn collapsed_and_failed_footprints_are_dropped_and_counted_without_nan() {
         failed,
         stats: RenderStats::default(),
         warning: None,
-    });
+    };
+    // The kernel is selectable: at the centre π K(0) Φ/A is 3 Φ/A for Silverman's kernel
+    // (eq. 11) and 2 Φ/A for Epanechnikov's.
+    let epa = PdmMap::new(traced(photons.clone()), Kernel::Epanechnikov);
+    let map = PdmMap::new(traced(photons), Kernel::Silverman);
     let e0 = map.irradiance(o, Vec3::Y);
-    let want = 3.0 * 0.5 / (std::f32::consts::PI / 16.0);
+    let area = std::f32::consts::PI / 16.0;
+    let want = 3.0 * 0.5 / area;
     assert!(
         (e0.luminance() - want).abs() < 1e-4 * want,
         "{e0:?} vs {want}"
+    );
+    let e_epa = epa.irradiance(o, Vec3::Y).luminance();
+    let want_epa = 2.0 * 0.5 / area;
+    assert!(
+        (e_epa - want_epa).abs() < 1e-4 * want_epa,
+        "{e_epa} vs {want_epa}"
     );
     for x in [
         Vec3::new(0.2, 0.0, 0.1),

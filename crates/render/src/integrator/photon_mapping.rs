@@ -100,7 +100,7 @@ impl PhotonMaps {
             global: PhotonMap::new(g.photons, g.paths),
             caustic_estimator: PhotonMap::knn_estimator(&p.estimate),
             prepare_secs: 0.0,
-            differential: Some(PdmMap::new(d)),
+            differential: Some(PdmMap::new(d, opts.photons.footprint_kernel)),
             stats,
             warnings,
         }
