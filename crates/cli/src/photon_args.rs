@@ -7,7 +7,8 @@ use clap::Args;
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct PhotonArgs {
-    /// Photons stored in the caustic map (pm; default 200000).
+    /// Caustic photons: stored in the caustic map (pm, dpm, pdm) or splatted (pds); default
+    /// 200000.
     #[arg(long, help_heading = "Photon mapping")]
     pub photons: Option<usize>,
     /// Photons stored in the global map (pm; default 100000; 0 = no indirect light).
@@ -22,7 +23,7 @@ pub struct PhotonArgs {
     /// Largest gather radius in scene units (default: unbounded).
     #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub max_radius: Option<f32>,
-    /// Density-estimation kernel (pdm: of the footprints, default silverman): uniform,
+    /// Density-estimation kernel (pdm, pds: of the footprints, default silverman): uniform,
     /// epanechnikov (default), biweight, gaussian, cone,
     /// cone:G, silverman, cubic.
     #[arg(long, help_heading = "Photon mapping")]
@@ -72,14 +73,23 @@ pub struct PhotonArgs {
     /// Isotropic diffusion: a round kernel that shrinks near structure (seed 000 sec. 4.3.3).
     #[arg(long, help_heading = "Diffusion photon mapping (dpm)")]
     pub isotropic: bool,
-    /// Smoothing parameter s of photon differential mapping (seed 002 eq. 5-6): the emitted
-    /// footprints overlap s^2 times (default 1; > 0).
+    /// Smoothing parameter s of photon differentials (pdm, pds; seed 002 eq. 5-6): the
+    /// emitted footprints overlap s^2 times (default 1; > 0).
     #[arg(
         long,
         allow_negative_numbers = true,
-        help_heading = "Photon differential mapping (pdm)"
+        help_heading = "Photon differentials (pdm, pds)"
     )]
     pub smoothing: Option<f32>,
+    /// Normal-distance threshold against topological bias (seed 002 sec. 3.3): a footprint
+    /// does not reach points farther from its tangent plane than this fraction of its gather
+    /// radius (default 0.25; inf disables the test).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Photon differentials (pdm, pds)"
+    )]
+    pub normal_distance: Option<f32>,
 }
 
 impl PhotonArgs {
@@ -122,6 +132,9 @@ impl PhotonArgs {
         if let Some(s) = self.smoothing {
             o.smoothing = s;
         }
+        if let Some(t) = self.normal_distance {
+            o.normal_distance = t;
+        }
         if let Err(e) = o.validate() {
             bail!("{e}");
         }
@@ -146,5 +159,6 @@ impl PhotonArgs {
             || self.noise_scale.is_some()
             || self.isotropic
             || self.smoothing.is_some()
+            || self.normal_distance.is_some()
     }
 }

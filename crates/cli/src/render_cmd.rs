@@ -155,7 +155,7 @@ impl RenderSettings {
         };
         if self.caustics_only && kind == IntegratorKind::Path {
             bail!(
-                "--caustics-only needs --integrator lighttrace, pm, dpm or pdm: the path tracer cannot isolate L S+ D E paths"
+                "--caustics-only needs --integrator lighttrace, pm, dpm, pdm or pds: the path tracer cannot isolate L S+ D E paths"
             );
         }
         if kind == IntegratorKind::DiffusionPhotonMapping
@@ -166,16 +166,19 @@ impl RenderSettings {
                 "--integrator dpm uses the diffusion estimator; for --estimator {e} use --integrator pm"
             );
         }
-        if kind == IntegratorKind::PhotonDifferentialMapping
+        if kind.uses_photon_differentials()
             && let Some(e) = &self.photon.estimator
         {
             bail!(
-                "--integrator pdm estimates caustics from photon-differential footprints; for --estimator {e} use --integrator pm"
+                "--integrator {} estimates caustics from photon-differential footprints; for --estimator {e} use --integrator pm",
+                kind.name()
             );
         }
-        if self.photon.smoothing.is_some() && kind != IntegratorKind::PhotonDifferentialMapping {
+        if (self.photon.smoothing.is_some() || self.photon.normal_distance.is_some())
+            && !kind.uses_photon_differentials()
+        {
             warnings.push(format!(
-                "--smoothing only affects --integrator pdm, not '{}'",
+                "--smoothing and --normal-distance only affect --integrator pdm and pds, not '{}'",
                 kind.name()
             ));
         }
@@ -327,7 +330,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         IntegratorKind::Path
         | IntegratorKind::PhotonMapping
         | IntegratorKind::DiffusionPhotonMapping
-        | IntegratorKind::PhotonDifferentialMapping => {
+        | IntegratorKind::PhotonDifferentialMapping
+        | IntegratorKind::PhotonDifferentialSplatting => {
             format!("{:.1} spp", out.film.mean_samples())
         }
         IntegratorKind::LightTrace => format!("{} light paths", out.film.light_paths()),

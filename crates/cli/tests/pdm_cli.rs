@@ -74,7 +74,7 @@ fn smoothing_warns_on_other_integrators() {
     let o = render("warn.pfm", &["--integrator", "pm", "--smoothing", "2"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("--smoothing only affects"),
+        stderr(&o).contains("--smoothing and --normal-distance only affect"),
         "{}",
         stderr(&o)
     );

@@ -27,6 +27,32 @@ pub fn render_pixels<F>(
 where
     F: Fn(&mut Sampler, Vec2, &mut RenderStats) -> Spectrum + Sync,
 {
+    let (stats, _) = render_pixels_collect(
+        film,
+        filter,
+        opts,
+        ctl,
+        |s, raster, _, _: &mut Vec<()>, st| sample(s, raster, st),
+    );
+    stats
+}
+
+/// [`render_pixels`] whose closure also learns the pixel index (`y · width + x`) and may push
+/// records into `out`; the records of all samples are returned in a fixed order (pass, row,
+/// column, sample index), so they too are a pure function of the seed. Photon differential
+/// splatting keeps its eye-path vertices this way.
+pub fn render_pixels_collect<F, R>(
+    film: &mut Film,
+    filter: &Filter,
+    opts: &RenderOptions,
+    ctl: &RenderControl,
+    sample: F,
+) -> (RenderStats, Vec<R>)
+where
+    F: Fn(&mut Sampler, Vec2, u32, &mut Vec<R>, &mut RenderStats) -> Spectrum + Sync,
+    R: Send,
+{
+    let mut records = Vec::new();
     let (w, h) = (film.width, film.height);
     let pixels = (w * h) as u64;
     let mut clock = PassClock::new();
@@ -43,20 +69,22 @@ where
             break;
         }
         let first = done_spp;
-        let rows: Vec<RenderStats> = film
+        let rows: Vec<(RenderStats, Vec<R>)> = film
             .sum
             .par_chunks_mut(w)
             .zip(film.count.par_chunks_mut(w))
             .enumerate()
             .map(|(y, (sum_row, count_row))| {
                 let mut st = RenderStats::default();
+                let mut out = Vec::new();
                 let mut sampler = Sampler::new(opts.sampler, opts.seed);
                 for x in 0..w {
                     for s in first..first + pass_spp {
                         sampler.start_pixel_sample(x as u32, y as u32, s);
                         let offset = filter.sample(sampler.next_2d());
                         let raster = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-                        let l = sample(&mut sampler, raster, &mut st);
+                        let pixel = (y * w + x) as u32;
+                        let l = sample(&mut sampler, raster, pixel, &mut out, &mut st);
                         if l.is_finite() {
                             for (acc, v) in sum_row[x].iter_mut().zip(l.c) {
                                 *acc += v as f64;
@@ -74,16 +102,17 @@ where
                     fraction: clock.fraction(opts, total as f64, (pixels * opts.spp as u64) as f64),
                     samples: total,
                 });
-                st
+                (st, out)
             })
             .collect();
-        for r in rows {
+        for (r, out) in rows {
             stats += r;
+            records.extend(out);
         }
         done_spp += pass_spp;
         if clock.end_of_pass(opts, ctl, film) {
             break;
         }
     }
-    stats
+    (stats, records)
 }

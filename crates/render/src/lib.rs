@@ -13,9 +13,12 @@
 //!   photon maps with the radiance estimate of seed 000 eq. 3.2.
 //! * [`photon_differential`] — caustic photons carrying photon differentials, their footprints
 //!   and the estimate of seed 002 eq. 10 (`pdm`).
-//! * [`integrator`] — the path tracer, the light tracer and photon mapping.
+//! * [`eye_map`] — the eye-path map that photon differential splatting (`pds`) splats onto.
+//! * [`integrator`] — the path tracer, the light tracer, photon mapping (`pm`, `dpm`, `pdm`) and
+//!   photon differential splatting (`pds`).
 
 pub mod direct;
+pub mod eye_map;
 pub mod film;
 pub mod filter;
 pub mod image_loop;

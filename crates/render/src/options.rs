@@ -59,12 +59,17 @@ pub struct PhotonOptions {
     pub bandwidth: Option<f32>,
     /// Parameters of the diffusion estimator (`dpm`).
     pub diffusion: DiffusionSettings,
-    /// Smoothing parameter s of photon differential mapping (`pdm`, seed 002 eq. 5–6): the
-    /// emitted footprints tile the light's area and solid angle s² times; > 0.
-    /// Radial kernel of photon-differential footprints (`pdm`); seed 002 eq. 11's Silverman
-    /// kernel by default.
+    /// Radial kernel of photon-differential footprints (`pdm`, `pds`); seed 002 eq. 11's
+    /// Silverman kernel by default.
     pub footprint_kernel: caustica_density::kernel::Kernel,
+    /// Smoothing parameter s of photon differentials (`pdm`, `pds`; seed 002 eq. 5–6): the
+    /// emitted footprints tile the light's area and solid angle s² times; > 0.
     pub smoothing: f32,
+    /// Normal-distance threshold against topological bias (seed 002 sec. 3.3), as a fraction of
+    /// a footprint's gather radius: a footprint does not reach a point farther than this from
+    /// its tangent plane, `|n_p · (x − x_p)| > t · r_max`. `f32::INFINITY` disables the test;
+    /// ≥ 0.
+    pub normal_distance: f32,
 }
 
 /// Density estimators the caustic map can use (all behind `caustica_density::Estimator`).
@@ -140,6 +145,7 @@ impl Default for PhotonOptions {
             diffusion: DiffusionSettings::default(),
             smoothing: 1.0,
             footprint_kernel: caustica_density::kernel::Kernel::Silverman,
+            normal_distance: 0.25,
         }
     }
 }
@@ -179,6 +185,12 @@ impl PhotonOptions {
         positive("the diffusivity coefficient q", self.diffusion.q)?;
         positive("alpha", self.diffusion.alpha)?;
         positive("the smoothing parameter s", self.smoothing)?;
+        if !(self.normal_distance >= 0.0) {
+            return Err(format!(
+                "the normal-distance threshold must be ≥ 0 (a fraction of the footprint's gather radius; inf disables it), got {}",
+                self.normal_distance
+            ));
+        }
         Ok(())
     }
 }

@@ -50,13 +50,15 @@
 //! gather radius (powers of two) with one k-d tree per bucket, queried within that bucket's
 //! largest radius, so a few huge footprints do not slow every query.
 
-use crate::light_path::{LightEvent, LightScatter, LightVisitor, walk_light_path_with};
+use crate::light_path::{
+    LightEvent, LightScatter, LightVertex, LightVisitor, walk_light_path_with,
+};
 use crate::options::RenderOptions;
 use crate::photon_tracer::trace_paths;
 use crate::stats::RenderStats;
 use crate::surface::{Vertex, emission_ray};
 use caustica_core::sampling::Sampler;
-use caustica_core::{Spectrum, Vec3};
+use caustica_core::{Ray, Spectrum, Vec3};
 use caustica_density::kernel::{Dim, Kernel};
 use caustica_density::radius_buckets::RadiusBuckets;
 use caustica_differentials::{
@@ -174,15 +176,7 @@ pub fn trace_photon_differentials(
         ),
     };
     let (landings, paths, stats) = trace_paths(target, stream, opts, |sampler, out, st| {
-        let mut v = DiffVisitor {
-            scene,
-            budget: &budget,
-            out,
-            ray: Err(DiffError::NonFinite),
-            hit: Err(DiffError::NonFinite),
-            pmf: 1.0,
-        };
-        walk_light_path_with(scene, sampler, opts, st, &mut v);
+        trace_landings(scene, &budget, sampler, opts, out, st)
     });
     let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
     let short = (landings.len() < target).then(|| {
@@ -211,17 +205,101 @@ pub fn trace_photon_differentials(
     }
 }
 
+/// The budget of [`trace_photon_differentials`] and [`trace_landings`] (`N_e = 1`, see the
+/// module docs) for smoothing `s`, or `None` when `s` is not a positive number.
+pub fn unit_budget(smoothing: f32) -> Option<EmissionBudget> {
+    EmissionBudget::new(1, smoothing).ok()
+}
+
+/// Traces one light path (the sampler positioned on it) and pushes its caustic landings with
+/// their photon differentials for the budget `budget` (normally [`unit_budget`]).
+pub fn trace_landings(
+    scene: &Scene,
+    budget: &EmissionBudget,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    out: &mut Vec<Landing>,
+    stats: &mut RenderStats,
+) {
+    let mut v = DiffVisitor {
+        scene,
+        budget,
+        out,
+        emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0.0, 0.0),
+        ray: None,
+        hit: None,
+        pmf: 1.0,
+    };
+    walk_light_path_with(scene, sampler, opts, stats, &mut v);
+}
+
+/// True for a vertex where a caustic photon lands: a non-delta surface reached through one or
+/// more delta vertices (L S+ D), with a finite throughput. The one rule of both tracers below.
+fn is_caustic_landing(lv: &LightVertex) -> bool {
+    lv.v.bsdf.flags().is_smooth() && lv.after_specular_chain && lv.beta.is_finite()
+}
+
+/// The number `N` of light paths [`trace_photon_differentials`] emits to find `target`
+/// caustic landings with this `stream`, found without differentials (plain light paths, no
+/// storage: photon differential splatting must know `N` before the first splat, since the
+/// footprints scale with `1/√N`, eq. 5–6). Returns `N`, the landings found in them (`target`
+/// unless the scene yields fewer) and the statistics.
+pub fn count_caustic_paths(
+    scene: &Scene,
+    target: usize,
+    stream: u64,
+    opts: &RenderOptions,
+) -> (u64, usize, RenderStats) {
+    struct Count<'a>(&'a mut Vec<()>);
+    impl LightVisitor for Count<'_> {
+        fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
+            if let LightEvent::Vertex(lv) = event
+                && is_caustic_landing(lv)
+            {
+                self.0.push(());
+            }
+        }
+        fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+            sc.sample.flags.is_delta() // as DiffVisitor::scatter
+        }
+    }
+    let (found, paths, stats) = trace_paths(target, stream, opts, |sampler, out, st| {
+        walk_light_path_with(scene, sampler, opts, st, &mut Count(out))
+    });
+    (paths, found.len(), stats)
+}
+
 /// Per-path state: the differential along the current ray and at the current hit.
 struct DiffVisitor<'a> {
     scene: &'a Scene,
     budget: &'a EmissionBudget,
     out: &'a mut Vec<Landing>,
+    /// The emission sample's ray, normal and the light's extent `(A_e, ω_e)`, kept until the
+    /// emitted differential is first needed (most paths never reach a delta surface, so their
+    /// differentials are never computed).
+    emission: (Ray, Option<Vec3>, f32, f32),
     /// The differential of the ray being traced (origin at the last vertex, direction the
-    /// sampled one).
-    ray: Result<RayDiff<2>, DiffError>,
-    /// The differential transferred onto the current vertex.
-    hit: Result<SurfaceHit<2>, DiffError>,
+    /// sampled one); `None` until computed.
+    ray: Option<Result<RayDiff<2>, DiffError>>,
+    /// The differential transferred onto the current vertex; `None` until computed.
+    hit: Option<Result<SurfaceHit<2>, DiffError>>,
     pmf: f32,
+}
+
+impl DiffVisitor<'_> {
+    /// The differential transferred onto the surface at `si` (computed on first use).
+    fn hit_at(&mut self, si: &SurfaceInteraction) -> Result<SurfaceHit<2>, DiffError> {
+        if let Some(h) = self.hit {
+            return h;
+        }
+        let ray = *self.ray.get_or_insert_with(|| {
+            let (ray, normal, area, solid_angle) = self.emission;
+            emit(ray.o, ray.d, normal, area, solid_angle, self.budget)
+        });
+        let h = ray.and_then(|r| surface_hit(self.scene, si, &r));
+        self.hit = Some(h);
+        h
+    }
 }
 
 /// Cosine between the differential's scattered direction and the walker's below which the
@@ -234,28 +312,27 @@ impl LightVisitor for DiffVisitor<'_> {
             LightEvent::Start(start) => {
                 let es = start.emission;
                 let (area, solid_angle) = self.scene.lights[start.light].emission_extent();
-                let ray = emission_ray(es);
                 self.pmf = start.pmf;
-                self.ray = emit(ray.o, ray.d, es.normal, area, solid_angle, self.budget);
+                self.emission = (emission_ray(es), es.normal, area, solid_angle);
+                self.ray = None;
+                self.hit = None;
             }
             LightEvent::Vertex(lv) => {
-                self.hit = self.ray.and_then(|r| surface_hit(self.scene, &lv.v.si, &r));
-                if !(lv.v.bsdf.flags().is_smooth() && lv.after_specular_chain) {
+                self.hit = None;
+                // Non-finite throughputs are skipped (the photon tracer counts them).
+                if !is_caustic_landing(lv) {
                     return;
                 }
-                let flux = lv.beta;
-                if !flux.is_finite() {
-                    return; // the photon tracer counts these in `nonfinite`
-                }
+                let dp = self.hit_at(&lv.v.si).ok().map(|h| h.ray.dp);
                 let ng = lv.v.si.ng;
                 self.out.push(Landing {
                     p: lv.v.si.p,
                     wi: lv.wo,
                     n: if ng.dot(lv.wo) >= 0.0 { ng } else { -ng },
-                    beta: flux,
+                    beta: lv.beta,
                     depth: lv.depth.min(u16::MAX as u32) as u16,
                     pmf: self.pmf,
-                    dp: self.hit.ok().map(|h| h.ray.dp),
+                    dp,
                 });
             }
         }
@@ -268,7 +345,7 @@ impl LightVisitor for DiffVisitor<'_> {
             return false;
         }
         let eta = sc.sample.eta;
-        self.ray = self.hit.and_then(|h| {
+        let out = self.hit_at(&sc.v.si).and_then(|h| {
             let out = if flags.intersects(BsdfFlags::TRANSMISSION) {
                 h.refract(1.0 / eta)? // eq. B.19–B.23 take n_incident / n_transmitted
             } else {
@@ -276,6 +353,7 @@ impl LightVisitor for DiffVisitor<'_> {
             };
             follow(out, sc.v, sc.wi)
         });
+        self.ray = Some(out);
         true
     }
 }
@@ -355,9 +433,47 @@ fn tangent_plane_hit(
 
 /// Footprints whose surface normal is farther than this cosine from the query's are ignored.
 const NORMAL_COS: f32 = 0.9;
-/// Footprints whose tangent plane is farther from the query than this fraction of their gather
-/// radius are ignored.
-const PLANE_OFFSET: f32 = 0.25;
+
+/// How footprints are evaluated at a point: the one rule of `pdm` (gathering) and `pds`
+/// (splatting), so the two evaluation orders give the same sum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FootprintFilter {
+    /// Radial kernel over the unit disc of filter space (Silverman's, eq. 11, by default).
+    pub kernel: Kernel,
+    /// Normal-distance threshold (seed 002 sec. 3.3) as a fraction of the gather radius.
+    pub normal_distance: f32,
+}
+
+impl FootprintFilter {
+    /// `π K(|M_p (x − x_p)|) / A_p` (1/m², eq. 10–12 without the BRDF and flux) of photon `ph`
+    /// at `x` on a surface with unit normal `n` oriented toward the viewer, or `None` when the
+    /// footprint does not reach `x`: outside the ellipse, arrived on the other side, a surface
+    /// normal more than ~25° from `n` (cos < 0.9), or `x` farther from the footprint's tangent
+    /// plane than `normal_distance` times its gather radius (the filter of eq. 12 ignores the
+    /// normal offset; these tests keep footprints off nearby surfaces of another orientation,
+    /// like the disc test of `pm`).
+    #[inline]
+    pub fn weight(&self, ph: &DiffPhoton, x: Vec3, n: Vec3) -> Option<f32> {
+        if ph.wi.dot(n) <= 0.0 || ph.n.dot(n) < NORMAL_COS {
+            return None;
+        }
+        let fp = &ph.footprint;
+        if (x - fp.center()).dot(fp.normal()).abs() > self.normal_distance * fp.gather_radius() {
+            return None;
+        }
+        let w = fp.irradiance_at_with(x, 1.0, |d| self.kernel.eval(d * d, Dim::Two));
+        (w > 0.0 && w.is_finite()).then_some(w)
+    }
+}
+
+impl Default for FootprintFilter {
+    fn default() -> Self {
+        Self {
+            kernel: Kernel::Silverman,
+            normal_distance: 0.25,
+        }
+    }
+}
 
 /// Photon differentials with k-d trees over their footprint centres, and the estimate of seed
 /// 002 eq. 10.
@@ -372,14 +488,26 @@ pub struct PdmMap {
     /// Footprint centres grouped by gather radius (one huge footprint must not slow every
     /// query).
     buckets: RadiusBuckets,
-    /// Radial kernel of the footprints (Silverman's, eq. 11, by default).
-    kernel: Kernel,
+    /// How a footprint is evaluated at a point.
+    filter: FootprintFilter,
 }
 
 impl PdmMap {
     /// The map of `traced`'s footprints, evaluated with `kernel` (normalised over the 2-D unit
-    /// disc; `Kernel::Silverman` is seed 002's eq. 11).
+    /// disc; `Kernel::Silverman` is seed 002's eq. 11) and the default normal-distance
+    /// threshold.
     pub fn new(traced: TracedDiffPhotons, kernel: Kernel) -> Self {
+        Self::with_filter(
+            traced,
+            FootprintFilter {
+                kernel,
+                ..FootprintFilter::default()
+            },
+        )
+    }
+
+    /// The map of `traced`'s footprints, evaluated with `filter`.
+    pub fn with_filter(traced: TracedDiffPhotons, filter: FootprintFilter) -> Self {
         let photons = traced.photons;
         let centres: Vec<Vec3> = photons.iter().map(|p| p.footprint.center()).collect();
         let radii: Vec<f32> = photons
@@ -394,7 +522,7 @@ impl PdmMap {
             collapsed: traced.collapsed,
             failed: traced.failed,
             buckets,
-            kernel,
+            filter,
         }
     }
 
@@ -430,25 +558,16 @@ impl PdmMap {
         self.photons.capacity() * std::mem::size_of::<DiffPhoton>() + self.buckets.memory_bytes()
     }
 
-    /// Calls `f(photon, π K(|M_p (x − x_p)|) / A_p)` (1/m²) for every footprint that contains
-    /// `x` and passes the side, normal and plane tests for a surface with unit normal `n`
-    /// (oriented toward the viewer), in a deterministic order.
+    /// Calls `f(photon, π K(|M_p (x − x_p)|) / A_p)` (1/m²) for every footprint that reaches
+    /// `x` on a surface with unit normal `n` (oriented toward the viewer) by
+    /// [`FootprintFilter::weight`], in a deterministic order.
     pub fn for_each(&self, x: Vec3, n: Vec3, mut f: impl FnMut(&DiffPhoton, f32)) {
         if !(x.is_finite() && n.is_finite()) {
             return;
         }
         self.buckets.for_each_candidate(x, |i| {
             let ph = &self.photons[i as usize];
-            if ph.wi.dot(n) <= 0.0 || ph.n.dot(n) < NORMAL_COS {
-                return;
-            }
-            let fp = &ph.footprint;
-            if (x - fp.center()).dot(fp.normal()).abs() > PLANE_OFFSET * fp.gather_radius() {
-                return;
-            }
-            // Eq. 10–12 without the BRDF, per W.
-            let w = fp.irradiance_at_with(x, 1.0, |d| self.kernel.eval(d * d, Dim::Two));
-            if w > 0.0 && w.is_finite() {
+            if let Some(w) = self.filter.weight(ph, x, n) {
                 f(ph, w);
             }
         });

@@ -3,6 +3,7 @@
 pub mod light_tracer;
 pub mod path;
 pub mod photon_mapping;
+pub mod photon_splatting;
 
 use crate::film::Film;
 use crate::filter::Filter;
@@ -30,10 +31,14 @@ pub enum IntegratorKind {
     /// photons traced as photon differentials and estimated by their footprints (seed 002
     /// eq. 10); direct light by NEE and indirect light by final gathering as in `pm`.
     PhotonDifferentialMapping,
+    /// Photon differential splatting (seed 002 sec. 3.3): `pdm`'s estimate evaluated by
+    /// splatting each caustic photon's footprint onto an eye-path map built first; no photon
+    /// map is stored.
+    PhotonDifferentialSplatting,
 }
 
 impl IntegratorKind {
-    pub const NAMES: &'static [&'static str] = &["path", "lighttrace", "pm", "dpm", "pdm"];
+    pub const NAMES: &'static [&'static str] = &["path", "lighttrace", "pm", "dpm", "pdm", "pds"];
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Path => "path",
@@ -41,6 +46,7 @@ impl IntegratorKind {
             IntegratorKind::PhotonMapping => "pm",
             IntegratorKind::DiffusionPhotonMapping => "dpm",
             IntegratorKind::PhotonDifferentialMapping => "pdm",
+            IntegratorKind::PhotonDifferentialSplatting => "pds",
         }
     }
 
@@ -51,6 +57,15 @@ impl IntegratorKind {
             IntegratorKind::PhotonMapping
                 | IntegratorKind::DiffusionPhotonMapping
                 | IntegratorKind::PhotonDifferentialMapping
+                | IntegratorKind::PhotonDifferentialSplatting
+        )
+    }
+
+    /// True for the integrators built on photon differentials (`--smoothing` applies).
+    pub fn uses_photon_differentials(self) -> bool {
+        matches!(
+            self,
+            IntegratorKind::PhotonDifferentialMapping | IntegratorKind::PhotonDifferentialSplatting
         )
     }
 }
@@ -64,6 +79,7 @@ impl std::str::FromStr for IntegratorKind {
             "pm" | "photonmapper" => Ok(Self::PhotonMapping),
             "dpm" => Ok(Self::DiffusionPhotonMapping),
             "pdm" => Ok(Self::PhotonDifferentialMapping),
+            "pds" => Ok(Self::PhotonDifferentialSplatting),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -106,6 +122,9 @@ pub fn render(
             render_paths(&mut film, total, opts, ctl, |sampler, out, st| {
                 light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
             })
+        }
+        IntegratorKind::PhotonDifferentialSplatting => {
+            photon_splatting::render(scene, opts, ctl, &mut film, &filter, &mut notes)
         }
         IntegratorKind::PhotonMapping
         | IntegratorKind::DiffusionPhotonMapping

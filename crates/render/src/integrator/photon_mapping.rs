@@ -15,7 +15,7 @@
 use crate::direct::sample_direct;
 use crate::options::RenderOptions;
 use crate::options::{CausticEstimator, PhotonOptions};
-use crate::photon_differential::{PdmMap, trace_photon_differentials};
+use crate::photon_differential::{FootprintFilter, PdmMap, trace_photon_differentials};
 use crate::photon_map::PhotonMap;
 use crate::photon_tracer::{MapKind, trace_photons};
 use crate::stats::RenderStats;
@@ -30,7 +30,7 @@ use caustica_scene::intersection::NONE;
 use std::cell::RefCell;
 
 /// Random-number streams of the two maps (the camera pass uses pixel streams).
-const CAUSTIC_STREAM: u64 = 0xCA05;
+pub(crate) const CAUSTIC_STREAM: u64 = 0xCA05;
 const GLOBAL_STREAM: u64 = 0x610B;
 /// Longest specular chain a final-gather ray follows.
 const MAX_GATHER_CHAIN: u32 = 16;
@@ -100,9 +100,24 @@ impl PhotonMaps {
             global: PhotonMap::new(g.photons, g.paths),
             caustic_estimator: PhotonMap::knn_estimator(&p.estimate),
             prepare_secs: 0.0,
-            differential: Some(PdmMap::new(d, opts.photons.footprint_kernel)),
+            differential: Some(PdmMap::with_filter(d, footprint_filter(p))),
             stats,
             warnings,
+        }
+    }
+
+    /// Maps with the global map of [`PhotonMaps::build`] and no caustic photons (`pds` splats
+    /// them instead).
+    pub fn global_only(scene: &Scene, opts: &RenderOptions) -> Self {
+        let g = Self::trace_global(scene, opts);
+        Self {
+            caustic: PhotonMap::new(Vec::new(), 0),
+            global: PhotonMap::new(g.photons, g.paths),
+            caustic_estimator: PhotonMap::knn_estimator(&opts.photons.estimate),
+            prepare_secs: 0.0,
+            differential: None,
+            stats: g.stats,
+            warnings: g.warning.into_iter().collect(),
         }
     }
 
@@ -126,6 +141,14 @@ impl PhotonMaps {
                 warning: None,
             }
         }
+    }
+}
+
+/// How photon-differential footprints are evaluated (`pdm` and `pds` alike).
+pub fn footprint_filter(p: &PhotonOptions) -> FootprintFilter {
+    FootprintFilter {
+        kernel: p.footprint_kernel,
+        normal_distance: p.normal_distance,
     }
 }
 
@@ -200,10 +223,28 @@ fn global_estimate(map: &PhotonMap, v: &Vertex, opts: &RenderOptions) -> Spectru
 pub fn radiance(
     scene: &Scene,
     maps: &PhotonMaps,
+    ray: Ray,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+) -> Spectrum {
+    radiance_with(scene, maps, ray, sampler, opts, stats, &mut |v, beta| {
+        beta * caustic_estimate(maps, v, opts)
+    })
+}
+
+/// [`radiance`] with the caustic term left to `caustic(v, β)`, called at the first non-delta
+/// vertex `v` of the camera path (throughput β) when caustic light is wanted there; it returns
+/// the contribution to add (`β · L_caustic` for the photon maps, zero for photon differential
+/// splatting, which records the vertex and splats onto it later). It draws no random numbers.
+pub(crate) fn radiance_with(
+    scene: &Scene,
+    maps: &PhotonMaps,
     mut ray: Ray,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
+    caustic: &mut dyn FnMut(&Vertex, Spectrum) -> Spectrum,
 ) -> Spectrum {
     let mut l = Spectrum::ZERO;
     let mut beta = Spectrum::ONE;
@@ -224,7 +265,7 @@ pub fn radiance(
         if opts.caustics_only {
             // L S+ D E only: the caustic map at the first surface, if it is non-delta.
             if smooth {
-                l += beta * caustic_estimate(maps, &v, opts);
+                l += caustic(&v, beta);
             }
             break;
         }
@@ -236,6 +277,9 @@ pub fn radiance(
         }
         if smooth {
             l += beta * shade(scene, maps, &v, sampler, opts, stats);
+            if opts.photons.final_gather > 0 {
+                l += caustic(&v, beta);
+            }
             break;
         }
         let Some((weight, next)) = scatter_delta(&v, sampler) else {
@@ -250,7 +294,8 @@ pub fn radiance(
     l
 }
 
-/// Reflected radiance at the first non-delta vertex `v` of a camera path.
+/// Reflected radiance at the first non-delta vertex `v` of a camera path, without the caustic
+/// term (added by the caller) unless the global map is visualised directly.
 fn shade(
     scene: &Scene,
     maps: &PhotonMaps,
@@ -264,7 +309,6 @@ fn shade(
         return global_estimate(&maps.global, v, opts);
     }
     let direct = sample_direct(scene, v, sampler, stats, false);
-    let caustic = caustic_estimate(maps, v, opts);
     let mut indirect = Spectrum::ZERO;
     if !maps.global.is_empty() {
         let wo_world = v.frame.to_world(v.wo);
@@ -282,7 +326,7 @@ fn shade(
         }
         indirect /= gather_rays as f32;
     }
-    direct + caustic + indirect
+    direct + indirect
 }
 
 /// Radiance arriving along a final-gather ray from the global map at the first non-delta

@@ -1,0 +1,279 @@
+//! Photon differential splatting (`pds`, seed 002 sec. 3.3): the estimate of photon
+//! differential mapping (eq. 10–12) evaluated the other way round. `pdm` loops over the camera
+//! samples and gathers the footprints around each; `pds` first records the camera samples'
+//! first non-delta vertices in an eye-path map ([`EyeMap`]), then traces the caustic photons
+//! in batches and splats each one's footprint onto the eye vertices it covers, then drops it.
+//! Memory therefore does not grow with the photon count: the eye map has one vertex per camera
+//! sample, a batch holds the photons of a fixed number of light paths.
+//!
+//! 1. The global map (if the render wants indirect light) as for `pm`.
+//! 2. The camera pass: `pm`'s camera paths ([`photon_mapping::radiance_with`]) with direct and
+//!    indirect light as there; where `pm` would add the caustic estimate, the vertex is
+//!    recorded instead (several per pixel: one per camera sample, the anti-aliasing).
+//! 3. The number `N` of light paths that yields `--photons` caustic landings, counted without
+//!    differentials ([`count_caustic_paths`]): the footprints scale with `1/√N` (eq. 5–6), so
+//!    `N` must be known before the first splat. These are the paths of `pdm`, so `pdm` and
+//!    `pds` use the same photons.
+//! 4. Paths `0..N` traced as photon differentials in fixed chunks; each chunk's photons
+//!    splatted (in parallel), the splats added to the eye vertices' accumulators in chunk
+//!    order, so the image does not depend on the thread count.
+//! 5. Each camera sample's pixel receives `β · Σ splats` of its vertex.
+
+use super::photon_mapping::{self, CAUSTIC_STREAM, PhotonMaps, footprint_filter};
+use crate::eye_map::{EyeMap, EyeVertex, Splat};
+use crate::film::Film;
+use crate::filter::Filter;
+use crate::image_loop::render_pixels_collect;
+use crate::options::{Progress, RenderControl, RenderOptions};
+use crate::photon_differential::{
+    FootprintFilter, Landing, count_caustic_paths, photons_from_landings, trace_landings,
+    unit_budget,
+};
+use crate::stats::RenderStats;
+use caustica_core::Spectrum;
+use caustica_core::sampling::Sampler;
+use caustica_differentials::EmissionBudget;
+use caustica_scene::Scene;
+use rayon::prelude::*;
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+/// Light paths per chunk of the splatting pass (the order splats are added in is by chunk).
+const CHUNK: u64 = 1 << 12;
+/// Share of the progress bar given to the camera pass (the photon pass has the rest).
+const EYE_SHARE: f64 = 0.5;
+
+/// Renders `scene` by photon differential splatting into `film`; returns the statistics and
+/// appends the notes for the user.
+pub fn render(
+    scene: &Scene,
+    opts: &RenderOptions,
+    ctl: &RenderControl,
+    film: &mut Film,
+    filter: &Filter,
+    notes: &mut Vec<String>,
+) -> RenderStats {
+    let t0 = Instant::now();
+    let maps = PhotonMaps::global_only(scene, opts);
+    let global_secs = t0.elapsed().as_secs_f64();
+    let mut stats = maps.stats;
+
+    // 2. Camera pass and eye map.
+    let t = Instant::now();
+    let cam = &scene.camera;
+    let eye_progress = |p: Progress| {
+        (ctl.on_progress)(Progress {
+            fraction: p.fraction * EYE_SHARE,
+            ..p
+        })
+    };
+    let eye_ctl = RenderControl {
+        stop: ctl.stop,
+        on_progress: &eye_progress,
+        on_checkpoint: ctl.on_checkpoint,
+    };
+    let (st, vertices) = render_pixels_collect(
+        film,
+        filter,
+        opts,
+        &eye_ctl,
+        |sampler, raster, pixel, out: &mut Vec<EyeVertex>, st| {
+            let u_lens = sampler.next_2d();
+            let ray = cam.generate_ray(raster, u_lens).ray;
+            photon_mapping::radiance_with(scene, &maps, ray, sampler, opts, st, &mut |v, beta| {
+                out.push(EyeVertex::new(v, beta, pixel));
+                Spectrum::ZERO
+            })
+        },
+    );
+    stats += st;
+    let eye = EyeMap::new(vertices);
+    let eye_secs = t.elapsed().as_secs_f64();
+    if ctl.stop.load(Ordering::Relaxed) {
+        notes.push(
+            "photon differential splatting: stopped during the camera pass; no caustics splatted"
+                .into(),
+        );
+        return stats;
+    }
+
+    // 3. How many light paths make the requested caustic photons.
+    let t = Instant::now();
+    let target = opts.photons.caustic_photons;
+    let (paths, landings, st) = count_caustic_paths(scene, target, CAUSTIC_STREAM, opts);
+    stats.rays += st.rays;
+    let count_secs = t.elapsed().as_secs_f64();
+
+    // 4. Trace and splat.
+    let t = Instant::now();
+    let splat = SplatPass {
+        scene,
+        opts,
+        eye: &eye,
+        filter: footprint_filter(&opts.photons),
+        budget: unit_budget(opts.photons.smoothing),
+        paths,
+    };
+    let mut acc = vec![[0.0f64; 3]; eye.len()];
+    let mut totals = ChunkTotals::default();
+    let chunks = paths.div_ceil(CHUNK);
+    // Chunks traced concurrently before their splats are added (any number gives the same
+    // image: splats are added in chunk order).
+    let wave = (16 * rayon::current_num_threads()).max(1) as u64;
+    let mut last_checkpoint = Instant::now();
+    let mut stopped = false;
+    let mut c = 0u64;
+    while c < chunks {
+        let end = (c + wave).min(chunks);
+        let parts: Vec<(Vec<Splat>, ChunkTotals, RenderStats)> =
+            (c..end).into_par_iter().map(|i| splat.chunk(i)).collect();
+        for (splats, tot, st) in parts {
+            for s in &splats {
+                let a = &mut acc[s.vertex as usize];
+                for (a, v) in a.iter_mut().zip(s.radiance.c) {
+                    *a += v as f64;
+                }
+            }
+            totals += tot;
+            stats.rays += st.rays;
+            stats.nonfinite += st.nonfinite;
+        }
+        c = end;
+        (ctl.on_progress)(Progress {
+            fraction: EYE_SHARE + (1.0 - EYE_SHARE) * c as f64 / chunks.max(1) as f64,
+            samples: (c * CHUNK).min(paths),
+        });
+        if ctl.stop.load(Ordering::Relaxed) {
+            stopped = c < chunks;
+            break;
+        }
+        if let Some(iv) = opts.checkpoint_interval
+            && last_checkpoint.elapsed() >= iv
+        {
+            let mut partial = film.clone();
+            resolve(&mut partial, &eye, &acc);
+            (ctl.on_checkpoint)(&partial);
+            last_checkpoint = Instant::now();
+        }
+    }
+    let splat_secs = t.elapsed().as_secs_f64().max(1e-9);
+
+    // 5. Into the pixels.
+    resolve(film, &eye, &acc);
+
+    notes.push(format!(
+        "photon differential splatting: eye map {} vertices ({:.1} MB) in {eye_secs:.2} s; {landings} caustic photons from {paths} light paths (counted in {count_secs:.2} s){}; global map {} photons in {global_secs:.2} s",
+        eye.len(),
+        eye.memory_bytes() as f64 / 1e6,
+        if stopped {
+            format!(", stopped after {} paths", (c * CHUNK).min(paths))
+        } else {
+            String::new()
+        },
+        maps.global.len(),
+    ));
+    notes.push(format!(
+        "splatting: smoothing s = {}, {} photons splatted, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated; {} splats in {splat_secs:.2} s ({:.2} M photons/s, {:.2} M splats/s), {:.1} splats per photon",
+        opts.photons.smoothing,
+        totals.photons,
+        totals.collapsed,
+        totals.failed,
+        totals.splats,
+        totals.photons as f64 / splat_secs / 1e6,
+        totals.splats as f64 / splat_secs / 1e6,
+        totals.splats as f64 / totals.photons.max(1) as f64,
+    ));
+    if landings < target {
+        notes.push(format!(
+            "warning: only {landings} caustic photons found after {paths} light paths (requested {target}){}",
+            if landings == 0 {
+                ": no light reaches a diffuse surface through glass or mirrors"
+            } else {
+                ""
+            }
+        ));
+    }
+    if splat.budget.is_none() {
+        notes.push(format!(
+            "warning: smoothing s = {} is not a positive number; nothing splatted",
+            opts.photons.smoothing
+        ));
+    }
+    notes.extend(maps.warnings.iter().map(|w| format!("warning: {w}")));
+    stats
+}
+
+/// Adds `β · Σ splats` of every eye vertex to its pixel's camera-sample sum.
+fn resolve(film: &mut Film, eye: &EyeMap, acc: &[[f64; 3]]) {
+    for (v, a) in eye.vertices.iter().zip(acc) {
+        let px = &mut film.sum[v.pixel as usize];
+        for k in 0..3 {
+            px[k] += v.beta.c[k] as f64 * a[k];
+        }
+    }
+}
+
+/// Counts of one chunk of the splatting pass.
+#[derive(Clone, Copy, Debug, Default)]
+struct ChunkTotals {
+    photons: u64,
+    collapsed: u64,
+    failed: u64,
+    splats: u64,
+}
+
+impl std::ops::AddAssign for ChunkTotals {
+    fn add_assign(&mut self, o: Self) {
+        self.photons += o.photons;
+        self.collapsed += o.collapsed;
+        self.failed += o.failed;
+        self.splats += o.splats;
+    }
+}
+
+/// What every chunk of the splatting pass needs.
+struct SplatPass<'a> {
+    scene: &'a Scene,
+    opts: &'a RenderOptions,
+    eye: &'a EyeMap,
+    filter: FootprintFilter,
+    /// `None` for an invalid smoothing parameter (nothing is splatted).
+    budget: Option<EmissionBudget>,
+    /// Light paths `N` of the whole pass (the N of Φ = β/N and of eq. 5–6).
+    paths: u64,
+}
+
+impl SplatPass<'_> {
+    /// Traces the paths of chunk `c` (those below `paths`) as photon differentials and splats
+    /// their caustic photons.
+    fn chunk(&self, c: u64) -> (Vec<Splat>, ChunkTotals, RenderStats) {
+        let mut st = RenderStats::default();
+        let mut splats = Vec::new();
+        let mut totals = ChunkTotals::default();
+        let Some(budget) = &self.budget else {
+            return (splats, totals, st);
+        };
+        let mut landings: Vec<Landing> = Vec::new();
+        let mut sampler = Sampler::new(self.opts.sampler, self.opts.seed);
+        let end = ((c + 1) * CHUNK).min(self.paths);
+        for path in c * CHUNK..end {
+            sampler.start_path(CAUSTIC_STREAM, path);
+            trace_landings(
+                self.scene,
+                budget,
+                &mut sampler,
+                self.opts,
+                &mut landings,
+                &mut st,
+            );
+        }
+        let (photons, collapsed, failed) = photons_from_landings(&landings, self.paths);
+        totals.photons = photons.len() as u64;
+        totals.collapsed = collapsed;
+        totals.failed = failed;
+        for ph in &photons {
+            totals.splats += self.eye.splat(ph, &self.filter, &mut splats) as u64;
+        }
+        (splats, totals, st)
+    }
+}

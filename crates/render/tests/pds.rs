@@ -1,0 +1,185 @@
+//! Photon differential splatting (`pds`, seed 002 sec. 3.3): the same estimate as `pdm` (eq. 10)
+//! evaluated by splatting instead of gathering, so for the same photons both give the same
+//! image up to the order of floating-point sums; determinism; scenes without caustics; bad
+//! options.
+
+mod common;
+
+use caustica_core::image_io::Image;
+use caustica_render::{IntegratorKind, PhotonOptions, RenderControl, RenderOptions, render};
+use caustica_scene::Scene;
+use caustica_scene::loader::builtin_scene;
+
+/// A built-in scene at `w` × `h` pixels.
+fn small_builtin(name: &str, w: u32, h: u32) -> Scene {
+    let mut b = builtin_scene(name).unwrap();
+    let mut camera = b.camera().unwrap().clone();
+    (camera.width, camera.height) = (w, h);
+    b.set_camera(camera);
+    b.build().unwrap()
+}
+
+fn run(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions) -> (Image, Vec<String>) {
+    let out = render(scene, kind, opts, &RenderControl::silent());
+    (out.film.to_image(), out.notes)
+}
+
+/// Largest per-pixel difference relative to the image's peak; the two images must also be
+/// finite and not black.
+fn max_rel_diff(a: &Image, b: &Image) -> f32 {
+    let peak = a
+        .data
+        .iter()
+        .flat_map(|p| p.iter().copied())
+        .fold(0.0f32, f32::max);
+    assert!(peak > 0.0, "black image");
+    a.data
+        .iter()
+        .zip(&b.data)
+        .flat_map(|(p, q)| p.iter().zip(q).map(|(x, y)| (x - y).abs()))
+        .inspect(|d| assert!(d.is_finite(), "non-finite pixel"))
+        .fold(0.0f32, f32::max)
+        / peak
+}
+
+/// `pds` and `pdm` on the same photons (same seed, count and smoothing) and the same camera
+/// samples: equal within float noise. Sums of the same terms in a different order differ by a
+/// few ulps of the sum; 1e-5 of the peak leaves room for that and nothing else (one photon more
+/// or less changes a caustic pixel by ≫ 1e-3).
+fn assert_pds_equals_pdm(name: &str, opts: RenderOptions) {
+    let scene = small_builtin(name, 48, 48);
+    let (pdm, pdm_notes) = run(&scene, IntegratorKind::PhotonDifferentialMapping, &opts);
+    let (pds, pds_notes) = run(&scene, IntegratorKind::PhotonDifferentialSplatting, &opts);
+    let d = max_rel_diff(&pdm, &pds);
+    eprintln!("{name}: max |pds − pdm| / peak = {d:e}\n{pdm_notes:?}\n{pds_notes:?}");
+    assert!(
+        d < 1e-5,
+        "{name}: pds and pdm differ by {d:e} of the peak\n{pdm_notes:?}\n{pds_notes:?}"
+    );
+    // Both used the same photons: pdm stores what pds splats.
+    let stored = pdm_notes
+        .iter()
+        .find_map(|n| {
+            n.split(" stored")
+                .next()?
+                .rsplit(' ')
+                .next()?
+                .parse::<u64>()
+                .ok()
+        })
+        .expect("pdm reports its stored photons");
+    assert!(
+        pds_notes
+            .iter()
+            .any(|n| n.contains(&format!(", {stored} photons splatted"))),
+        "{name}: pdm stored {stored}; {pds_notes:?}"
+    );
+}
+
+fn caustics_only(photons: usize, smoothing: f32, spp: u32) -> RenderOptions {
+    RenderOptions {
+        spp,
+        seed: 5,
+        caustics_only: true,
+        max_depth: 16,
+        photons: PhotonOptions {
+            caustic_photons: photons,
+            smoothing,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+#[test]
+fn pds_equals_pdm_on_the_water_wave() {
+    // Phong-interpolated mesh, refraction; 8 eye vertices per pixel.
+    assert_pds_equals_pdm("water-wave", caustics_only(20_000, 2.0, 8));
+}
+
+#[test]
+fn pds_equals_pdm_on_the_metal_ring() {
+    // Reflection off a curved conductor mesh.
+    assert_pds_equals_pdm("metal-ring", caustics_only(20_000, 2.0, 4));
+}
+
+#[test]
+fn pds_equals_pdm_in_a_full_render_of_the_glass_sphere() {
+    // Direct light, the global map with final gathering, and caustics seen through the glass
+    // (eye vertices reached through specular chains).
+    let opts = RenderOptions {
+        spp: 2,
+        seed: 9,
+        max_depth: 16,
+        photons: PhotonOptions {
+            caustic_photons: 20_000,
+            global_photons: 5_000,
+            final_gather: 2,
+            smoothing: 2.0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    assert_pds_equals_pdm("glass-sphere", opts);
+}
+
+#[test]
+fn pds_gives_the_same_bytes_for_any_thread_count() {
+    let scene = small_builtin("water-wave", 24, 24);
+    let opts = caustics_only(5_000, 1.0, 2);
+    let bytes = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let img =
+            pool.install(|| run(&scene, IntegratorKind::PhotonDifferentialSplatting, &opts).0);
+        img.data
+            .iter()
+            .flat_map(|p| p.map(f32::to_bits))
+            .collect::<Vec<u32>>()
+    };
+    let (a, b) = (bytes(1), bytes(2));
+    assert!(a == b, "1 and 2 threads differ");
+    assert!(a.iter().any(|&x| x != 0), "black image");
+}
+
+#[test]
+fn pds_without_caustic_paths_warns_and_renders_the_rest() {
+    // A diffuse box has no specular surface: no caustic photon, the direct light still there.
+    let scene = common::diffuse_box(16, 16);
+    let opts = RenderOptions {
+        spp: 4,
+        photons: PhotonOptions {
+            caustic_photons: 1000,
+            global_photons: 1000,
+            final_gather: 1,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let (img, notes) = run(&scene, IntegratorKind::PhotonDifferentialSplatting, &opts);
+    assert!(
+        notes.iter().any(|n| n.contains("only 0 caustic photons")),
+        "{notes:?}"
+    );
+    assert!(img.data.iter().all(|p| p.iter().all(|c| c.is_finite())));
+    assert!(common::mean_lum(&img) > 0.0);
+}
+
+#[test]
+fn a_negative_normal_distance_threshold_is_rejected() {
+    for t in [-0.1, f32::NAN] {
+        let o = PhotonOptions {
+            normal_distance: t,
+            ..Default::default()
+        };
+        let e = o.validate().unwrap_err();
+        assert!(e.contains("normal-distance"), "{e}");
+    }
+    let inf = PhotonOptions {
+        normal_distance: f32::INFINITY,
+        ..Default::default()
+    };
+    assert!(inf.validate().is_ok());
+}
