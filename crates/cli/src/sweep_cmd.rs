@@ -25,7 +25,7 @@ pub struct SweepArgs {
     /// The render option to vary, by its long name: spp, seed, max-depth, sampler, time,
     /// integrator, photons, global-photons, k, global-k, max-radius, kernel, final-gather,
     /// tangent-projection, disc-test, caustics-only, estimator, bandwidth, q, alpha,
-    /// noise-scale, isotropic or smoothing.
+    /// noise-scale, isotropic, smoothing or normal-distance.
     #[arg(long, value_name = "NAME")]
     pub param: String,
     /// The values of the parameter, comma-separated (e.g. 10,50,200 or uniform,cone:1.1);
@@ -131,6 +131,7 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("noise-scale", |s| &mut s.photon.noise_scale),
     ("isotropic", |s| &mut s.photon.isotropic),
     ("smoothing", |s| &mut s.photon.smoothing),
+    ("normal-distance", |s| &mut s.photon.normal_distance),
 ];
 
 /// The setter of parameter `name` (a long option name, with or without the leading `--`).

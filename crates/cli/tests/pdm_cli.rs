@@ -1,5 +1,6 @@
-//! End-to-end checks of photon differential mapping on the command line: `--integrator pdm`,
-//! `--smoothing`, the render notes on dropped footprints, and bad input.
+//! End-to-end checks of photon differential mapping and splatting on the command line:
+//! `--integrator pdm|pds`, `--smoothing`, `--normal-distance`, the render notes on dropped
+//! footprints and splats, and bad input.
 
 mod common;
 
@@ -48,6 +49,30 @@ fn pdm_renders_a_scene_and_reports_its_footprints() {
 }
 
 #[test]
+fn pds_renders_the_same_caustic_as_pdm_and_reports_its_splats() {
+    let args = ["--smoothing", "2", "--normal-distance", "0.5"];
+    let o = render("pds.pfm", &[&["--integrator", "pds"][..], &args].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("pds 256x256"), "{}", stdout(&o));
+    let err = stderr(&o);
+    assert!(err.contains("eye map 65536 vertices"), "{err}");
+    assert!(err.contains("2000 photons splatted"), "{err}");
+    assert!(err.contains("M splats/s"), "{err}");
+    let o = render("pdm2.pfm", &[&["--integrator", "pdm"][..], &args].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let a = caustica_core::image_io::Image::read(&tmp("pds.pfm")).unwrap();
+    let b = caustica_core::image_io::Image::read(&tmp("pdm2.pfm")).unwrap();
+    let sum = |i: &caustica_core::image_io::Image| -> f64 {
+        i.data.iter().flatten().map(|&v| v as f64).sum()
+    };
+    let (sa, sb) = (sum(&a), sum(&b));
+    assert!(
+        sa > 0.0 && (sa / sb - 1.0).abs() < 1e-5,
+        "pds {sa} vs pdm {sb}"
+    );
+}
+
+#[test]
 fn bad_pdm_parameters_are_rejected() {
     for (args, must) in [
         (vec!["--integrator", "pdm", "--smoothing", "0"], "smoothing"),
@@ -61,6 +86,15 @@ fn bad_pdm_parameters_are_rejected() {
         ),
         (
             vec!["--integrator", "pdm", "--estimator", "knn"],
+            "--integrator pm",
+        ),
+        (vec!["--integrator", "pds", "--smoothing", "0"], "smoothing"),
+        (
+            vec!["--integrator", "pds", "--normal-distance", "-1"],
+            "normal-distance",
+        ),
+        (
+            vec!["--integrator", "pds", "--estimator", "diffusion"],
             "--integrator pm",
         ),
     ] {

@@ -185,7 +185,7 @@ impl PhotonOptions {
         positive("the diffusivity coefficient q", self.diffusion.q)?;
         positive("alpha", self.diffusion.alpha)?;
         positive("the smoothing parameter s", self.smoothing)?;
-        if !(self.normal_distance >= 0.0) {
+        if self.normal_distance.is_nan() || self.normal_distance < 0.0 {
             return Err(format!(
                 "the normal-distance threshold must be ≥ 0 (a fraction of the footprint's gather radius; inf disables it), got {}",
                 self.normal_distance
