@@ -297,6 +297,12 @@ impl KdTree {
         }
     }
 
+    /// The original indices of the stored points in tree order: contiguous runs of it are
+    /// (nearly) subtrees, so spatially compact — a locality-preserving ordering of the points.
+    pub fn indices_in_tree_order(&self) -> impl Iterator<Item = u32> + '_ {
+        self.entries.iter().map(|e| e.index)
+    }
+
     /// Heap memory held by the tree plus the struct itself (bytes): 17 bytes per point.
     pub fn memory_bytes(&self) -> usize {
         std::mem::size_of::<Self>()

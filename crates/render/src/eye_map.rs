@@ -9,6 +9,13 @@
 //! receives `f_r(x, ω_p, ω) π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr) in its own accumulator.
 //! The pixel receives `β · Σ` at the end, exactly the term `pdm` adds to that camera sample
 //! (the eye vertices are those of `pdm`'s camera pass: same sampler, same paths).
+//!
+//! **Tiles.** The vertices are sorted into a locality-preserving order (k-d tree order) and cut
+//! into tiles of [`TILE`] vertices, each with its own bounding box and k-d tree. Splatting runs
+//! in parallel over tiles: a tile takes the photons of a batch in order, skips those whose
+//! gather sphere misses its box and adds the others to its own accumulators. No splat lists,
+//! no shared writes, and every vertex sums its photons in photon order, so the image does not
+//! depend on the thread count and memory does not depend on how many vertices a photon covers.
 
 use crate::photon_differential::{DiffPhoton, FootprintFilter};
 use crate::surface::Vertex;
@@ -51,24 +58,31 @@ impl EyeVertex {
     }
 }
 
-/// One splat: reflected radiance (W/m²/sr, before the throughput β) for eye vertex `vertex`.
-#[derive(Clone, Copy, Debug)]
-pub struct Splat {
-    pub vertex: u32,
-    pub radiance: Spectrum,
-}
+/// Eye vertices per tile.
+pub const TILE: usize = 1 << 13;
 
-/// The eye vertices of an image and a k-d tree over their positions.
-pub struct EyeMap {
+/// A spatially compact group of eye vertices with its bounding box and k-d tree.
+pub struct EyeTile {
     pub vertices: Vec<EyeVertex>,
     tree: KdTree,
+    lo: Vec3,
+    hi: Vec3,
 }
 
-impl EyeMap {
-    pub fn new(vertices: Vec<EyeVertex>) -> Self {
+impl EyeTile {
+    fn new(vertices: Vec<EyeVertex>) -> Self {
         let positions: Vec<Vec3> = vertices.iter().map(|v| v.p).collect();
-        let tree = KdTree::build(&positions);
-        Self { vertices, tree }
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in positions.iter().filter(|p| p.is_finite()) {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        Self {
+            tree: KdTree::build(&positions),
+            vertices,
+            lo,
+            hi,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -79,21 +93,29 @@ impl EyeMap {
         self.vertices.is_empty()
     }
 
-    /// Bytes held by the vertices and the tree.
-    pub fn memory_bytes(&self) -> usize {
-        self.vertices.capacity() * std::mem::size_of::<EyeVertex>() + self.tree.memory_bytes()
-    }
-
-    /// Splats photon `ph`: pushes one [`Splat`] per eye vertex its footprint reaches (seed 002
-    /// eq. 10–12 with `filter`; the range query uses the footprint's gather radius, its true
-    /// semi-major axis). Returns the number of splats pushed.
-    pub fn splat(&self, ph: &DiffPhoton, filter: &FootprintFilter, out: &mut Vec<Splat>) -> usize {
-        let before = out.len();
+    /// Splats photon `ph` onto this tile: calls `add(i, L)` with the reflected radiance
+    /// `L = f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, before the throughput β; seed 002
+    /// eq. 10–12 with `filter`) for every vertex `i` of the tile its footprint reaches. The range
+    /// query uses the footprint's gather radius, its true semi-major axis. Returns the number of
+    /// vertices reached.
+    pub fn splat(
+        &self,
+        ph: &DiffPhoton,
+        filter: &FootprintFilter,
+        mut add: impl FnMut(usize, Spectrum),
+    ) -> usize {
         let r = ph.footprint.gather_radius();
+        let c = ph.footprint.center();
         if !(r.is_finite() && r > 0.0) || self.vertices.is_empty() {
             return 0;
         }
-        self.tree.range(ph.footprint.center(), r * r, |i, _| {
+        // Sphere–box overlap.
+        let d = (self.lo - c).max(c - self.hi).max(Vec3::ZERO);
+        if d.length_squared() >= r * r {
+            return 0;
+        }
+        let mut n = 0;
+        self.tree.range(c, r * r, |i, _| {
             let v = &self.vertices[i as usize];
             let Some(w) = filter.weight(ph, v.p, v.n) else {
                 return;
@@ -103,13 +125,59 @@ impl EyeMap {
                 .eval(v.wo, v.frame.to_local(ph.wi), TransportMode::Radiance);
             let l = f * ph.flux * w;
             if l.is_finite() && !l.is_black() {
-                out.push(Splat {
-                    vertex: i,
-                    radiance: l,
-                });
+                add(i as usize, l);
+                n += 1;
             }
         });
-        out.len() - before
+        n
+    }
+}
+
+/// The eye vertices of an image in tiles (see the module docs).
+pub struct EyeMap {
+    pub tiles: Vec<EyeTile>,
+}
+
+impl EyeMap {
+    /// The map of `vertices` (any order; the map reorders them).
+    pub fn new(vertices: Vec<EyeVertex>) -> Self {
+        Self::with_tile_size(vertices, TILE)
+    }
+
+    /// [`EyeMap::new`] with `tile` vertices per tile (≥ 1).
+    pub fn with_tile_size(vertices: Vec<EyeVertex>, tile: usize) -> Self {
+        let positions: Vec<Vec3> = vertices.iter().map(|v| v.p).collect();
+        let order: Vec<u32> = KdTree::build(&positions).indices_in_tree_order().collect();
+        drop(positions);
+        // Vertices with a non-finite position are not in the tree and can receive nothing.
+        let sorted: Vec<EyeVertex> = order.iter().map(|&i| vertices[i as usize]).collect();
+        drop(vertices);
+        let tiles = sorted
+            .chunks(tile.max(1))
+            .map(|c| EyeTile::new(c.to_vec()))
+            .collect();
+        Self { tiles }
+    }
+
+    /// Number of eye vertices.
+    pub fn len(&self) -> usize {
+        self.tiles.iter().map(EyeTile::len).sum()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Bytes held by the vertices and the trees.
+    pub fn memory_bytes(&self) -> usize {
+        self.tiles
+            .iter()
+            .map(|t| {
+                std::mem::size_of::<EyeTile>()
+                    + t.vertices.capacity() * std::mem::size_of::<EyeVertex>()
+                    + t.tree.memory_bytes()
+            })
+            .sum()
     }
 }
 
@@ -155,16 +223,25 @@ mod tests {
         }
     }
 
-    fn splats(map: &EyeMap, filter: &FootprintFilter) -> Vec<Splat> {
+    /// (pixel, radiance) of every vertex `photon()` reaches, by pixel; tiles of two vertices so
+    /// that the tile culling is exercised too.
+    fn splats(map: &EyeMap, filter: &FootprintFilter) -> Vec<(u32, Spectrum)> {
         let mut out = Vec::new();
-        map.splat(&photon(), filter, &mut out);
-        out.sort_by_key(|s| s.vertex);
+        for t in &map.tiles {
+            let n = t.splat(&photon(), filter, |i, l| out.push((t.vertices[i].pixel, l)));
+            assert!(n <= t.len());
+        }
+        out.sort_by_key(|s| s.0);
         out
+    }
+
+    fn tiled(vertices: Vec<EyeVertex>) -> EyeMap {
+        EyeMap::with_tile_size(vertices, 2)
     }
 
     #[test]
     fn a_splat_reaches_exactly_the_vertices_inside_the_ellipse() {
-        let map = EyeMap::new(vec![
+        let map = tiled(vec![
             vertex(Vec3::ZERO, Vec3::Y, 0),                   // centre
             vertex(Vec3::new(0.15, 0.0, 0.0), Vec3::Y, 1),    // inside, along the long axis
             vertex(Vec3::new(0.0, 0.0, 0.06), Vec3::Y, 2),    // outside, across
@@ -173,15 +250,15 @@ mod tests {
         ]);
         let f = FootprintFilter::default();
         let s = splats(&map, &f);
-        let ids: Vec<u32> = s.iter().map(|s| s.vertex).collect();
+        let ids: Vec<u32> = s.iter().map(|s| s.0).collect();
         assert_eq!(ids, vec![0, 1]);
         // Eq. 10–12 at the centre: f_r Φ π K(0) / A, K(0) = 3/π (eq. 11), A = π · 0.2 · 0.05.
         let area = PI * 0.2 * 0.05;
         let expected = ALBEDO / PI * 2.0 * 3.0 / area;
-        let got = s[0].radiance.c[0];
+        let got = s[0].1.c[0];
         assert!((got / expected - 1.0).abs() < 1e-5, "{got} vs {expected}");
         // At 3/4 of the long semi-axis: K ∝ (1 − 0.75²)².
-        let ratio = s[1].radiance.c[0] / got;
+        let ratio = s[1].1.c[0] / got;
         let k = (1.0f32 - 0.75 * 0.75).powi(2);
         assert!((ratio / k - 1.0).abs() < 1e-4, "{ratio} vs {k}");
         // The Epanechnikov kernel: 2/π at the centre.
@@ -192,7 +269,7 @@ mod tests {
                 ..f
             },
         );
-        let r = e[0].radiance.c[0] / got;
+        let r = e[0].1.c[0] / got;
         assert!((r - 2.0 / 3.0).abs() < 1e-5, "{r}");
     }
 
@@ -200,7 +277,7 @@ mod tests {
     fn the_normal_distance_threshold_keeps_splats_off_nearby_surfaces() {
         // A vertex 0.04 m above the floor (a step), inside the footprint's projection: the gather
         // radius is 0.2 m, so it is reached with the threshold off, not with 0.1 · 0.2 = 0.02 m.
-        let map = EyeMap::new(vec![vertex(Vec3::new(0.05, 0.04, 0.0), Vec3::Y, 0)]);
+        let map = tiled(vec![vertex(Vec3::new(0.05, 0.04, 0.0), Vec3::Y, 0)]);
         let off = FootprintFilter {
             normal_distance: f32::INFINITY,
             ..Default::default()
@@ -212,13 +289,13 @@ mod tests {
         assert_eq!(splats(&map, &off).len(), 1);
         assert_eq!(splats(&map, &on).len(), 0);
         // A wall (normal +x) at the centre: rejected by the normal test whatever the threshold.
-        let wall = EyeMap::new(vec![vertex(Vec3::ZERO, Vec3::X, 0)]);
+        let wall = tiled(vec![vertex(Vec3::ZERO, Vec3::X, 0)]);
         assert_eq!(splats(&wall, &off).len(), 0);
     }
 
     #[test]
     fn an_empty_map_or_a_degenerate_radius_splats_nothing() {
-        let empty = EyeMap::new(Vec::new());
+        let empty = tiled(Vec::new());
         assert_eq!(splats(&empty, &FootprintFilter::default()).len(), 0);
         assert!(empty.is_empty());
     }

@@ -14,20 +14,21 @@
 //!    differentials ([`count_caustic_paths`]): the footprints scale with `1/√N` (eq. 5–6), so
 //!    `N` must be known before the first splat. These are the paths of `pdm`, so `pdm` and
 //!    `pds` use the same photons.
-//! 4. Paths `0..N` traced as photon differentials in fixed chunks; each chunk's photons
-//!    splatted (in parallel), the splats added to the eye vertices' accumulators in chunk
-//!    order, so the image does not depend on the thread count.
+//! 4. Paths `0..N` traced as photon differentials in batches of fixed chunks (in parallel);
+//!    each batch's photons splatted in path order by the eye map's tiles in parallel, each tile
+//!    adding to its own vertices' accumulators ([`crate::eye_map`]), so the image does not
+//!    depend on the thread count.
 //! 5. Each camera sample's pixel receives `β · Σ splats` of its vertex.
 
 use super::photon_mapping::{self, CAUSTIC_STREAM, PhotonMaps, footprint_filter};
-use crate::eye_map::{EyeMap, EyeVertex, Splat};
+use crate::eye_map::{EyeMap, EyeVertex};
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::image_loop::render_pixels_collect;
 use crate::options::{Progress, RenderControl, RenderOptions};
 use crate::photon_differential::{
-    FootprintFilter, Landing, count_caustic_paths, photons_from_landings, trace_landings,
-    unit_budget,
+    DiffPhoton, FootprintFilter, Landing, count_caustic_paths, photons_from_landings,
+    trace_landings, unit_budget,
 };
 use crate::stats::RenderStats;
 use caustica_core::Spectrum;
@@ -114,30 +115,28 @@ pub fn render(
         budget: unit_budget(opts.photons.smoothing),
         paths,
     };
-    let mut acc = vec![[0.0f64; 3]; eye.len()];
+    // One accumulator per eye vertex, per tile (W/m²/sr before the throughput β).
+    let mut acc: Vec<Vec<[f64; 3]>> = eye.tiles.iter().map(|t| vec![[0.0; 3]; t.len()]).collect();
     let mut totals = ChunkTotals::default();
     let chunks = paths.div_ceil(CHUNK);
-    // Chunks traced concurrently before their splats are added (any number gives the same
-    // image: splats are added in chunk order).
-    let wave = (16 * rayon::current_num_threads()).max(1) as u64;
+    // Chunks traced concurrently per batch (any number gives the same image: each vertex sums
+    // its photons in path order).
+    let wave = (4 * rayon::current_num_threads()).max(1) as u64;
     let mut last_checkpoint = Instant::now();
     let mut stopped = false;
     let mut c = 0u64;
     while c < chunks {
         let end = (c + wave).min(chunks);
-        let parts: Vec<(Vec<Splat>, ChunkTotals, RenderStats)> =
-            (c..end).into_par_iter().map(|i| splat.chunk(i)).collect();
-        for (splats, tot, st) in parts {
-            for s in &splats {
-                let a = &mut acc[s.vertex as usize];
-                for (a, v) in a.iter_mut().zip(s.radiance.c) {
-                    *a += v as f64;
-                }
-            }
+        let parts: Vec<(Vec<DiffPhoton>, ChunkTotals, RenderStats)> =
+            (c..end).into_par_iter().map(|i| splat.trace(i)).collect();
+        let mut batch = Vec::new();
+        for (photons, tot, st) in parts {
+            batch.extend(photons);
             totals += tot;
             stats.rays += st.rays;
             stats.nonfinite += st.nonfinite;
         }
+        totals.splats += splat.splat(&batch, &mut acc);
         c = end;
         (ctl.on_progress)(Progress {
             fraction: EYE_SHARE + (1.0 - EYE_SHARE) * c as f64 / chunks.max(1) as f64,
@@ -204,11 +203,13 @@ pub fn render(
 }
 
 /// Adds `β · Σ splats` of every eye vertex to its pixel's camera-sample sum.
-fn resolve(film: &mut Film, eye: &EyeMap, acc: &[[f64; 3]]) {
-    for (v, a) in eye.vertices.iter().zip(acc) {
-        let px = &mut film.sum[v.pixel as usize];
-        for k in 0..3 {
-            px[k] += v.beta.c[k] as f64 * a[k];
+fn resolve(film: &mut Film, eye: &EyeMap, acc: &[Vec<[f64; 3]>]) {
+    for (tile, acc) in eye.tiles.iter().zip(acc) {
+        for (v, a) in tile.vertices.iter().zip(acc) {
+            let px = &mut film.sum[v.pixel as usize];
+            for k in 0..3 {
+                px[k] += v.beta.c[k] as f64 * a[k];
+            }
         }
     }
 }
@@ -244,14 +245,13 @@ struct SplatPass<'a> {
 }
 
 impl SplatPass<'_> {
-    /// Traces the paths of chunk `c` (those below `paths`) as photon differentials and splats
-    /// their caustic photons.
-    fn chunk(&self, c: u64) -> (Vec<Splat>, ChunkTotals, RenderStats) {
+    /// Traces the paths of chunk `c` (those below `paths`) as photon differentials; returns
+    /// their caustic photons in path order.
+    fn trace(&self, c: u64) -> (Vec<DiffPhoton>, ChunkTotals, RenderStats) {
         let mut st = RenderStats::default();
-        let mut splats = Vec::new();
         let mut totals = ChunkTotals::default();
         let Some(budget) = &self.budget else {
-            return (splats, totals, st);
+            return (Vec::new(), totals, st);
         };
         let mut landings: Vec<Landing> = Vec::new();
         let mut sampler = Sampler::new(self.opts.sampler, self.opts.seed);
@@ -271,9 +271,27 @@ impl SplatPass<'_> {
         totals.photons = photons.len() as u64;
         totals.collapsed = collapsed;
         totals.failed = failed;
-        for ph in &photons {
-            totals.splats += self.eye.splat(ph, &self.filter, &mut splats) as u64;
-        }
-        (splats, totals, st)
+        (photons, totals, st)
+    }
+
+    /// Splats `photons` in order onto every tile (tiles in parallel, each into its own
+    /// accumulators `acc[tile]`); returns the number of splats.
+    fn splat(&self, photons: &[DiffPhoton], acc: &mut [Vec<[f64; 3]>]) -> u64 {
+        self.eye
+            .tiles
+            .par_iter()
+            .zip(acc.par_iter_mut())
+            .map(|(tile, acc)| {
+                let mut n = 0u64;
+                for ph in photons {
+                    n += tile.splat(ph, &self.filter, |i, l| {
+                        for (a, v) in acc[i].iter_mut().zip(l.c) {
+                            *a += v as f64;
+                        }
+                    }) as u64;
+                }
+                n
+            })
+            .sum()
     }
 }
