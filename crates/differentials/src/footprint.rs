@@ -90,6 +90,8 @@ pub struct Footprint {
     dv: Vec3,
     rows: [Vec3; 2],
     area: f32,
+    /// Semi-major axis (m), cached: every splat and gather tests against it.
+    gather_radius: f32,
 }
 
 impl Footprint {
@@ -136,14 +138,17 @@ impl Footprint {
         if !(area > 0.0 && area.is_finite() && rows[0].is_finite() && rows[1].is_finite()) {
             return Err(DiffError::NonFinite);
         }
-        Ok(Self {
+        let mut fp = Self {
             center,
             normal: n,
             du,
             dv,
             rows,
             area,
-        })
+            gather_radius: 0.0,
+        };
+        fp.gather_radius = fp.semi_axis_lengths().0;
+        Ok(fp)
     }
 
     /// The footprint of a photon differential `ray` (parameters as in [`crate::emission`]:
@@ -279,7 +284,7 @@ impl Footprint {
     /// ([`Footprint::seed_gather_radius`]) when the vectors are orthogonal and exceeds it when
     /// they are skewed (see the module docs).
     pub fn gather_radius(&self) -> f32 {
-        self.semi_axis_lengths().0
+        self.gather_radius
     }
 
     /// `r_max = ½ max(|D_u x_p|, |D_v x_p|)` as printed in seed 002 sec. 3.3 (and seed 000

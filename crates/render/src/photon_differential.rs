@@ -454,14 +454,17 @@ impl FootprintFilter {
     /// like the disc test of `pm`).
     #[inline]
     pub fn weight(&self, ph: &DiffPhoton, x: Vec3, n: Vec3) -> Option<f32> {
-        if ph.wi.dot(n) <= 0.0 || ph.n.dot(n) < NORMAL_COS {
+        let fp = &ph.footprint;
+        // Inside the ellipse: |M_p (x − x_p)| < 1 (eq. 12), the cheapest and most selective test.
+        let u2 = fp.to_filter(x).length_squared();
+        if u2.is_nan() || u2 >= 1.0 || ph.wi.dot(n) <= 0.0 || ph.n.dot(n) < NORMAL_COS {
             return None;
         }
-        let fp = &ph.footprint;
         if (x - fp.center()).dot(fp.normal()).abs() > self.normal_distance * fp.gather_radius() {
             return None;
         }
-        let w = fp.irradiance_at_with(x, 1.0, |d| self.kernel.eval(d * d, Dim::Two));
+        // π K(|M_p (x − x_p)|) / A_p, eq. 10 per W (= `Footprint::irradiance_at_with`).
+        let w = std::f32::consts::PI * self.kernel.eval(u2, Dim::Two) / fp.area();
         (w > 0.0 && w.is_finite()).then_some(w)
     }
 }

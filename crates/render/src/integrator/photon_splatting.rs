@@ -39,7 +39,7 @@ use rayon::prelude::*;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-/// Light paths per chunk of the splatting pass (the order splats are added in is by chunk).
+/// Light paths per chunk of the splatting pass (traced in parallel; photons kept in path order).
 const CHUNK: u64 = 1 << 12;
 /// Share of the progress bar given to the camera pass (the photon pass has the rest).
 const EYE_SHARE: f64 = 0.5;
