@@ -297,6 +297,46 @@ impl KdTree {
         }
     }
 
+    /// Calls `f(index)` for every point inside the axis-aligned box `[lo, hi]` (bounds
+    /// included), in tree order.
+    pub fn range_box(&self, lo: Vec3, hi: Vec3, mut f: impl FnMut(u32)) {
+        if self.entries.is_empty() || !(lo.is_finite() && hi.is_finite()) {
+            return;
+        }
+        self.box_rec(
+            0,
+            self.entries.len(),
+            &lo.to_array(),
+            &hi.to_array(),
+            &mut f,
+        );
+    }
+
+    fn box_rec(&self, lo: usize, hi: usize, bl: &[f32; 3], bh: &[f32; 3], f: &mut impl FnMut(u32)) {
+        let inside = |p: &[f32; 3]| (0..3).all(|d| p[d] >= bl[d] && p[d] <= bh[d]);
+        if hi - lo <= LEAF_SIZE {
+            for e in &self.entries[lo..hi] {
+                if inside(&e.p) {
+                    f(e.index);
+                }
+            }
+            return;
+        }
+        let m = lo + (hi - lo) / 2;
+        let e = self.entries[m];
+        let d = self.axis[m] as usize;
+        // Left child: coordinates <= the split value; right child: >= it.
+        if bl[d] <= e.p[d] {
+            self.box_rec(lo, m, bl, bh, f);
+        }
+        if inside(&e.p) {
+            f(e.index);
+        }
+        if bh[d] >= e.p[d] {
+            self.box_rec(m + 1, hi, bl, bh, f);
+        }
+    }
+
     /// The original indices of the stored points in tree order: contiguous runs of it are
     /// (nearly) subtrees, so spatially compact — a locality-preserving ordering of the points.
     pub fn indices_in_tree_order(&self) -> impl Iterator<Item = u32> + '_ {
@@ -314,6 +354,37 @@ impl KdTree {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn box_queries_match_brute_force() {
+        let mut rng = caustica_core::sampling::Pcg32::new(11, 3);
+        let pts: Vec<Vec3> = (0..5000)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32() * 0.1))
+            .collect();
+        let tree = KdTree::build(&pts);
+        for _ in 0..200 {
+            let c = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32() * 0.1);
+            let h = Vec3::new(
+                rng.next_f32() * 0.2,
+                rng.next_f32() * 0.05,
+                rng.next_f32() * 0.02,
+            );
+            let (lo, hi) = (c - h, c + h);
+            let mut got = Vec::new();
+            tree.range_box(lo, hi, |i| got.push(i));
+            got.sort_unstable();
+            let want: Vec<u32> = (0..pts.len() as u32)
+                .filter(|&i| {
+                    let p = pts[i as usize];
+                    p.cmpge(lo).all() && p.cmple(hi).all()
+                })
+                .collect();
+            assert_eq!(got, want);
+        }
+        let mut none = 0;
+        tree.range_box(Vec3::splat(2.0), Vec3::splat(3.0), |_| none += 1);
+        assert_eq!(none, 0);
+    }
     use caustica_core::sampling::Pcg32;
 
     fn uniform_points(n: usize, seed: u64) -> Vec<Vec3> {

@@ -95,27 +95,31 @@ impl EyeTile {
 
     /// Splats photon `ph` onto this tile: calls `add(i, L)` with the reflected radiance
     /// `L = f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, before the throughput β; seed 002
-    /// eq. 10–12 with `filter`) for every vertex `i` of the tile its footprint reaches. The range
-    /// query uses the footprint's gather radius, its true semi-major axis. Returns the number of
-    /// vertices reached.
+    /// eq. 10–12 with `filter`) for every vertex `i` of the tile its footprint reaches, found by a
+    /// box query over the ellipse's bounding box. Returns the number of vertices reached.
     pub fn splat(
         &self,
         ph: &DiffPhoton,
         filter: &FootprintFilter,
         mut add: impl FnMut(usize, Spectrum),
     ) -> usize {
-        let r = ph.footprint.gather_radius();
-        let c = ph.footprint.center();
-        if !(r.is_finite() && r > 0.0) || self.vertices.is_empty() {
+        let fp = &ph.footprint;
+        let c = fp.center();
+        // The ellipse's bounding box: x_p ± √(u² + v²) per axis for conjugate semi-diameters
+        // u = ½ D_u x, v = ½ D_v x (tighter than the sphere of the gather radius for elongated
+        // footprints), widened by the normal-distance threshold along n_p.
+        let [u, v] = fp.conjugate_semi_diameters();
+        let slab = fp.normal().abs() * (filter.normal_distance.min(1.0) * fp.gather_radius());
+        let half = (u * u + v * v).sqrt() + slab;
+        if !half.is_finite() || self.vertices.is_empty() {
             return 0;
         }
-        // Sphere–box overlap.
-        let d = (self.lo - c).max(c - self.hi).max(Vec3::ZERO);
-        if d.length_squared() >= r * r {
+        let (lo, hi) = (c - half, c + half);
+        if lo.cmpgt(self.hi).any() || hi.cmplt(self.lo).any() {
             return 0;
         }
         let mut n = 0;
-        self.tree.range(c, r * r, |i, _| {
+        self.tree.range_box(lo, hi, |i| {
             let v = &self.vertices[i as usize];
             let Some(w) = filter.weight(ph, v.p, v.n) else {
                 return;

@@ -175,7 +175,7 @@ pub fn trace_photon_differentials(
             )),
         ),
     };
-    let (landings, paths, stats) = trace_paths(target, stream, opts, |sampler, out, st| {
+    let (landings, paths, stats) = trace_paths(target, stream, opts, |_, sampler, out, st| {
         trace_landings(scene, &budget, sampler, opts, out, st)
     });
     let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
@@ -239,34 +239,76 @@ fn is_caustic_landing(lv: &LightVertex) -> bool {
     lv.v.bsdf.flags().is_smooth() && lv.after_specular_chain && lv.beta.is_finite()
 }
 
-/// The number `N` of light paths [`trace_photon_differentials`] emits to find `target`
-/// caustic landings with this `stream`, found without differentials (plain light paths, no
-/// storage: photon differential splatting must know `N` before the first splat, since the
-/// footprints scale with `1/√N`, eq. 5–6). Returns `N`, the landings found in them (`target`
-/// unless the scene yields fewer) and the statistics.
+/// The light paths [`trace_photon_differentials`] emits to find `target` caustic landings
+/// with a given stream, found without differentials (see [`count_caustic_paths`]).
+pub struct CausticPaths {
+    /// `N`: the paths emitted (the N of Φ = β/N and of eq. 5–6).
+    pub paths: u64,
+    /// Caustic landings in them (`target` unless the scene yields fewer).
+    pub landings: usize,
+    /// The indices (ascending) of the paths with at least one landing, when recorded.
+    pub landing_paths: Option<Vec<u64>>,
+    pub stats: RenderStats,
+}
+
+/// Photon counts up to which photon differential splatting records the landing paths (8 bytes
+/// per landing: ≤ 16 MB) so as to re-trace only those; above it, memory stays bounded and
+/// every path is traced twice.
+pub const RECORD_LANDING_PATHS: usize = 1 << 21;
+
+/// The light paths [`trace_photon_differentials`] emits to find `target` caustic landings with
+/// this `stream`, traced without differentials and without storing photons: photon
+/// differential splatting must know their number `N` before the first splat, since the
+/// footprints scale with `1/√N` (eq. 5–6). With `record` it also returns which paths landed,
+/// so that only those need tracing again (8 bytes per landing).
 pub fn count_caustic_paths(
     scene: &Scene,
     target: usize,
     stream: u64,
     opts: &RenderOptions,
-) -> (u64, usize, RenderStats) {
-    struct Count<'a>(&'a mut Vec<()>);
-    impl LightVisitor for Count<'_> {
+    record: bool,
+) -> CausticPaths {
+    /// Pushes `record` once per caustic landing of the path.
+    struct Count<'a, P> {
+        out: &'a mut Vec<P>,
+        record: P,
+    }
+    impl<P: Copy> LightVisitor for Count<'_, P> {
         fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
             if let LightEvent::Vertex(lv) = event
                 && is_caustic_landing(lv)
             {
-                self.0.push(());
+                self.out.push(self.record);
             }
         }
         fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
             sc.sample.flags.is_delta() // as DiffVisitor::scatter
         }
     }
-    let (found, paths, stats) = trace_paths(target, stream, opts, |sampler, out, st| {
-        walk_light_path_with(scene, sampler, opts, st, &mut Count(out))
+    if record {
+        let (mut found, paths, stats) =
+            trace_paths(target, stream, opts, |path, sampler, out, st| {
+                walk_light_path_with(scene, sampler, opts, st, &mut Count { out, record: path })
+            });
+        let landings = found.len();
+        found.dedup();
+        return CausticPaths {
+            paths,
+            landings,
+            landing_paths: Some(found),
+            stats,
+        };
+    }
+    // Too many to record: count only (a zero-sized record per landing).
+    let (found, paths, stats) = trace_paths(target, stream, opts, |_, sampler, out, st| {
+        walk_light_path_with(scene, sampler, opts, st, &mut Count { out, record: () })
     });
-    (paths, found.len(), stats)
+    CausticPaths {
+        paths,
+        landings: found.len(),
+        landing_paths: None,
+        stats,
+    }
 }
 
 /// Per-path state: the differential along the current ray and at the current hit.

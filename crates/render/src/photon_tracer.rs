@@ -76,7 +76,7 @@ pub fn trace_photons(
     stream: u64,
     opts: &RenderOptions,
 ) -> TracedPhotons {
-    let (mut photons, paths, stats) = trace_paths(target, stream, opts, |sampler, out, st| {
+    let (mut photons, paths, stats) = trace_paths(target, stream, opts, |_, sampler, out, st| {
         trace_one(scene, sampler, opts, kind, out, st)
     });
     let inv_n = 1.0 / paths.max(1) as f32;
@@ -114,14 +114,15 @@ pub fn trace_photons(
 
 /// The chunked, deterministic path loop behind [`trace_photons`] (and the photon-differential
 /// tracer): emits numbered light paths (path `i` seeds the sampler with `(stream, i)`) in fixed
-/// chunks of [`CHUNK`], `trace_one` storing each path's records, until `target` records exist;
+/// chunks of [`CHUNK`], `trace_one(path, sampler, records, stats)` storing each path's records,
+/// until `target` records exist;
 /// cut at the path where the count reaches `target`. Returns the records in path order (not
 /// divided by the path count), the number of paths and the statistics.
 pub(crate) fn trace_paths<P: Clone + Send>(
     target: usize,
     stream: u64,
     opts: &RenderOptions,
-    trace_one: impl Fn(&mut Sampler, &mut Vec<P>, &mut RenderStats) + Sync,
+    trace_one: impl Fn(u64, &mut Sampler, &mut Vec<P>, &mut RenderStats) + Sync,
 ) -> (Vec<P>, u64, RenderStats) {
     let mut photons: Vec<P> = Vec::new();
     let mut stats = RenderStats::default();
@@ -156,7 +157,7 @@ pub(crate) fn trace_paths<P: Clone + Send>(
                 let mut sampler = Sampler::new(opts.sampler, opts.seed);
                 for path in c * CHUNK..(c + 1) * CHUNK {
                     sampler.start_path(stream, path);
-                    trace_one(&mut sampler, &mut out, &mut st);
+                    trace_one(path, &mut sampler, &mut out, &mut st);
                     counts.push(out.len() as u32);
                 }
                 st.samples += CHUNK;
