@@ -350,7 +350,10 @@ md = [
     "light paths per pixel. Metrics over the whole image (`caustica sweep`): RMSE on linear "
     "radiance, SSIM on the display image. pm is swept over k, pds over the smoothing parameter s, "
     "dpm over q at each bandwidth h (the fixed-bandwidth rows q = 1e9 are left out). "
-    "Render time is the sweep's time for the whole render in seconds.",
+    "Render time is the sweep's time for the whole render in seconds, 2 cores of a shared machine; "
+    "sweeps are reused between runs (pm at up to 640 000 photons and dpm come from "
+    "`bench/case_study_dpm.sh`), so times from different runs saw different machine load "
+    "(e.g. metal-ring pm at 640 000 photons, 30 s, was measured while other jobs ran).",
     "",
 ]
 optima = []

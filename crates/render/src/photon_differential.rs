@@ -44,11 +44,13 @@
 //! `L(x, ω) = Σ_p f_r(x, ω_p, ω) π K(|M_p (x − x_p)|) Φ_p / A_p` (eq. 10–12, Silverman's kernel,
 //! [`Footprint::irradiance_at`]), over the footprints that contain `x`, arrived on the query's
 //! side, lie on a surface whose normal is within ~25° of the query's (cos ≥ 0.9) and whose
-//! tangent plane passes within a quarter of the footprint's gather radius of `x` (the filter of
-//! eq. 12 ignores the normal offset; these two tests keep footprints from leaking onto nearby
-//! surfaces of another orientation, like the disc test of `pm`). Footprints are bucketed by
-//! gather radius (powers of two) with one k-d tree per bucket, queried within that bucket's
-//! largest radius, so a few huge footprints do not slow every query.
+//! tangent plane passes within the normal-distance threshold (seed 002 sec. 3.3; by default a
+//! quarter of the footprint's gather radius) of `x` (the filter of eq. 12 ignores the normal
+//! offset; these two tests keep footprints from leaking onto nearby surfaces of another
+//! orientation, like the disc test of `pm`): [`FootprintFilter::weight`], the one rule of `pdm`
+//! and `pds`. `pdm` gathers: footprints are bucketed by gather radius (powers of two) with one
+//! k-d tree per bucket, queried within that bucket's largest radius, so a few huge footprints do
+//! not slow every query. `pds` splats the same terms ([`crate::eye_map`]).
 
 use crate::light_path::{
     LightEvent, LightScatter, LightVertex, LightVisitor, walk_light_path_with,
