@@ -5,6 +5,10 @@
 //!   and the caustic map (L S+ D) of the glass sphere.
 //! * `estimate/cornell-box`: radiance estimates (eq. 3.2, k = 50, Epanechnikov) per second on a
 //!   global map of 10⁶ photons at the floor points seen by the camera.
+//! * `differentials/<scene>`: the same caustic light paths traced as plain photons
+//!   (`trace_photons`) and as photon differentials with their footprints
+//!   (`trace_photon_differentials`), no map built: the cost of carrying the differentials
+//!   (issue 5's target: ≤ 1.3×).
 //! * The memory per stored photon (photon record + k-d tree) is printed.
 //!
 //! Run: `cargo bench -p caustica-render --bench photons`.
@@ -13,6 +17,7 @@ use std::hint::black_box;
 
 use caustica_core::Vec2;
 use caustica_render::RenderOptions;
+use caustica_render::photon_differential::trace_photon_differentials;
 use caustica_render::photon_map::{EstimateOptions, PhotonMap};
 use caustica_render::photon_tracer::{MapKind, Photon, trace_photons};
 use caustica_render::surface::Vertex;
@@ -49,6 +54,24 @@ fn bench(c: &mut Criterion) {
         g.throughput(Throughput::Elements(n as u64));
         g.bench_function(format!("{name}_{kind:?}_photons"), |b| {
             b.iter(|| pool.install(|| black_box(trace_photons(&s, n, kind, 0, &opts))))
+        });
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("differentials");
+    g.sample_size(10);
+    for (name, n) in [
+        ("glass-sphere", 10_000usize),
+        ("water-wave", 100_000),
+        ("metal-ring", 50_000),
+    ] {
+        let s = scene(name);
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_function(format!("{name}_plain"), |b| {
+            b.iter(|| pool.install(|| black_box(trace_photons(&s, n, MapKind::Caustic, 0, &opts))))
+        });
+        g.bench_function(format!("{name}_differential"), |b| {
+            b.iter(|| pool.install(|| black_box(trace_photon_differentials(&s, n, 1.0, 0, &opts))))
         });
     }
     g.finish();

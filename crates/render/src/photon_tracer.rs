@@ -10,7 +10,7 @@
 //! Paths are numbered; fixed chunks of consecutive paths are traced in parallel and their photons
 //! concatenated in chunk order, so the maps depend on the seed only, not on the thread count.
 
-use crate::light_path::{LightEvent, walk_light_path};
+use crate::light_path::{LightEvent, LightScatter, LightVisitor, walk_light_path_with};
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use caustica_core::sampling::Sampler;
@@ -187,6 +187,10 @@ pub(crate) fn trace_paths<P: Clone + Send>(
     (photons, paths, stats)
 }
 
+/// Stores the photons of one light path: at every non-delta vertex (global map) or at those
+/// reached through delta vertices only (caustic map). A caustic map's path ends at its first
+/// non-delta bounce, after which no vertex can receive caustic light (L S+ D): the same photons,
+/// fewer rays.
 fn trace_one(
     scene: &Scene,
     sampler: &mut Sampler,
@@ -195,29 +199,39 @@ fn trace_one(
     out: &mut Vec<Photon>,
     stats: &mut RenderStats,
 ) {
-    walk_light_path(scene, sampler, opts, stats, |event, _, stats| {
-        let LightEvent::Vertex(lv) = event else {
-            return;
-        };
-        if !lv.v.bsdf.flags().is_smooth() {
-            return;
+    struct Store<'a> {
+        kind: MapKind,
+        out: &'a mut Vec<Photon>,
+    }
+    impl LightVisitor for Store<'_> {
+        fn event(&mut self, event: LightEvent, _: &mut Sampler, stats: &mut RenderStats) {
+            let LightEvent::Vertex(lv) = event else {
+                return;
+            };
+            if !lv.v.bsdf.flags().is_smooth() {
+                return;
+            }
+            if self.kind == MapKind::Caustic && !lv.after_specular_chain {
+                return;
+            }
+            let flux = lv.beta;
+            if !flux.is_finite() {
+                stats.nonfinite += 1;
+                return;
+            }
+            let ng = lv.v.si.ng;
+            self.out.push(Photon {
+                p: lv.v.si.p,
+                wi: lv.wo,
+                n: if ng.dot(lv.wo) >= 0.0 { ng } else { -ng },
+                flux,
+                depth: lv.depth.min(u16::MAX as u32) as u16,
+                caustic: lv.after_specular_chain,
+            });
         }
-        if kind == MapKind::Caustic && !lv.after_specular_chain {
-            return;
+        fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+            self.kind == MapKind::Global || sc.sample.flags.is_delta()
         }
-        let flux = lv.beta;
-        if !flux.is_finite() {
-            stats.nonfinite += 1;
-            return;
-        }
-        let ng = lv.v.si.ng;
-        out.push(Photon {
-            p: lv.v.si.p,
-            wi: lv.wo,
-            n: if ng.dot(lv.wo) >= 0.0 { ng } else { -ng },
-            flux,
-            depth: lv.depth.min(u16::MAX as u32) as u16,
-            caustic: lv.after_specular_chain,
-        });
-    });
+    }
+    walk_light_path_with(scene, sampler, opts, stats, &mut Store { kind, out });
 }
