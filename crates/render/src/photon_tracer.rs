@@ -124,7 +124,9 @@ pub(crate) fn trace_paths<P: Clone + Send>(
     opts: &RenderOptions,
     trace_one: impl Fn(u64, &mut Sampler, &mut Vec<P>, &mut RenderStats) + Sync,
 ) -> (Vec<P>, u64, RenderStats) {
-    let mut photons: Vec<P> = Vec::new();
+    // Reserved up front: growing by doubling touches twice the memory (page faults were ~5 %
+    // of a photon-differential pass).
+    let mut photons: Vec<P> = Vec::with_capacity(target);
     let mut stats = RenderStats::default();
     let mut emitted = 0u64;
     // Where to cut: (paths, photons) at the first path whose photons reach the target. Only the
