@@ -12,6 +12,8 @@
 #   bash bench/case_study_dpm.sh [reference light paths per pixel (default 8192)] [spp (default 16)]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# shellcheck source=bench/sweep_lib.sh
+. bench/sweep_lib.sh
 ref_spp="${1:-8192}"
 spp="${2:-16}"
 photons=20000
@@ -34,7 +36,7 @@ for scene in water-wave metal-ring; do
   common=(--caustics-only --spp "$spp" --seed 1 --reference "$ref" --quiet)
   for n in $pm_counts; do
     # Re-runs reuse finished sweeps of the same values (delete target/bench/case-study-dpm to redo).
-    if [ -f "$w/pm-n$n/sweep.csv" ] && [ "$(cut -d, -f1 "$w/pm-n$n/sweep.csv" | tail -n +2 | paste -sd,)" = "$ks" ]; then
+    if done_sweep "$w/pm-n$n" "$ks"; then
       continue
     fi
     echo "== $scene: pm, $n photons, sweep k"
@@ -42,7 +44,7 @@ for scene in water-wave metal-ring; do
       -o "$w/pm-n$n" > "$w/pm-n$n.txt"
   done
   for h in $hs; do
-    if [ -f "$w/dpm-h$h/sweep.csv" ] && [ "$(cut -d, -f1 "$w/dpm-h$h/sweep.csv" | tail -n +2 | paste -sd,)" = "$qs" ]; then
+    if done_sweep "$w/dpm-h$h" "$qs"; then
       continue
     fi
     echo "== $scene: dpm, $photons photons, h = $h, sweep q"

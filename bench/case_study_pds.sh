@@ -24,7 +24,8 @@ ks="5,10,20,40,80,160,320"
 ss="0.5,1,1.5,2,3,4,6,8,12"
 pm_more="1280000 2560000 5120000"
 # Re-runs reuse finished sweeps of the same values.
-done_sweep() { [ -f "$1/sweep.csv" ] && [ "$(cut -d, -f1 "$1/sweep.csv" | tail -n +2 | paste -sd,)" = "$2" ]; }
+# shellcheck source=bench/sweep_lib.sh
+. bench/sweep_lib.sh
 for scene in water-wave metal-ring; do
   w="$work/$scene"
   common=(--caustics-only --spp "$spp" --seed 1 --reference "$w/reference-$ref_spp.exr" --quiet)

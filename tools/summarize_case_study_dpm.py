@@ -11,23 +11,13 @@ import os
 import shutil
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sweep_csv import best, rows  # noqa: E402
+
 work, out, photons, ref_spp, spp = sys.argv[1:6]
 photons = int(photons)
 SCENES = ["water-wave", "metal-ring"]
 METRICS = [("rmse", min), ("mise", min), ("ssim", max)]
-
-
-def rows(path):
-    with open(path) as f:
-        return [
-            {k: (v if k == "value" else float(v)) for k, v in r.items()}
-            for r in csv.DictReader(f)
-        ]
-
-
-def best(rs, metric):
-    pick = min if metric != "ssim" else max
-    return pick(rs, key=lambda r: r[metric])
 
 
 summary = []

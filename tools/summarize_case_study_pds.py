@@ -19,6 +19,9 @@ import re
 import shutil
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sweep_csv import best, rows  # noqa: E402
+
 work, out, photons, ref_spp, spp = sys.argv[1:6]
 photons = int(photons)
 SCENES = [("water-wave", "refraction"), ("metal-ring", "reflection")]
@@ -36,19 +39,6 @@ PAPER_AT = {
     "metal-ring": {"pm": (0.0732, 0.8569), "dpm": (0.0452, 0.9064), "pds": (0.0414, 0.9261)},
 }
 os.makedirs(out, exist_ok=True)
-
-
-def rows(path):
-    with open(path) as f:
-        return [
-            {k: (v if k == "value" else float(v)) for k, v in r.items()}
-            for r in csv.DictReader(f)
-        ]
-
-
-def best(rs, metric):
-    pick = min if metric != "ssim" else max
-    return pick(rs, key=lambda r: r[metric])
 
 
 def better(a, b, metric):

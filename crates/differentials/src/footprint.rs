@@ -514,15 +514,19 @@ mod tests {
             let r = f.gather_radius() as f64 * 1.01;
             let m = 600;
             let h = 2.0 * r / m as f64;
-            let mut total = 0.0f64;
-            for i in 0..m {
-                for j in 0..m {
-                    let a = -r + (i as f64 + 0.5) * h;
-                    let b = -r + (j as f64 + 0.5) * h;
-                    let x = c + t1 * a as f32 + t2 * b as f32;
-                    total += f.irradiance_at(x, flux) as f64 * h * h;
+            // Midpoint rule over the square [-r, r]² of the tangent plane.
+            let integrate = |g: &dyn Fn(Vec3) -> f32| {
+                let mut total = 0.0f64;
+                for i in 0..m {
+                    for j in 0..m {
+                        let a = -r + (i as f64 + 0.5) * h;
+                        let b = -r + (j as f64 + 0.5) * h;
+                        total += g(c + t1 * a as f32 + t2 * b as f32) as f64 * h * h;
+                    }
                 }
-            }
+                total
+            };
+            let total = integrate(&|x| f.irradiance_at(x, flux));
             assert!(
                 (total / flux as f64 - 1.0).abs() < 2e-3,
                 "{du} {dv}: {total}"
@@ -535,15 +539,7 @@ mod tests {
                     0.0
                 }
             };
-            let mut total = 0.0f64;
-            for i in 0..m {
-                for j in 0..m {
-                    let a = -r + (i as f64 + 0.5) * h;
-                    let b = -r + (j as f64 + 0.5) * h;
-                    let x = c + t1 * a as f32 + t2 * b as f32;
-                    total += f.irradiance_at_with(x, flux, epa) as f64 * h * h;
-                }
-            }
+            let total = integrate(&|x| f.irradiance_at_with(x, flux, epa));
             assert!(
                 (total / flux as f64 - 1.0).abs() < 5e-3,
                 "epa {du} {dv}: {total}"

@@ -23,7 +23,7 @@ use caustica_core::sampling::Pcg32;
 use caustica_core::{Frame, Spectrum, Vec3};
 use caustica_differentials::Footprint;
 use caustica_render::RenderStats;
-use caustica_render::eye_map::{EyeMap, EyeVertex};
+use caustica_render::eye_map::{BoxedPhoton, EyeMap, EyeVertex};
 use caustica_render::photon_differential::{
     DiffPhoton, FootprintFilter, PdmMap, TracedDiffPhotons,
 };
@@ -102,8 +102,12 @@ fn bench(c: &mut Criterion) {
             eye.tiles.iter().map(|t| vec![[0.0; 3]; t.len()]).collect();
         let splat = |acc: &mut Vec<Vec<[f64; 3]>>| {
             let mut n = 0usize;
+            let boxed: Vec<BoxedPhoton> = photons
+                .iter()
+                .filter_map(|ph| BoxedPhoton::new(ph, &filter))
+                .collect();
             for (tile, acc) in eye.tiles.iter().zip(acc.iter_mut()) {
-                for ph in &photons {
+                for ph in &boxed {
                     n += tile.splat(ph, &filter, |i, l| {
                         for (a, v) in acc[i].iter_mut().zip(l.c) {
                             *a += v as f64;

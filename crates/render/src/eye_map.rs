@@ -93,33 +93,22 @@ impl EyeTile {
         self.vertices.is_empty()
     }
 
-    /// Splats photon `ph` onto this tile: calls `add(i, L)` with the reflected radiance
+    /// Splats photon `p` onto this tile: calls `add(i, L)` with the reflected radiance
     /// `L = f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, before the throughput β; seed 002
     /// eq. 10–12 with `filter`) for every vertex `i` of the tile its footprint reaches, found by a
-    /// box query over the ellipse's bounding box. Returns the number of vertices reached.
+    /// query over the footprint's bounding box. Returns the number of vertices reached.
     pub fn splat(
         &self,
-        ph: &DiffPhoton,
+        p: &BoxedPhoton,
         filter: &FootprintFilter,
         mut add: impl FnMut(usize, Spectrum),
     ) -> usize {
-        let fp = &ph.footprint;
-        let c = fp.center();
-        // The ellipse's bounding box: x_p ± √(u² + v²) per axis for conjugate semi-diameters
-        // u = ½ D_u x, v = ½ D_v x (tighter than the sphere of the gather radius for elongated
-        // footprints), widened by the normal-distance threshold along n_p.
-        let [u, v] = fp.conjugate_semi_diameters();
-        let slab = fp.normal().abs() * (filter.normal_distance.min(1.0) * fp.gather_radius());
-        let half = (u * u + v * v).sqrt() + slab;
-        if !half.is_finite() || self.vertices.is_empty() {
+        if p.lo.cmpgt(self.hi).any() || p.hi.cmplt(self.lo).any() {
             return 0;
         }
-        let (lo, hi) = (c - half, c + half);
-        if lo.cmpgt(self.hi).any() || hi.cmplt(self.lo).any() {
-            return 0;
-        }
+        let ph = p.photon;
         let mut n = 0;
-        self.tree.range_box(lo, hi, |i| {
+        self.tree.range_box(p.lo, p.hi, |i| {
             let v = &self.vertices[i as usize];
             let Some(w) = filter.weight(ph, v.p, v.n) else {
                 return;
@@ -134,6 +123,34 @@ impl EyeTile {
             }
         });
         n
+    }
+}
+
+/// A photon with the bounding box of the points its footprint can reach, computed once per
+/// photon (every tile tests it).
+#[derive(Clone, Copy, Debug)]
+pub struct BoxedPhoton<'a> {
+    pub photon: &'a DiffPhoton,
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl<'a> BoxedPhoton<'a> {
+    /// The box of `photon` under `filter`: the ellipse's bounding box, `x_p ± √(u² + v²)` per
+    /// axis for the conjugate semi-diameters `u = ½ D_u x`, `v = ½ D_v x` (tighter than the
+    /// sphere of the gather radius for elongated footprints), widened along `n_p` by the
+    /// normal-distance threshold (at most the gather radius). `None` if it is not finite.
+    pub fn new(photon: &'a DiffPhoton, filter: &FootprintFilter) -> Option<Self> {
+        let fp = &photon.footprint;
+        let [u, v] = fp.conjugate_semi_diameters();
+        let slab = fp.normal().abs() * (filter.normal_distance.min(1.0) * fp.gather_radius());
+        let half = (u * u + v * v).sqrt() + slab;
+        let c = fp.center();
+        (half.is_finite() && c.is_finite()).then_some(Self {
+            photon,
+            lo: c - half,
+            hi: c + half,
+        })
     }
 }
 
@@ -231,8 +248,10 @@ mod tests {
     /// that the tile culling is exercised too.
     fn splats(map: &EyeMap, filter: &FootprintFilter) -> Vec<(u32, Spectrum)> {
         let mut out = Vec::new();
+        let ph = photon();
+        let boxed = BoxedPhoton::new(&ph, filter).expect("a finite footprint");
         for t in &map.tiles {
-            let n = t.splat(&photon(), filter, |i, l| out.push((t.vertices[i].pixel, l)));
+            let n = t.splat(&boxed, filter, |i, l| out.push((t.vertices[i].pixel, l)));
             assert!(n <= t.len());
         }
         out.sort_by_key(|s| s.0);
@@ -298,7 +317,7 @@ mod tests {
     }
 
     #[test]
-    fn an_empty_map_or_a_degenerate_radius_splats_nothing() {
+    fn an_empty_map_splats_nothing() {
         let empty = tiled(Vec::new());
         assert_eq!(splats(&empty, &FootprintFilter::default()).len(), 0);
         assert!(empty.is_empty());

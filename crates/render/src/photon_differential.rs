@@ -168,10 +168,10 @@ pub fn trace_photon_differentials(
     opts: &RenderOptions,
 ) -> TracedDiffPhotons {
     // `PhotonOptions::validate` rejects a bad s; a caller that skipped it gets s = 1 and a warning.
-    let (budget, bad_smoothing) = match EmissionBudget::new(1, smoothing) {
-        Ok(b) => (b, None),
-        Err(_) => (
-            EmissionBudget::new(1, 1.0).expect("a budget of one photon with s = 1 is valid"),
+    let (budget, bad_smoothing) = match unit_budget(smoothing) {
+        Some(b) => (b, None),
+        None => (
+            unit_budget(1.0).expect("a budget of one photon with s = 1 is valid"),
             Some(format!(
                 "smoothing s = {smoothing} is not a positive number; used s = 1"
             )),

@@ -23,7 +23,7 @@
 //! 5. Each camera sample's pixel receives `β · Σ splats` of its vertex.
 
 use super::photon_mapping::{self, CAUSTIC_STREAM, PhotonMaps, footprint_filter};
-use crate::eye_map::{EyeMap, EyeVertex};
+use crate::eye_map::{BoxedPhoton, EyeMap, EyeVertex};
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::image_loop::render_pixels_collect;
@@ -325,13 +325,17 @@ impl SplatPass<'_> {
     /// Splats `photons` in order onto every tile (tiles in parallel, each into its own
     /// accumulators `acc[tile]`); returns the number of splats.
     fn splat(&self, photons: &[DiffPhoton], acc: &mut [Vec<[f64; 3]>]) -> u64 {
+        let photons: Vec<BoxedPhoton> = photons
+            .par_iter()
+            .filter_map(|ph| BoxedPhoton::new(ph, &self.filter))
+            .collect();
         self.eye
             .tiles
             .par_iter()
             .zip(acc.par_iter_mut())
             .map(|(tile, acc)| {
                 let mut n = 0u64;
-                for ph in photons {
+                for ph in &photons {
                     n += tile.splat(ph, &self.filter, |i, l| {
                         for (a, v) in acc[i].iter_mut().zip(l.c) {
                             *a += v as f64;
