@@ -112,6 +112,24 @@ impl EmissionBudget {
         Ok(len as f32)
     }
 
+    /// The lengths `(|D_u x|, |D_θ ω|)` of eq. 5 and eq. 6 for a light whose photon origins
+    /// cover area `area` (`A_e`, m²) and whose directions cover `solid_angle` (`ω_e`, sr).
+    ///
+    /// Errors: [`DiffError::InvalidExtent`] if an extent is negative or not finite,
+    /// `solid_angle > 4π`, or both are zero (the photon would have no footprint at any
+    /// distance).
+    pub fn emission_lengths(&self, area: f32, solid_angle: f32) -> Result<(f32, f32), DiffError> {
+        if solid_angle > 4.0 * std::f32::consts::PI * (1.0 + 1e-6) {
+            return Err(DiffError::InvalidExtent);
+        }
+        let lx = self.differential_length(area)?; // eq. 5
+        let lw = self.differential_length(solid_angle)?; // eq. 6
+        if !(lx > 0.0 || lw > 0.0) {
+            return Err(DiffError::InvalidExtent);
+        }
+        Ok((lx, lw))
+    }
+
     /// Flux of one photon, `Φ_p = Φ_l / N_e` (W), for a light of power `power` (W): eq. 5.4 for
     /// a point light (`Φ_pd = A_pd M_total` with `A_pd = 4π/n_pd`, `M_total = Φ_l/4π`,
     /// eq. 5.2–5.3) and eq. 5.7 for an area light (`A_pd = A_l/n_pd`, `M_total = Φ_l/A_l`,
@@ -138,6 +156,8 @@ pub struct EmissionBasis {
     /// The emitter normal used, unit and turned towards the direction (`n · ω > 0`); the
     /// direction itself for a source without a normal.
     pub normal: Vec3,
+    /// The unit direction ω.
+    pub direction: Vec3,
 }
 
 /// The bases of eq. 2–3 for unit direction `direction` (ω) leaving an emitter with normal
@@ -182,6 +202,7 @@ pub fn emission_basis(direction: Vec3, normal: Option<Vec3>) -> Result<EmissionB
         theta,
         phi: theta.cross(w), // eq. 3, right
         normal: n,
+        direction: w,
     })
 }
 
@@ -208,17 +229,32 @@ pub fn emit(
     if !origin.is_finite() {
         return Err(DiffError::NonFinite);
     }
-    if solid_angle > 4.0 * std::f32::consts::PI * (1.0 + 1e-6) {
-        return Err(DiffError::InvalidExtent);
-    }
-    let lx = budget.differential_length(area)?; // eq. 5
-    let lw = budget.differential_length(solid_angle)?; // eq. 6
-    if !(lx > 0.0 || lw > 0.0) {
-        return Err(DiffError::InvalidExtent);
+    let lengths = budget.emission_lengths(area, solid_angle)?;
+    emit_with_lengths(origin, direction, normal, lengths)
+}
+
+/// [`emit`] with the vector lengths `(|D_u x|, |D_θ ω|)` of
+/// [`EmissionBudget::emission_lengths`] computed once per light (they do not depend on the
+/// photon): what a photon tracer calls per photon.
+///
+/// Errors: those of [`emission_basis`]; [`DiffError::NonFinite`] for a non-finite origin.
+pub fn emit_with_lengths(
+    origin: Vec3,
+    direction: Vec3,
+    normal: Option<Vec3>,
+    (lx, lw): (f32, f32),
+) -> Result<RayDiff<2>, DiffError> {
+    if !origin.is_finite() {
+        return Err(DiffError::NonFinite);
     }
     let b = emission_basis(direction, normal)?; // eq. 2–3
-    let w = unit(direction).ok_or(DiffError::ZeroDirection)?;
-    RayDiff::new(origin, w, [lx * b.u, lx * b.v], [lw * b.theta, lw * b.phi]).finite_or_err()
+    RayDiff::new(
+        origin,
+        b.direction,
+        [lx * b.u, lx * b.v],
+        [lw * b.theta, lw * b.phi],
+    )
+    .finite_or_err()
 }
 
 /// Isotropic point light at `origin` (m): no positional differentials (`A_e = 0`, eq. 5),
@@ -307,9 +343,14 @@ pub fn emit_area(
     emit(origin, direction, Some(normal), area, solid_angle, budget)
 }
 
-/// `v / |v|`, or `None` for a zero or non-finite vector.
+/// `v / |v|`, or `None` for a zero or non-finite vector. A vector already unit to within a
+/// few ulps (the sampled directions and normals a renderer passes) is returned as it is.
 fn unit(v: Vec3) -> Option<Vec3> {
-    let len = v.length();
+    let len2 = v.length_squared();
+    if (len2 - 1.0).abs() <= 4.0 * f32::EPSILON {
+        return Some(v);
+    }
+    let len = len2.sqrt();
     (len > 0.0 && len.is_finite()).then(|| v / len)
 }
 

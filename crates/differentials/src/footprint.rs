@@ -121,12 +121,11 @@ impl Footprint {
         let n = normal / len;
         let du = du - n * n.dot(du);
         let dv = dv - n * n.dot(dv);
+        // |a × b| > sin · |a| |b|, in squares (f64: the squares of tiny vectors underflow f32).
         let (a, b) = (du.as_dvec3(), dv.as_dvec3());
-        let cross = a.cross(b).length();
-        if !(a.length() > 0.0
-            && b.length() > 0.0
-            && cross > COLLAPSED_SIN as f64 * a.length() * b.length())
-        {
+        let (a2, b2) = (a.length_squared(), b.length_squared());
+        let sin2 = COLLAPSED_SIN as f64 * COLLAPSED_SIN as f64;
+        if !(a2 > 0.0 && b2 > 0.0 && a.cross(b).length_squared() > sin2 * a2 * b2) {
             return Err(DiffError::CollapsedFootprint);
         }
         let area = footprint_area(du, dv); // eq. 4

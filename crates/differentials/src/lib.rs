@@ -98,7 +98,7 @@ pub mod transfer;
 pub use camera::camera_ray_diff;
 pub use emission::{
     EmissionBasis, EmissionBudget, emission_basis, emit, emit_area, emit_beam, emit_directional,
-    emit_point, emit_spot,
+    emit_point, emit_spot, emit_with_lengths,
 };
 pub use error::DiffError;
 pub use footprint::{Footprint, footprint_area, photon_solid_angle, silverman};
@@ -106,4 +106,4 @@ pub use ray_differential::{RayDiff, normalize_differential};
 pub use reflection::{reflect, reflection_jacobians};
 pub use refraction::{refract, refract_direction, refraction_jacobians};
 pub use surface::{FlatTriangle, PhongTriangle, SurfaceHit, TriangleMotion};
-pub use transfer::{Transferred, transfer_to_plane};
+pub use transfer::{Transferred, transfer_to_fixed_plane, transfer_to_plane};

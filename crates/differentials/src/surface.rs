@@ -22,7 +22,9 @@
 
 use caustica_core::{Mat3, Vec3};
 
-use crate::transfer::{outer, transfer_jacobians, transfer_to_plane};
+use crate::transfer::{
+    Transferred, outer, transfer_jacobians, transfer_to_fixed_plane, transfer_to_plane,
+};
 use crate::{DiffError, RayDiff, normalize_differential, reflection, refraction};
 
 /// A triangle is degenerate when `‖E₀ × E₁‖ ≤ DEGENERATE_SIN · ‖E₀‖ ‖E₁‖` (the sine of its
@@ -200,6 +202,78 @@ fn hit_plane<const N: usize>(
     })
 }
 
+/// [`hit_plane`] for a stationary triangle (`dQ_k = 0`, `dN_k = 0`): the same equations with
+/// the motion terms dropped — eq. B.31 gives `dN_flat = 0`, eq. B.27c reduces to
+/// `ds = −Nᵀ(dP + s dV) / (Vᵀ N)` ([`transfer_to_fixed_plane`]) and eq. B.49 to
+/// `dτ = dV × T + V × dP`, `dγ = dV × E₀`, `dζ = dV × E₁`. This is what the renderer calls for
+/// every delta vertex of a photon path, so it avoids the zero terms (floating point cannot
+/// fold `0 · x` away).
+fn hit_plane_stationary<const N: usize>(
+    q: &[Vec3; 3],
+    ray: &RayDiff<N>,
+) -> Result<SurfaceHit<N>, DiffError> {
+    let e0 = q[1] - q[0]; // eq. B.43a
+    let e1 = q[2] - q[0]; // eq. B.43b
+    let ng = oriented_flat_normal(e0, e1, ray.v)?;
+    let tr = transfer_to_fixed_plane(ray, q[0], ng)?; // eq. B.24–B.29 with dQ₀ = 0, dN = 0
+    // Barycentrics by Möller–Trumbore (eq. B.43–B.44) and eq. B.46 with B.49 for dQ_k = 0.
+    let v = ray.v;
+    let t = ray.p - q[0]; // eq. B.43c
+    let tau = v.cross(t);
+    let gamma = v.cross(e0);
+    let zeta = v.cross(e1);
+    let (g1, z0) = (1.0 / gamma.dot(e1), 1.0 / zeta.dot(e0)); // 1/γᵀE₁ and 1/ζᵀE₀
+    let l1 = tau.dot(e1) * g1; // eq. B.44a–b
+    let l2 = tau.dot(e0) * z0; // eq. B.44c–d
+    let lambda = [1.0 - l1 - l2, l1, l2];
+    let dlambda = std::array::from_fn(|i| {
+        let dv = ray.dv[i];
+        let dtau = dv.cross(t) + v.cross(ray.dp[i]); // eq. B.49a
+        let dl1 = (dtau.dot(e1) - l1 * dv.cross(e0).dot(e1)) * g1; // eq. B.46b, B.49b
+        let dl2 = (dtau.dot(e0) - l2 * dv.cross(e1).dot(e0)) * z0; // eq. B.46c, B.49c
+        [-dl1 - dl2, dl1, dl2] // eq. B.46a
+    });
+    if lambda
+        .iter()
+        .chain(dlambda.iter().flatten())
+        .any(|x| !x.is_finite())
+    {
+        return Err(DiffError::NonFinite);
+    }
+    Ok(SurfaceHit {
+        ray: tr.ray,
+        s: tr.s,
+        ds: tr.ds,
+        geometric_normal: ng,
+        dgeometric_normal: [Vec3::ZERO; N],
+        normal: ng,
+        dnormal: [Vec3::ZERO; N],
+        barycentrics: lambda,
+        dbarycentrics: dlambda,
+    })
+}
+
+/// The unit flat normal `N_flat` of the triangle with edges `e0`, `e1` oriented against `v`
+/// (eq. B.30–B.31a), or [`DiffError::DegenerateTriangle`] (see [`DEGENERATE_SIN`]).
+#[inline]
+fn oriented_flat_normal(e0: Vec3, e1: Vec3, v: Vec3) -> Result<Vec3, DiffError> {
+    let n = oriented_flat_normal_unnormalized(e0, e1, v)?;
+    Ok(n / n.length())
+}
+
+/// [`oriented_flat_normal`] before normalisation, `±E₁ × E₀`: enough for a transfer, whose
+/// result does not depend on the normal's length. The degeneracy test compares squares.
+#[inline]
+fn oriented_flat_normal_unnormalized(e0: Vec3, e1: Vec3, v: Vec3) -> Result<Vec3, DiffError> {
+    let n = e1.cross(e0); // eq. B.30, B.35a
+    let scale2 = e0.length_squared() * e1.length_squared();
+    let len2 = n.length_squared();
+    if !(scale2 > 0.0 && len2 > DEGENERATE_SIN * DEGENERATE_SIN * scale2 && n.is_finite()) {
+        return Err(DiffError::DegenerateTriangle);
+    }
+    Ok(if n.dot(v) > 0.0 { -n } else { n })
+}
+
 /// `c×`, the cross-product matrix of eq. B.32 / B.48: `c× b = c × b`.
 pub fn skew(c: Vec3) -> Mat3 {
     Mat3::from_cols(
@@ -227,7 +301,17 @@ impl FlatTriangle {
     /// Transfers `ray` onto this stationary triangle (eq. B.24–B.31 with `dQ_k = 0`; for a
     /// stationary flat surface `dQ = K dP + s K dV` as in Igehy 1999, app. B after eq. B.34).
     pub fn hit<const N: usize>(&self, ray: &RayDiff<N>) -> Result<SurfaceHit<N>, DiffError> {
-        self.hit_moving(ray, &TriangleMotion::stationary())
+        hit_plane_stationary(&self.q, ray)
+    }
+
+    /// Transfers `ray` onto the plane of this stationary triangle without the normal and
+    /// barycentrics of [`FlatTriangle::hit`]: the position and direction differentials where
+    /// a photon lands (eq. B.24–B.29 with `dQ_k = 0`). A [`PhongTriangle`] lands on the same
+    /// plane, so use its vertices here too.
+    pub fn transfer<const N: usize>(&self, ray: &RayDiff<N>) -> Result<Transferred<N>, DiffError> {
+        let e = (self.q[1] - self.q[0], self.q[2] - self.q[0]);
+        let n = oriented_flat_normal_unnormalized(e.0, e.1, ray.v)?;
+        transfer_to_fixed_plane(ray, self.q[0], n)
     }
 
     /// Transfers `ray` onto this triangle whose vertices move with `motion.dq` (eq. B.28a with
@@ -275,7 +359,8 @@ impl FlatTriangle {
 impl PhongTriangle {
     /// Transfers `ray` onto this stationary triangle and interpolates its normal.
     pub fn hit<const N: usize>(&self, ray: &RayDiff<N>) -> Result<SurfaceHit<N>, DiffError> {
-        self.hit_moving(ray, &TriangleMotion::stationary())
+        let hit = hit_plane_stationary(&self.q, ray)?;
+        self.shade(hit, ray.v, None)
     }
 
     /// Transfers `ray` onto the plane of this triangle with the flat normal (eq. B.35–B.40),
@@ -291,23 +376,43 @@ impl PhongTriangle {
         ray: &RayDiff<N>,
         motion: &TriangleMotion<N>,
     ) -> Result<SurfaceHit<N>, DiffError> {
-        let mut hit = hit_plane(&self.q, ray, motion)?;
+        let hit = hit_plane(&self.q, ray, motion)?;
+        self.shade(hit, ray.v, Some(&motion.dn))
+    }
+
+    /// Interpolates the normal at `hit` (on this triangle's plane, ray direction `v`) and its
+    /// differential (eq. B.42, B.45) with vertex-normal derivatives `dn_k` (`None`: zero).
+    fn shade<const N: usize>(
+        &self,
+        mut hit: SurfaceHit<N>,
+        v: Vec3,
+        dn_k: Option<&[[Vec3; N]; 3]>,
+    ) -> Result<SurfaceHit<N>, DiffError> {
         let l = hit.barycentrics;
         let n = l[0] * self.n[0] + l[1] * self.n[1] + l[2] * self.n[2]; // eq. B.42a
-        let scale = self.n.iter().map(|n| n.length()).fold(0.0, f32::max);
-        if !(n.length() > 1e-6 * scale && n.is_finite()) {
+        let scale2 = self
+            .n
+            .iter()
+            .map(|n| n.length_squared())
+            .fold(0.0, f32::max);
+        let len2 = n.length_squared();
+        if !(len2 > 1e-12 * scale2 && n.is_finite()) {
             return Err(DiffError::DegenerateNormal);
         }
         // Orientation convention of eq. B.30 applied to the shading normal.
-        let sign = if n.dot(ray.v) > 0.0 { -1.0 } else { 1.0 };
+        let inv_len = 1.0 / len2.sqrt();
+        let unit = n * inv_len; // eq. B.42b before orientation
+        let sign = if n.dot(v) > 0.0 { -1.0 } else { 1.0 };
         hit.dnormal = std::array::from_fn(|i| {
             let dl = hit.dbarycentrics[i];
-            let dn = (0..3)
-                .map(|k| self.n[k] * dl[k] + l[k] * motion.dn[k][i])
-                .sum::<Vec3>(); // eq. B.45b
-            sign * normalize_differential(n, dn) // eq. B.45a
+            let mut dn = self.n[0] * dl[0] + self.n[1] * dl[1] + self.n[2] * dl[2]; // eq. B.45b
+            if let Some(dn_k) = dn_k {
+                dn += l[0] * dn_k[0][i] + l[1] * dn_k[1][i] + l[2] * dn_k[2][i];
+            }
+            // eq. B.45a: J dn = (dn − N̂ (N̂ᵀ dn)) / ‖n‖ (normalize_differential, J computed once)
+            sign * inv_len * (dn - unit * unit.dot(dn))
         });
-        hit.normal = sign * n.normalize(); // eq. B.42b
+        hit.normal = sign * unit; // eq. B.42b
         if hit.dnormal.iter().any(|d| !d.is_finite()) {
             return Err(DiffError::NonFinite);
         }

@@ -9,6 +9,13 @@ use crate::{DiffError, RayDiff};
 /// ([`DiffError::Parallel`]): the cosine below which eq. B.26 is not evaluated.
 pub const PARALLEL_COS: f32 = 1e-6;
 
+/// `|Vᵀ N| > PARALLEL_COS ‖V‖ ‖N‖` for `vn = Vᵀ N`, compared in squares (no square roots);
+/// false for NaN.
+#[inline]
+fn is_transversal(vn: f32, v: Vec3, n: Vec3) -> bool {
+    vn * vn > PARALLEL_COS * PARALLEL_COS * v.length_squared() * n.length_squared()
+}
+
 /// A ray differential transferred onto a plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Transferred<const N: usize> {
@@ -40,7 +47,7 @@ pub fn transfer_to_plane<const N: usize>(
 ) -> Result<Transferred<N>, DiffError> {
     let (p, v, n) = (ray.p, ray.v, normal);
     let vn = v.dot(n);
-    if !(vn.abs() > PARALLEL_COS * v.length() * n.length()) {
+    if !is_transversal(vn, v, n) {
         return Err(DiffError::Parallel);
     }
     let q0p = q0 - p;
@@ -61,6 +68,39 @@ pub fn transfer_to_plane<const N: usize>(
     let q = p + s * v; // eq. B.13a
     // eq. B.13b and B.16b: W = V, dW = dV.
     let out = RayDiff::new(q, v, dq, ray.dv).finite_or_err()?;
+    if !s.is_finite() || ds.iter().any(|d| !d.is_finite()) {
+        return Err(DiffError::NonFinite);
+    }
+    Ok(Transferred { ray: out, s, ds })
+}
+
+/// [`transfer_to_plane`] onto a plane that does not depend on the parameters (`dQ₀ = 0`,
+/// `dN = 0`): eq. B.27c reduces to `ds = −Nᵀ(dP + s dV) / (Vᵀ N)`, the transfer of Igehy 1999.
+/// Same results and errors, without the zero terms.
+pub fn transfer_to_fixed_plane<const N: usize>(
+    ray: &RayDiff<N>,
+    q0: Vec3,
+    normal: Vec3,
+) -> Result<Transferred<N>, DiffError> {
+    let (p, v, n) = (ray.p, ray.v, normal);
+    let vn = v.dot(n);
+    if !is_transversal(vn, v, n) {
+        return Err(DiffError::Parallel);
+    }
+    let inv_vn = 1.0 / vn;
+    let s = (q0 - p).dot(n) * inv_vn; // eq. B.26
+    if !(s > 0.0) {
+        return Err(DiffError::BehindOrigin);
+    }
+    let mut ds = [0.0; N];
+    let mut dq = [Vec3::ZERO; N];
+    for i in 0..N {
+        let moved = ray.dp[i] + s * ray.dv[i];
+        ds[i] = -n.dot(moved) * inv_vn; // eq. B.27c with dQ₀ = 0, dN = 0
+        dq[i] = moved + v * ds[i]; // eq. B.16a: dQ = dP + V ds + s dV
+    }
+    let q = p + s * v; // eq. B.13a
+    let out = RayDiff::new(q, v, dq, ray.dv).finite_or_err()?; // eq. B.13b, B.16b
     if !s.is_finite() || ds.iter().any(|d| !d.is_finite()) {
         return Err(DiffError::NonFinite);
     }
@@ -96,7 +136,7 @@ pub fn transfer_jacobians(
     normal: Vec3,
 ) -> Result<TransferJacobians, DiffError> {
     let vn = v.dot(normal);
-    if !(vn.abs() > PARALLEL_COS * v.length() * normal.length()) {
+    if !is_transversal(vn, v, normal) {
         return Err(DiffError::Parallel);
     }
     let s = (q0 - p).dot(normal) / vn; // eq. B.26

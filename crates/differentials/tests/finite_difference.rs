@@ -26,11 +26,59 @@ fn predicted_hit(
     ray: &RayDiff<N>,
     motion: &TriangleMotion<N>,
 ) -> SurfaceHit<N> {
-    match model {
-        Model::Flat => FlatTriangle { q: tri.q }.hit_moving(ray, motion),
-        Model::Phong => PhongTriangle { q: tri.q, n: tri.n }.hit_moving(ray, motion),
+    // A stationary triangle goes through `hit`, the fast path the renderer uses.
+    let stationary = *motion == TriangleMotion::stationary();
+    match (model, stationary) {
+        (Model::Flat, true) => FlatTriangle { q: tri.q }.hit(ray),
+        (Model::Flat, false) => FlatTriangle { q: tri.q }.hit_moving(ray, motion),
+        (Model::Phong, true) => PhongTriangle { q: tri.q, n: tri.n }.hit(ray),
+        (Model::Phong, false) => PhongTriangle { q: tri.q, n: tri.n }.hit_moving(ray, motion),
     }
     .expect("hit")
+}
+
+/// The stationary fast path (`hit`, `FlatTriangle::transfer`) computes what the general
+/// moving-triangle path computes with zero motion, to rounding.
+#[test]
+fn stationary_fast_path_matches_the_general_path() {
+    let close = |a: Vec3, b: Vec3, what: &str| {
+        let tol = 1e-5 * (1.0 + a.length().max(b.length()));
+        assert!((a - b).length() <= tol, "{what}: {a} vs {b}");
+    };
+    let fam = family();
+    let ray = fam.diff();
+    for tri in [tri_a(), tri_b(), tri_c()] {
+        let zero = TriangleMotion::stationary();
+        let flat = FlatTriangle { q: tri.q };
+        let phong = PhongTriangle { q: tri.q, n: tri.n };
+        for (fast, general) in [
+            (flat.hit(&ray), flat.hit_moving(&ray, &zero)),
+            (phong.hit(&ray), phong.hit_moving(&ray, &zero)),
+        ] {
+            let (f, g) = (fast.expect("fast hit"), general.expect("general hit"));
+            close(f.ray.p, g.ray.p, "Q");
+            close(f.normal, g.normal, "N");
+            assert!((f.s - g.s).abs() <= 1e-5 * g.s, "s");
+            for i in 0..N {
+                close(f.ray.dp[i], g.ray.dp[i], "dQ");
+                close(f.ray.dv[i], g.ray.dv[i], "dV");
+                close(f.dnormal[i], g.dnormal[i], "dN");
+                assert!(
+                    (f.ds[i] - g.ds[i]).abs() <= 1e-5 * (1.0 + g.ds[i].abs()),
+                    "ds"
+                );
+                for k in 0..3 {
+                    let (a, b) = (f.dbarycentrics[i][k], g.dbarycentrics[i][k]);
+                    assert!((a - b).abs() <= 1e-5 * (1.0 + b.abs()), "dλ");
+                }
+            }
+            let t = flat.transfer(&ray).expect("transfer");
+            close(t.ray.p, g.ray.p, "transfer Q");
+            for i in 0..N {
+                close(t.ray.dp[i], g.ray.dp[i], "transfer dQ");
+            }
+        }
+    }
 }
 
 fn apply(op: Op, hit: &SurfaceHit<N>) -> RayDiff<N> {

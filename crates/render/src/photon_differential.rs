@@ -64,8 +64,8 @@ use caustica_core::{Ray, Spectrum, Vec3};
 use caustica_density::kernel::{Dim, Kernel};
 use caustica_density::radius_buckets::RadiusBuckets;
 use caustica_differentials::{
-    DiffError, EmissionBudget, FlatTriangle, Footprint, PhongTriangle, RayDiff, SurfaceHit, emit,
-    transfer_to_plane,
+    DiffError, EmissionBudget, FlatTriangle, Footprint, PhongTriangle, RayDiff, SurfaceHit,
+    Transferred, emit_with_lengths, transfer_to_fixed_plane,
 };
 use caustica_scene::bsdf::{BsdfFlags, TransportMode};
 use caustica_scene::shape::ShapeGeometry;
@@ -177,8 +177,9 @@ pub fn trace_photon_differentials(
             )),
         ),
     };
+    let tracer = LandingTracer::new(scene, &budget);
     let (landings, paths, stats) = trace_paths(target, stream, opts, |_, sampler, out, st| {
-        trace_landings(scene, &budget, sampler, opts, out, st)
+        tracer.trace(sampler, opts, out, st)
     });
     let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
     let short = (landings.len() < target).then(|| {
@@ -207,32 +208,52 @@ pub fn trace_photon_differentials(
     }
 }
 
-/// The budget of [`trace_photon_differentials`] and [`trace_landings`] (`N_e = 1`, see the
+/// The budget of [`trace_photon_differentials`] and [`LandingTracer`] (`N_e = 1`, see the
 /// module docs) for smoothing `s`, or `None` when `s` is not a positive number.
 pub fn unit_budget(smoothing: f32) -> Option<EmissionBudget> {
     EmissionBudget::new(1, smoothing).ok()
 }
 
-/// Traces one light path (the sampler positioned on it) and pushes its caustic landings with
-/// their photon differentials for the budget `budget` (normally [`unit_budget`]).
-pub fn trace_landings(
-    scene: &Scene,
-    budget: &EmissionBudget,
-    sampler: &mut Sampler,
-    opts: &RenderOptions,
-    out: &mut Vec<Landing>,
-    stats: &mut RenderStats,
-) {
-    let mut v = DiffVisitor {
-        scene,
-        budget,
-        out,
-        emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0.0, 0.0),
-        ray: None,
-        hit: None,
-        pmf: 1.0,
-    };
-    walk_light_path_with(scene, sampler, opts, stats, &mut v);
+/// Traces light paths as photon differentials for one budget (normally [`unit_budget`]): the
+/// lengths of each light's initial vectors (eq. 5–6) are computed once here, not per photon.
+pub struct LandingTracer<'a> {
+    scene: &'a Scene,
+    /// `(|D_u x|, |D_θ ω|)` per light, or why the light cannot emit photon differentials.
+    lengths: Vec<Result<(f32, f32), DiffError>>,
+}
+
+impl<'a> LandingTracer<'a> {
+    pub fn new(scene: &'a Scene, budget: &EmissionBudget) -> Self {
+        let lengths = scene
+            .lights
+            .iter()
+            .map(|l| {
+                let (area, solid_angle) = l.emission_extent();
+                budget.emission_lengths(area, solid_angle)
+            })
+            .collect();
+        Self { scene, lengths }
+    }
+
+    /// Traces one light path (the sampler positioned on it) and pushes its caustic landings
+    /// with their photon differentials.
+    pub fn trace(
+        &self,
+        sampler: &mut Sampler,
+        opts: &RenderOptions,
+        out: &mut Vec<Landing>,
+        stats: &mut RenderStats,
+    ) {
+        let mut v = DiffVisitor {
+            scene: self.scene,
+            lengths: &self.lengths,
+            out,
+            emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0),
+            ray: None,
+            pmf: 1.0,
+        };
+        walk_light_path_with(self.scene, sampler, opts, stats, &mut v);
+    }
 }
 
 /// True for a vertex where a caustic photon lands: a non-delta surface reached through one or
@@ -313,36 +334,57 @@ pub fn count_caustic_paths(
     }
 }
 
-/// Per-path state: the differential along the current ray and at the current hit.
+/// Per-path state: the emission sample and the differential along the current ray.
 struct DiffVisitor<'a> {
     scene: &'a Scene,
-    budget: &'a EmissionBudget,
+    /// [`LandingTracer::lengths`].
+    lengths: &'a [Result<(f32, f32), DiffError>],
     out: &'a mut Vec<Landing>,
-    /// The emission sample's ray, normal and the light's extent `(A_e, ω_e)`, kept until the
-    /// emitted differential is first needed (most paths never reach a delta surface, so their
+    /// The emission sample's ray and normal and the light's index, kept until the emitted
+    /// differential is first needed (most paths never reach a delta surface, so their
     /// differentials are never computed).
-    emission: (Ray, Option<Vec3>, f32, f32),
+    emission: (Ray, Option<Vec3>, usize),
     /// The differential of the ray being traced (origin at the last vertex, direction the
     /// sampled one); `None` until computed.
     ray: Option<Result<RayDiff<2>, DiffError>>,
-    /// The differential transferred onto the current vertex; `None` until computed.
-    hit: Option<Result<SurfaceHit<2>, DiffError>>,
     pmf: f32,
 }
 
 impl DiffVisitor<'_> {
-    /// The differential transferred onto the surface at `si` (computed on first use).
+    /// The differential of the ray being traced (the emitted one computed on first use).
+    fn ray(&mut self) -> Result<RayDiff<2>, DiffError> {
+        *self.ray.get_or_insert_with(|| {
+            let (ray, normal, light) = self.emission;
+            let lengths = self
+                .lengths
+                .get(light)
+                .copied()
+                .unwrap_or(Err(DiffError::NonFinite));
+            emit_with_lengths(ray.o, ray.d, normal, lengths?)
+        })
+    }
+
+    /// The differential transferred onto the surface at `si`, with the normal that scatters it.
     fn hit_at(&mut self, si: &SurfaceInteraction) -> Result<SurfaceHit<2>, DiffError> {
-        if let Some(h) = self.hit {
-            return h;
+        surface_hit(self.scene, si, &self.ray()?)
+    }
+
+    /// The differential transferred onto the plane where the photon lands at `si`: only the
+    /// position and direction differentials, which the footprint needs (not the normal and
+    /// barycentrics of [`Self::hit_at`], which only scattering needs).
+    fn landing_at(&mut self, si: &SurfaceInteraction) -> Result<Transferred<2>, DiffError> {
+        let ray = self.ray()?;
+        match (
+            self.scene.geometry.shapes.get(si.shape as usize),
+            si.triangle,
+        ) {
+            // Flat and Phong triangles share the plane (eq. B.24–B.29, B.36–B.40).
+            (Some(s), Some(tri)) if matches!(s.geometry, ShapeGeometry::Mesh(_)) => {
+                FlatTriangle { q: tri.p }.transfer(&ray)
+            }
+            // Spheres and disks: the tangent plane at the hit.
+            _ => transfer_to_fixed_plane(&ray, si.p, si.ng),
         }
-        let ray = *self.ray.get_or_insert_with(|| {
-            let (ray, normal, area, solid_angle) = self.emission;
-            emit(ray.o, ray.d, normal, area, solid_angle, self.budget)
-        });
-        let h = ray.and_then(|r| surface_hit(self.scene, si, &r));
-        self.hit = Some(h);
-        h
     }
 }
 
@@ -355,19 +397,16 @@ impl LightVisitor for DiffVisitor<'_> {
         match event {
             LightEvent::Start(start) => {
                 let es = start.emission;
-                let (area, solid_angle) = self.scene.lights[start.light].emission_extent();
                 self.pmf = start.pmf;
-                self.emission = (emission_ray(es), es.normal, area, solid_angle);
+                self.emission = (emission_ray(es), es.normal, start.light);
                 self.ray = None;
-                self.hit = None;
             }
             LightEvent::Vertex(lv) => {
-                self.hit = None;
                 // Non-finite throughputs are skipped (the photon tracer counts them).
                 if !is_caustic_landing(lv) {
                     return;
                 }
-                let dp = self.hit_at(&lv.v.si).ok().map(|h| h.ray.dp);
+                let dp = self.landing_at(&lv.v.si).ok().map(|t| t.ray.dp);
                 let ng = lv.v.si.ng;
                 self.out.push(Landing {
                     p: lv.v.si.p,
@@ -453,8 +492,7 @@ fn tangent_plane_hit(
     n: Vec3,
     dn: impl Fn(Vec3) -> Vec3,
 ) -> Result<SurfaceHit<2>, DiffError> {
-    let z = [Vec3::ZERO; 2];
-    let t = transfer_to_plane(ray, p, &z, n, &z)?;
+    let t = transfer_to_fixed_plane(ray, p, n)?;
     // Orientation of eq. B.30: V · N < 0; dN flips with N.
     let sign = if n.dot(ray.v) > 0.0 { -1.0 } else { 1.0 };
     let normal = sign * n;

@@ -189,7 +189,7 @@ fn the_recorded_landing_paths_are_exactly_the_paths_with_caustic_photons() {
     // pds re-traces only the recorded paths; that gives pdm's photons only if the record holds
     // every path with a landing and its count agrees with the unrecorded count.
     use caustica_core::sampling::Sampler;
-    use caustica_render::photon_differential::{count_caustic_paths, trace_landings, unit_budget};
+    use caustica_render::photon_differential::{LandingTracer, count_caustic_paths, unit_budget};
     let scene = small_builtin("metal-ring", 8, 8);
     let opts = caustics_only(3000, 1.0, 1);
     let stream = 0xCA05;
@@ -199,13 +199,14 @@ fn the_recorded_landing_paths_are_exactly_the_paths_with_caustic_photons() {
     assert!(plain.landing_paths.is_none());
     let listed = rec.landing_paths.expect("recorded");
     let budget = unit_budget(1.0).unwrap();
+    let tracer = LandingTracer::new(&scene, &budget);
     let mut sampler = Sampler::new(opts.sampler, opts.seed);
     let (mut with_landings, mut total) = (Vec::new(), 0usize);
     let mut stats = caustica_render::RenderStats::default();
     for path in 0..rec.paths {
         sampler.start_path(stream, path);
         let mut out = Vec::new();
-        trace_landings(&scene, &budget, &mut sampler, &opts, &mut out, &mut stats);
+        tracer.trace(&mut sampler, &opts, &mut out, &mut stats);
         if !out.is_empty() {
             with_landings.push(path);
             total += out.len();

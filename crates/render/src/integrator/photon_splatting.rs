@@ -29,8 +29,8 @@ use crate::filter::Filter;
 use crate::image_loop::render_pixels_collect;
 use crate::options::{Progress, RenderControl, RenderOptions};
 use crate::photon_differential::{
-    DiffPhoton, FootprintFilter, Landing, RECORD_LANDING_PATHS, count_caustic_paths,
-    photons_from_landings, trace_landings, unit_budget,
+    DiffPhoton, FootprintFilter, Landing, LandingTracer, RECORD_LANDING_PATHS, count_caustic_paths,
+    photons_from_landings, unit_budget,
 };
 use crate::stats::RenderStats;
 use caustica_core::Spectrum;
@@ -304,16 +304,10 @@ impl SplatPass<'_> {
         };
         let mut landings: Vec<Landing> = Vec::new();
         let mut sampler = Sampler::new(self.opts.sampler, self.opts.seed);
+        let tracer = LandingTracer::new(self.scene, budget);
         work.for_each_path(c, |path| {
             sampler.start_path(CAUSTIC_STREAM, path);
-            trace_landings(
-                self.scene,
-                budget,
-                &mut sampler,
-                self.opts,
-                &mut landings,
-                &mut st,
-            );
+            tracer.trace(&mut sampler, self.opts, &mut landings, &mut st);
         });
         let (photons, collapsed, failed) = photons_from_landings(&landings, self.paths);
         totals.photons = photons.len() as u64;

@@ -1,0 +1,92 @@
+//! Cost of tracing caustic photons with photon differentials against plain photons (issue 5,
+//! target ≤ 1.3×), measured robustly on a shared machine: the two tracers run alternately in
+//! one process on one thread, `reps` times each, and the ratio of their *minimum* times is
+//! reported (load only ever adds time, so the minimum is the least disturbed run).
+//!
+//! ```text
+//! cargo run --release -p caustica-render --example tracing_cost -- [reps] [scene photons]...
+//! ```
+//!
+//! Under `valgrind --tool=callgrind` with `reps = 1` the inclusive instruction counts of
+//! `trace_photons` and `trace_photon_differentials` give the same ratio in instructions, which
+//! load does not change (`bench/differential_tracing_cost.sh` does both).
+//! `TRACING_COST_ONLY=plain` or `=differential` runs one of the two tracers.
+
+use std::time::{Duration, Instant};
+
+use caustica_render::RenderOptions;
+use caustica_render::photon_differential::trace_photon_differentials;
+use caustica_render::photon_tracer::{MapKind, trace_photons};
+use caustica_scene::loader::builtin_scene;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let reps: usize = args
+        .first()
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(15)
+        .max(1);
+    let rest = if args.is_empty() { &[][..] } else { &args[1..] };
+    let cases: Vec<(String, usize)> = if rest.is_empty() {
+        vec![
+            ("glass-sphere".into(), 10_000),
+            ("water-wave".into(), 100_000),
+            ("metal-ring".into(), 50_000),
+        ]
+    } else {
+        rest.chunks(2)
+            .map(|c| {
+                let n = c.get(1).and_then(|n| n.parse().ok()).unwrap_or(100_000);
+                (c[0].clone(), n)
+            })
+            .collect()
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool");
+    let opts = RenderOptions::default();
+    let only_var = std::env::var("TRACING_COST_ONLY").ok();
+    let only = only_var.as_deref();
+    println!(
+        "| scene | caustic photons | light paths | plain (ms, min of {reps}) | with differentials (ms) | ratio |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|");
+    for (name, n) in cases {
+        let scene = match builtin_scene(&name).map(|s| s.build()) {
+            Some(Ok(s)) => s,
+            _ => {
+                eprintln!("unknown or invalid built-in scene {name}");
+                std::process::exit(2);
+            }
+        };
+        let mut plain = Duration::MAX;
+        let mut diff = Duration::MAX;
+        let mut paths = 0;
+        for _ in 0..reps {
+            if only != Some("differential") {
+                let t = Instant::now();
+                let p = pool.install(|| trace_photons(&scene, n, MapKind::Caustic, 0, &opts));
+                plain = plain.min(t.elapsed());
+                paths = p.paths;
+            }
+            if only != Some("plain") {
+                let t = Instant::now();
+                let d = pool.install(|| trace_photon_differentials(&scene, n, 1.0, 0, &opts));
+                diff = diff.min(t.elapsed());
+                assert!(
+                    paths == 0 || paths == d.paths,
+                    "both tracers follow the same paths"
+                );
+                paths = d.paths;
+            }
+        }
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        println!(
+            "| {name} | {n} | {paths} | {:.1} | {:.1} | {:.2} |",
+            ms(plain),
+            ms(diff),
+            diff.as_secs_f64() / plain.as_secs_f64()
+        );
+    }
+}
