@@ -47,6 +47,7 @@ use std::f32::consts::PI;
 
 use caustica_core::{Vec2, Vec3};
 
+use crate::ray_differential::all_finite3;
 use crate::{DiffError, RayDiff, SurfaceHit};
 
 /// A footprint has collapsed when `|D_u x × D_v x| ≤ COLLAPSED_SIN · |D_u x| |D_v x|` (the sine
@@ -94,6 +95,13 @@ pub struct Footprint {
     gather_radius: f32,
 }
 
+/// The larger eigenvalue of the Gram matrix `[[p, r], [r, q]]` (`p = |a|²`, `q = |b|²`,
+/// `r = a · b`).
+#[inline]
+fn gram_max_eigenvalue(p: f64, q: f64, r: f64) -> f64 {
+    0.5 * (p + q) + (0.25 * (p - q) * (p - q) + r * r).sqrt()
+}
+
 impl Footprint {
     /// The footprint centred at `center` (`x_p`, m) on the surface with normal `normal` (`n_p`,
     /// any non-zero length) of the positional differential vectors `du` = `D_u x_p`,
@@ -111,14 +119,19 @@ impl Footprint {
     /// [`DiffError::CollapsedFootprint`] if a projected vector is zero or the two are
     /// (numerically) parallel (see [`COLLAPSED_SIN`]).
     pub fn new(center: Vec3, du: Vec3, dv: Vec3, normal: Vec3) -> Result<Self, DiffError> {
-        if !(center.is_finite() && du.is_finite() && dv.is_finite() && normal.is_finite()) {
+        if !all_finite3([&center, &du, &dv, &normal]) {
             return Err(DiffError::NonFinite);
         }
-        let len = normal.length();
-        if !(len > 0.0 && len.is_finite()) {
+        let len2 = normal.length_squared();
+        if !(len2 > 0.0 && len2.is_finite()) {
             return Err(DiffError::DegenerateNormal);
         }
-        let n = normal / len;
+        // A unit normal (what the tracers pass) is used as it is.
+        let n = if (len2 - 1.0).abs() <= 4.0 * f32::EPSILON {
+            normal
+        } else {
+            normal / len2.sqrt()
+        };
         let du = du - n * n.dot(du);
         let dv = dv - n * n.dot(dv);
         // |a × b| > sin · |a| |b|, in squares (f64: the squares of tiny vectors underflow f32).
@@ -134,20 +147,19 @@ impl Footprint {
         let r1 = n.cross(du);
         let scale = 2.0 / du.dot(r0);
         let rows = [scale * r0, scale * r1];
-        if !(area > 0.0 && area.is_finite() && rows[0].is_finite() && rows[1].is_finite()) {
+        if !(area > 0.0 && area.is_finite() && all_finite3(&rows)) {
             return Err(DiffError::NonFinite);
         }
-        let mut fp = Self {
+        Ok(Self {
             center,
             normal: n,
             du,
             dv,
             rows,
             area,
-            gather_radius: 0.0,
-        };
-        fp.gather_radius = fp.semi_axis_lengths().0;
-        Ok(fp)
+            // The semi-major axis (semi_axis_lengths), from the Gram entries computed above.
+            gather_radius: (0.5 * gram_max_eigenvalue(a2, b2, a.dot(b)).sqrt()) as f32,
+        })
     }
 
     /// The footprint of a photon differential `ray` (parameters as in [`crate::emission`]:
@@ -218,8 +230,7 @@ impl Footprint {
     /// Eigenvalues `λ₁ ≥ λ₂ ≥ 0` of the Gram matrix of `D_u x`, `D_v x` (m², in f64).
     fn gram_eigenvalues(&self) -> (f64, f64) {
         let (a, b) = (self.du.as_dvec3(), self.dv.as_dvec3());
-        let (p, q, r) = (a.dot(a), b.dot(b), a.dot(b));
-        let l1 = 0.5 * (p + q) + (0.25 * (p - q) * (p - q) + r * r).sqrt();
+        let l1 = gram_max_eigenvalue(a.dot(a), b.dot(b), a.dot(b));
         let det = a.cross(b).length_squared(); // p q − r², without cancellation
         (l1, det / l1)
     }

@@ -26,6 +26,23 @@ pub struct RayDiff<const N: usize> {
     pub dv: [Vec3; N],
 }
 
+/// True if every value is finite, without a branch per value: `x · 0` is `±0` for finite `x`
+/// and NaN for `±∞` and NaN, and a sum of `±0` is `±0`, so the sum is zero exactly when every
+/// value is finite. The hot paths check whole differentials this way.
+#[inline]
+pub(crate) fn all_finite(xs: impl IntoIterator<Item = f32>) -> bool {
+    xs.into_iter().fold(0.0, |acc, x| acc + x * 0.0) == 0.0
+}
+
+/// [`all_finite`] for vectors.
+#[inline]
+pub(crate) fn all_finite3<'a>(vs: impl IntoIterator<Item = &'a Vec3>) -> bool {
+    vs.into_iter()
+        .fold(Vec3::ZERO, |acc, v| acc + *v * 0.0)
+        .cmpeq(Vec3::ZERO)
+        .all()
+}
+
 /// Differential of a normalisation `V = v/‖v‖` (eq. B.5b, B.7):
 /// `dV = (vᵀv I₃ − v vᵀ) / (vᵀv)^{3/2} dv`. Returns `dV` for a given `dv`; `v` must be non-zero.
 ///
@@ -90,11 +107,14 @@ impl<const N: usize> RayDiff<N> {
     }
 
     /// Whether every component is finite.
+    #[inline]
     pub fn is_finite(&self) -> bool {
-        self.p.is_finite()
-            && self.v.is_finite()
-            && self.dp.iter().all(|d| d.is_finite())
-            && self.dv.iter().all(|d| d.is_finite())
+        all_finite3(
+            [&self.p, &self.v]
+                .into_iter()
+                .chain(&self.dp)
+                .chain(&self.dv),
+        )
     }
 
     /// `Ok(self)` if finite, `Err(NonFinite)` otherwise.
@@ -124,6 +144,40 @@ impl RayDiff<2> {
             dody: self.dp[1],
             dddx: self.dv[0],
             dddy: self.dv[1],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finiteness_checks_catch_every_non_finite_component() {
+        let good = RayDiff::<2>::new(
+            Vec3::new(1.0, -0.0, 3.0e38),
+            Vec3::Z,
+            [Vec3::new(-1e-38, 0.0, 2.0), Vec3::splat(-0.0)],
+            [Vec3::X, Vec3::new(0.5, -2.0, f32::MIN_POSITIVE)],
+        );
+        assert!(good.is_finite());
+        assert!(all_finite([0.0, -0.0, f32::MAX, f32::MIN, 1e-45]));
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            assert!(!all_finite([1.0, bad, 2.0]));
+            for k in 0..18 {
+                let mut r = good;
+                let v = match k / 3 {
+                    0 => &mut r.p,
+                    1 => &mut r.v,
+                    2 => &mut r.dp[0],
+                    3 => &mut r.dp[1],
+                    4 => &mut r.dv[0],
+                    _ => &mut r.dv[1],
+                };
+                v[k % 3] = bad;
+                assert!(!r.is_finite(), "component {k} = {bad} not caught");
+                assert_eq!(r.finite_or_err(), Err(DiffError::NonFinite));
+            }
         }
     }
 }

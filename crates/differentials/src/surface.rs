@@ -22,6 +22,7 @@
 
 use caustica_core::{Mat3, Vec3};
 
+use crate::ray_differential::{all_finite, all_finite3};
 use crate::transfer::{
     Transferred, outer, transfer_jacobians, transfer_to_fixed_plane, transfer_to_plane,
 };
@@ -182,11 +183,7 @@ fn hit_plane<const N: usize>(
     // normal; dN_flat enters eq. B.27c, giving eq. B.34 / B.37–B.38.
     let tr = transfer_to_plane(ray, q[0], &motion.dq[0], ng, &dng)?;
     let (lambda, dlambda) = barycentrics(ray, q, &motion.dq);
-    if lambda
-        .iter()
-        .chain(dlambda.iter().flatten())
-        .any(|x| !x.is_finite())
-    {
+    if !all_finite(lambda.iter().chain(dlambda.iter().flatten()).copied()) {
         return Err(DiffError::NonFinite);
     }
     Ok(SurfaceHit {
@@ -233,11 +230,7 @@ fn hit_plane_stationary<const N: usize>(
         let dl2 = (dtau.dot(e0) - l2 * dv.cross(e1).dot(e0)) * z0; // eq. B.46c, B.49c
         [-dl1 - dl2, dl1, dl2] // eq. B.46a
     });
-    if lambda
-        .iter()
-        .chain(dlambda.iter().flatten())
-        .any(|x| !x.is_finite())
-    {
+    if !all_finite(lambda.iter().chain(dlambda.iter().flatten()).copied()) {
         return Err(DiffError::NonFinite);
     }
     Ok(SurfaceHit {
@@ -413,7 +406,7 @@ impl PhongTriangle {
             sign * inv_len * (dn - unit * unit.dot(dn))
         });
         hit.normal = sign * unit; // eq. B.42b
-        if hit.dnormal.iter().any(|d| !d.is_finite()) {
+        if !all_finite3(&hit.dnormal) {
             return Err(DiffError::NonFinite);
         }
         Ok(hit)

@@ -3,6 +3,7 @@
 
 use caustica_core::{Mat3, Vec3};
 
+use crate::ray_differential::all_finite;
 use crate::{DiffError, RayDiff};
 
 /// Rays with `|Vᵀ N| ≤ PARALLEL_COS · ‖V‖ ‖N‖` count as parallel to a plane
@@ -68,7 +69,7 @@ pub fn transfer_to_plane<const N: usize>(
     let q = p + s * v; // eq. B.13a
     // eq. B.13b and B.16b: W = V, dW = dV.
     let out = RayDiff::new(q, v, dq, ray.dv).finite_or_err()?;
-    if !s.is_finite() || ds.iter().any(|d| !d.is_finite()) {
+    if !all_finite(std::iter::once(s).chain(ds)) {
         return Err(DiffError::NonFinite);
     }
     Ok(Transferred { ray: out, s, ds })
@@ -101,7 +102,7 @@ pub fn transfer_to_fixed_plane<const N: usize>(
     }
     let q = p + s * v; // eq. B.13a
     let out = RayDiff::new(q, v, dq, ray.dv).finite_or_err()?; // eq. B.13b, B.16b
-    if !s.is_finite() || ds.iter().any(|d| !d.is_finite()) {
+    if !all_finite(std::iter::once(s).chain(ds)) {
         return Err(DiffError::NonFinite);
     }
     Ok(Transferred { ray: out, s, ds })

@@ -10,7 +10,8 @@
 //! Under `valgrind --tool=callgrind` with `reps = 1` the inclusive instruction counts of
 //! `trace_photons` and `trace_photon_differentials` give the same ratio in instructions, which
 //! load does not change (`bench/differential_tracing_cost.sh` does both).
-//! `TRACING_COST_ONLY=plain` or `=differential` runs one of the two tracers.
+//! `TRACING_COST_ONLY=plain` or `=differential` runs one of the two tracers;
+//! `TRACING_COST_THREADS=T` uses `T` threads instead of one.
 
 use std::time::{Duration, Instant};
 
@@ -41,8 +42,12 @@ fn main() {
             })
             .collect()
     };
+    let threads = std::env::var("TRACING_COST_THREADS")
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(1);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
+        .num_threads(threads)
         .build()
         .expect("a one-thread pool");
     let opts = RenderOptions::default();
