@@ -178,9 +178,10 @@ pub fn trace_photon_differentials(
         ),
     };
     let tracer = LandingTracer::new(scene, &budget);
-    let (landings, paths, stats) = trace_paths(target, stream, opts, |_, sampler, out, st| {
-        tracer.trace(sampler, opts, out, st)
-    });
+    let (landings, paths, stats) =
+        trace_paths(target, stream, opts, &mut |_| {}, |_, sampler, out, st| {
+            tracer.trace(sampler, opts, out, st)
+        });
     let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
     let short = (landings.len() < target).then(|| {
         format!(
@@ -283,14 +284,17 @@ pub const RECORD_LANDING_PATHS: usize = 1 << 21;
 /// this `stream`, traced without differentials and without storing photons: photon
 /// differential splatting must know their number `N` before the first splat, since the
 /// footprints scale with `1/√N` (eq. 5–6). With `record` it also returns which paths landed,
-/// so that only those need tracing again (8 bytes per landing).
+/// so that only those need tracing again (8 bytes per landing). `progress` receives the
+/// fraction of `target` found so far after each wave of paths.
 pub fn count_caustic_paths(
     scene: &Scene,
     target: usize,
     stream: u64,
     opts: &RenderOptions,
     record: bool,
+    progress: &mut dyn FnMut(f64),
 ) -> CausticPaths {
+    let mut on_wave = |found: usize| progress(found as f64 / target.max(1) as f64);
     /// Pushes `record` once per caustic landing of the path.
     struct Count<'a, P> {
         out: &'a mut Vec<P>,
@@ -309,10 +313,15 @@ pub fn count_caustic_paths(
         }
     }
     if record {
-        let (mut found, paths, stats) =
-            trace_paths(target, stream, opts, |path, sampler, out, st| {
+        let (mut found, paths, stats) = trace_paths(
+            target,
+            stream,
+            opts,
+            &mut on_wave,
+            |path, sampler, out, st| {
                 walk_light_path_with(scene, sampler, opts, st, &mut Count { out, record: path })
-            });
+            },
+        );
         let landings = found.len();
         found.dedup();
         return CausticPaths {
@@ -323,9 +332,10 @@ pub fn count_caustic_paths(
         };
     }
     // Too many to record: count only (a zero-sized record per landing).
-    let (found, paths, stats) = trace_paths(target, stream, opts, |_, sampler, out, st| {
-        walk_light_path_with(scene, sampler, opts, st, &mut Count { out, record: () })
-    });
+    let (found, paths, stats) =
+        trace_paths(target, stream, opts, &mut on_wave, |_, sampler, out, st| {
+            walk_light_path_with(scene, sampler, opts, st, &mut Count { out, record: () })
+        });
     CausticPaths {
         paths,
         landings: found.len(),

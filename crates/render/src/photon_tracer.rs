@@ -76,9 +76,10 @@ pub fn trace_photons(
     stream: u64,
     opts: &RenderOptions,
 ) -> TracedPhotons {
-    let (mut photons, paths, stats) = trace_paths(target, stream, opts, |_, sampler, out, st| {
-        trace_one(scene, sampler, opts, kind, out, st)
-    });
+    let (mut photons, paths, stats) =
+        trace_paths(target, stream, opts, &mut |_| {}, |_, sampler, out, st| {
+            trace_one(scene, sampler, opts, kind, out, st)
+        });
     let inv_n = 1.0 / paths.max(1) as f32;
     for p in &mut photons {
         p.flux *= inv_n;
@@ -115,13 +116,14 @@ pub fn trace_photons(
 /// The chunked, deterministic path loop behind [`trace_photons`] (and the photon-differential
 /// tracer): emits numbered light paths (path `i` seeds the sampler with `(stream, i)`) in fixed
 /// chunks of [`CHUNK`], `trace_one(path, sampler, records, stats)` storing each path's records,
-/// until `target` records exist;
+/// until `target` records exist (`on_wave(found)` after each wave of chunks);
 /// cut at the path where the count reaches `target`. Returns the records in path order (not
 /// divided by the path count), the number of paths and the statistics.
 pub(crate) fn trace_paths<P: Clone + Send>(
     target: usize,
     stream: u64,
     opts: &RenderOptions,
+    on_wave: &mut dyn FnMut(usize),
     trace_one: impl Fn(u64, &mut Sampler, &mut Vec<P>, &mut RenderStats) + Sync,
 ) -> (Vec<P>, u64, RenderStats) {
     // Reserved up front: growing by doubling touches twice the memory (page faults were ~5 %
@@ -183,6 +185,7 @@ pub(crate) fn trace_paths<P: Clone + Send>(
             photons.extend_from_slice(&p);
         }
         emitted += chunks * CHUNK;
+        on_wave(photons.len().min(target));
     }
     let (paths, keep) = cut.unwrap_or((emitted, photons.len()));
     photons.truncate(keep);

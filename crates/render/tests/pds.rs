@@ -193,8 +193,8 @@ fn the_recorded_landing_paths_are_exactly_the_paths_with_caustic_photons() {
     let scene = small_builtin("metal-ring", 8, 8);
     let opts = caustics_only(3000, 1.0, 1);
     let stream = 0xCA05;
-    let rec = count_caustic_paths(&scene, 3000, stream, &opts, true);
-    let plain = count_caustic_paths(&scene, 3000, stream, &opts, false);
+    let rec = count_caustic_paths(&scene, 3000, stream, &opts, true, &mut |_| {});
+    let plain = count_caustic_paths(&scene, 3000, stream, &opts, false, &mut |_| {});
     assert_eq!((rec.paths, rec.landings), (plain.paths, plain.landings));
     assert!(plain.landing_paths.is_none());
     let listed = rec.landing_paths.expect("recorded");

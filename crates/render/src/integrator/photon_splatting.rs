@@ -43,8 +43,10 @@ use std::time::Instant;
 
 /// Light paths per chunk of the splatting pass (traced in parallel; photons kept in path order).
 const CHUNK: u64 = 1 << 12;
-/// Share of the progress bar given to the camera pass (the photon pass has the rest).
-const EYE_SHARE: f64 = 0.5;
+/// Shares of the progress bar given to the camera pass and to counting the light paths (the
+/// splatting pass has the rest).
+const EYE_SHARE: f64 = 0.4;
+const COUNT_SHARE: f64 = 0.1;
 
 /// Renders `scene` by photon differential splatting into `film`; returns the statistics and
 /// appends the notes for the user.
@@ -104,7 +106,12 @@ pub fn render(
     let t = Instant::now();
     let target = opts.photons.caustic_photons;
     let record = target <= RECORD_LANDING_PATHS;
-    let counted = count_caustic_paths(scene, target, CAUSTIC_STREAM, opts, record);
+    let counted = count_caustic_paths(scene, target, CAUSTIC_STREAM, opts, record, &mut |f| {
+        (ctl.on_progress)(Progress {
+            fraction: EYE_SHARE + COUNT_SHARE * f.clamp(0.0, 1.0),
+            samples: 0,
+        })
+    });
     let (paths, landings) = (counted.paths, counted.landings);
     stats.rays += counted.stats.rays;
     // The paths to trace with differentials: those that landed when they were recorded (most
@@ -151,7 +158,9 @@ pub fn render(
         totals.splats += splat.splat(&batch, &mut acc);
         c = end;
         (ctl.on_progress)(Progress {
-            fraction: EYE_SHARE + (1.0 - EYE_SHARE) * c as f64 / chunks.max(1) as f64,
+            fraction: EYE_SHARE
+                + COUNT_SHARE
+                + (1.0 - EYE_SHARE - COUNT_SHARE) * c as f64 / chunks.max(1) as f64,
             samples: work.done(c),
         });
         if ctl.stop.load(Ordering::Relaxed) {
