@@ -183,6 +183,19 @@ fn hit_plane<const N: usize>(
     // normal; dN_flat enters eq. B.27c, giving eq. B.34 / B.37–B.38.
     let tr = transfer_to_plane(ray, q[0], &motion.dq[0], ng, &dng)?;
     let (lambda, dlambda) = barycentrics(ray, q, &motion.dq);
+    plane_hit(tr, ng, dng, lambda, dlambda)
+}
+
+/// The hit on a triangle's plane with the flat normal as the scattering normal, or
+/// [`DiffError::NonFinite`] if a barycentric or its derivative is not finite.
+#[inline]
+fn plane_hit<const N: usize>(
+    tr: Transferred<N>,
+    ng: Vec3,
+    dng: [Vec3; N],
+    lambda: [f32; 3],
+    dlambda: [[f32; 3]; N],
+) -> Result<SurfaceHit<N>, DiffError> {
     if !all_finite(lambda.iter().chain(dlambda.iter().flatten()).copied()) {
         return Err(DiffError::NonFinite);
     }
@@ -230,20 +243,7 @@ fn hit_plane_stationary<const N: usize>(
         let dl2 = (dtau.dot(e0) - l2 * dv.cross(e1).dot(e0)) * z0; // eq. B.46c, B.49c
         [-dl1 - dl2, dl1, dl2] // eq. B.46a
     });
-    if !all_finite(lambda.iter().chain(dlambda.iter().flatten()).copied()) {
-        return Err(DiffError::NonFinite);
-    }
-    Ok(SurfaceHit {
-        ray: tr.ray,
-        s: tr.s,
-        ds: tr.ds,
-        geometric_normal: ng,
-        dgeometric_normal: [Vec3::ZERO; N],
-        normal: ng,
-        dnormal: [Vec3::ZERO; N],
-        barycentrics: lambda,
-        dbarycentrics: dlambda,
-    })
+    plane_hit(tr, ng, [Vec3::ZERO; N], lambda, dlambda)
 }
 
 /// The unit flat normal `N_flat` of the triangle with edges `e0`, `e1` oriented against `v`
