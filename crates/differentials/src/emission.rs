@@ -55,6 +55,7 @@ use std::f64::consts::PI;
 
 use caustica_core::{Frame, Vec3};
 
+use crate::ray_differential::unit;
 use crate::transfer::PARALLEL_COS;
 use crate::{DiffError, RayDiff};
 
@@ -341,17 +342,6 @@ pub fn emit_area(
     budget: &EmissionBudget,
 ) -> Result<RayDiff<2>, DiffError> {
     emit(origin, direction, Some(normal), area, solid_angle, budget)
-}
-
-/// `v / |v|`, or `None` for a zero or non-finite vector. A vector already unit to within a
-/// few ulps (the sampled directions and normals a renderer passes) is returned as it is.
-fn unit(v: Vec3) -> Option<Vec3> {
-    let len2 = v.length_squared();
-    if (len2 - 1.0).abs() <= 4.0 * f32::EPSILON {
-        return Some(v);
-    }
-    let len = len2.sqrt();
-    (len > 0.0 && len.is_finite()).then(|| v / len)
 }
 
 #[cfg(test)]

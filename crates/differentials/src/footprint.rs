@@ -47,7 +47,7 @@ use std::f32::consts::PI;
 
 use caustica_core::{Vec2, Vec3};
 
-use crate::ray_differential::all_finite3;
+use crate::ray_differential::{all_finite3, unit};
 use crate::{DiffError, RayDiff, SurfaceHit};
 
 /// A footprint has collapsed when `|D_u x × D_v x| ≤ COLLAPSED_SIN · |D_u x| |D_v x|` (the sine
@@ -122,16 +122,7 @@ impl Footprint {
         if !all_finite3([&center, &du, &dv, &normal]) {
             return Err(DiffError::NonFinite);
         }
-        let len2 = normal.length_squared();
-        if !(len2 > 0.0 && len2.is_finite()) {
-            return Err(DiffError::DegenerateNormal);
-        }
-        // A unit normal (what the tracers pass) is used as it is.
-        let n = if (len2 - 1.0).abs() <= 4.0 * f32::EPSILON {
-            normal
-        } else {
-            normal / len2.sqrt()
-        };
+        let n = unit(normal).ok_or(DiffError::DegenerateNormal)?;
         let du = du - n * n.dot(du);
         let dv = dv - n * n.dot(dv);
         // |a × b| > sin · |a| |b|, in squares (f64: the squares of tiny vectors underflow f32).

@@ -43,6 +43,18 @@ pub(crate) fn all_finite3<'a>(vs: impl IntoIterator<Item = &'a Vec3>) -> bool {
         .all()
 }
 
+/// `v / |v|`, or `None` for a zero or non-finite vector. A vector already unit to within a
+/// few ulps (the sampled directions and normals a renderer passes) is returned as it is.
+#[inline]
+pub(crate) fn unit(v: Vec3) -> Option<Vec3> {
+    let len2 = v.length_squared();
+    if (len2 - 1.0).abs() <= 4.0 * f32::EPSILON {
+        return Some(v);
+    }
+    let len = len2.sqrt();
+    (len > 0.0 && len.is_finite()).then(|| v / len)
+}
+
 /// Differential of a normalisation `V = v/‖v‖` (eq. B.5b, B.7):
 /// `dV = (vᵀv I₃ − v vᵀ) / (vᵀv)^{3/2} dv`. Returns `dV` for a given `dv`; `v` must be non-zero.
 ///

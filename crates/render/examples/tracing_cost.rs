@@ -7,10 +7,9 @@
 //! cargo run --release -p caustica-render --example tracing_cost -- [reps] [scene photons]...
 //! ```
 //!
-//! Under `valgrind --tool=callgrind` with `reps = 1` the inclusive instruction counts of
-//! `trace_photons` and `trace_photon_differentials` give the same ratio in instructions, which
-//! load does not change (`bench/differential_tracing_cost.sh` does both).
-//! `TRACING_COST_ONLY=plain` or `=differential` runs one of the two tracers;
+//! `TRACING_COST_ONLY=plain` or `=differential` runs one of the two tracers: under
+//! `valgrind --tool=callgrind` with `reps = 1` the two runs' instruction totals give the ratio
+//! in instructions, which load does not change (`bench/differential_tracing_cost.sh` does both).
 //! `TRACING_COST_THREADS=T` uses `T` threads instead of one.
 
 use std::time::{Duration, Instant};

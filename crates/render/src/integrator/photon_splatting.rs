@@ -35,7 +35,6 @@ use crate::photon_differential::{
 use crate::stats::RenderStats;
 use caustica_core::Spectrum;
 use caustica_core::sampling::Sampler;
-use caustica_differentials::EmissionBudget;
 use caustica_scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::Ordering;
@@ -125,11 +124,10 @@ pub fn render(
     // 4. Trace and splat.
     let t = Instant::now();
     let splat = SplatPass {
-        scene,
         opts,
         eye: &eye,
         filter: footprint_filter(&opts.photons),
-        budget: unit_budget(opts.photons.smoothing),
+        tracer: unit_budget(opts.photons.smoothing).map(|b| LandingTracer::new(scene, &b)),
         paths,
     };
     // One accumulator per eye vertex, per tile (W/m²/sr before the throughput β).
@@ -213,7 +211,7 @@ pub fn render(
             }
         ));
     }
-    if splat.budget.is_none() {
+    if splat.tracer.is_none() {
         notes.push(format!(
             "warning: smoothing s = {} is not a positive number; nothing splatted",
             opts.photons.smoothing
@@ -292,12 +290,12 @@ impl std::ops::AddAssign for ChunkTotals {
 
 /// What every chunk of the splatting pass needs.
 struct SplatPass<'a> {
-    scene: &'a Scene,
     opts: &'a RenderOptions,
     eye: &'a EyeMap,
     filter: FootprintFilter,
-    /// `None` for an invalid smoothing parameter (nothing is splatted).
-    budget: Option<EmissionBudget>,
+    /// The light-path tracer for the unit budget (built once for all chunks); `None` for an
+    /// invalid smoothing parameter (nothing is splatted).
+    tracer: Option<LandingTracer<'a>>,
     /// Light paths `N` of the whole pass (the N of Φ = β/N and of eq. 5–6).
     paths: u64,
 }
@@ -308,12 +306,11 @@ impl SplatPass<'_> {
     fn trace(&self, work: &Work, c: u64) -> (Vec<DiffPhoton>, ChunkTotals, RenderStats) {
         let mut st = RenderStats::default();
         let mut totals = ChunkTotals::default();
-        let Some(budget) = &self.budget else {
+        let Some(tracer) = &self.tracer else {
             return (Vec::new(), totals, st);
         };
         let mut landings: Vec<Landing> = Vec::new();
         let mut sampler = Sampler::new(self.opts.sampler, self.opts.seed);
-        let tracer = LandingTracer::new(self.scene, budget);
         work.for_each_path(c, |path| {
             sampler.start_path(CAUSTIC_STREAM, path);
             tracer.trace(&mut sampler, self.opts, &mut landings, &mut st);
