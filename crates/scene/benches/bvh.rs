@@ -1,8 +1,8 @@
 //! BVH benchmarks on a procedurally displaced sphere of ~1M triangles:
 //! build time, closest-hit throughput for coherent (pinhole camera) and incoherent rays,
-//! shadow-ray throughput of [`Geometry`] (an `obvhs` CWBVH over all primitives, with our
-//! watertight triangle test), against raw `obvhs` on its own triangles (its own triangle test and
-//! `build_cwbvh_from_tris`) as the reference for the overhead of our wrapper.
+//! shadow-ray throughput of [`Geometry`] (our 4-wide BVH, collapsed from obvhs's binary PLOC
+//! tree, with four-at-a-time watertight triangle tests), against raw `obvhs` on its own triangles
+//! (its CWBVH from `build_cwbvh_from_tris` and its own triangle test) as the reference.
 //!
 //! Run: `cargo bench -p caustica-scene --bench bvh`. Traversal benchmarks are single-threaded;
 //! both builds are single-threaded (obvhs without its `parallel` feature).
@@ -126,9 +126,10 @@ fn benches(c: &mut Criterion) {
     let geo = Geometry::build(shapes.clone());
     let build_once = t0.elapsed();
     eprintln!(
-        "caustica: {n_tris} triangles, build {:.3} s, {} wide nodes",
+        "caustica: {n_tris} triangles, build {:.3} s, {} 4-wide nodes, {} packets",
         build_once.as_secs_f64(),
-        geo.bvh.nodes.len(),
+        geo.bvh.node_count(),
+        geo.bvh.packet_count(),
     );
     let bounds = geo.bounds();
 

@@ -1,18 +1,16 @@
 //! All shapes of a scene behind one BVH: closest-hit and shadow queries.
 //!
-//! Every primitive (mesh triangle, sphere, disk) is a leaf primitive of the same compressed wide
-//! BVH (the `obvhs` crate's CWBVH, 8-wide, built with PLOC from the primitive bounds; built single
-//! threaded so the tree is the same whatever the thread count). The primitives are copied in BVH
-//! order into a compact array (triangles as their three vertices), so a leaf reads contiguous
-//! memory. Traversal only tracks `(t, primitive, b1, b2)`; the full
+//! Every primitive (mesh triangle, sphere, disk) is a leaf primitive of the same 4-wide BVH
+//! ([`WideBvh`]: obvhs's PLOC build collapsed to four children per node, boxes and triangles
+//! tested four at a time). The primitives are copied in BVH order into a compact array
+//! (triangles as their three vertices). Traversal only tracks `(t, primitive, b1, b2)`; the full
 //! [`SurfaceInteraction`] is computed once, for the closest hit.
 
 use crate::intersection::SurfaceInteraction;
 use crate::shape::mesh::TriangleRay;
 use crate::shape::{Aabb, Disk, Shape, ShapeGeometry, Sphere};
+use crate::wide_bvh::{BoxRay, WideBvh, WideHit};
 use caustica_core::{Ray, Vec2, Vec3};
-use glam::Vec3A;
-use obvhs::cwbvh::CwBvh;
 use rayon::prelude::*;
 
 /// Surface data of a hit computed by a shape (before shape-level flags are applied).
@@ -52,32 +50,13 @@ impl PrimGeom {
 /// The scene's shapes and their acceleration structure.
 pub struct Geometry {
     pub shapes: Vec<Shape>,
-    /// The compressed wide BVH over all primitives (empty when there are none).
-    pub bvh: CwBvh,
+    /// The 4-wide BVH over all primitives (empty when there are none).
+    pub bvh: WideBvh,
     bounds: Aabb,
     /// Primitive geometry in BVH order (40 bytes each).
     prims: Vec<PrimGeom>,
     /// (shape, primitive within the shape) in BVH order; read once per closest hit.
     prim_ids: Vec<(u32, u32)>,
-}
-
-/// How far (in units of `t`) behind the ray origin the obvhs traversal ray starts: more than
-/// obvhs's node-entry cutoff of `1e-4`.
-const T_SHIFT: f32 = 1.0 / 4096.0;
-
-/// A distance along our ray as a (never smaller) distance along the shifted traversal ray.
-#[inline(always)]
-fn to_cw(t: f32) -> f32 {
-    (t + T_SHIFT).next_up()
-}
-
-/// Everything the traversal keeps about the current closest hit.
-#[derive(Clone, Copy)]
-struct Hit {
-    t: f32,
-    prim: u32,
-    b1: f32,
-    b2: f32,
 }
 
 impl Geometry {
@@ -127,32 +106,30 @@ impl Geometry {
         let valid: Vec<u32> = (0..boxes.len() as u32)
             .filter(|&i| geoms[i as usize].is_some())
             .collect();
-        let oboxes: Vec<obvhs::aabb::Aabb> = valid
+        let vboxes: Vec<Aabb> = valid
             .iter()
             .map(|&i| {
-                // obvhs's slab test has no rounding-error margin: pad each box by a few ulps of
-                // its coordinates so rays aimed at shared vertices and edges cannot slip through.
+                // Pad each box by a few ulps of its coordinates so rays aimed at shared vertices
+                // and edges cannot slip through a slab test (which also grows its far distance).
                 let b = &boxes[i as usize];
                 let pad = (b.min.abs().max(b.max.abs()).max_element() * 4.0 * f32::EPSILON)
                     .max(f32::MIN_POSITIVE);
-                obvhs::aabb::Aabb::new(Vec3A::from(b.min - pad), Vec3A::from(b.max + pad))
+                Aabb {
+                    min: b.min - pad,
+                    max: b.max + pad,
+                }
             })
             .collect();
-        let bvh = if oboxes.is_empty() {
-            CwBvh::default()
-        } else {
-            obvhs::cwbvh::builder::build_cwbvh(
-                &oboxes,
-                obvhs::BvhBuildParams::medium_build(),
-                &mut std::time::Duration::default(),
-            )
-        };
-        // BVH order → index into `geoms` / `ids`.
-        let order: Vec<u32> = bvh
-            .primitive_indices
+        let vtris: Vec<Option<[Vec3; 3]>> = valid
             .iter()
-            .map(|&k| valid[k as usize])
+            .map(|&i| match geoms[i as usize] {
+                Some(PrimGeom::Triangle(v)) => Some(v),
+                _ => None,
+            })
             .collect();
+        let bvh = WideBvh::build(&vboxes, &vtris);
+        // BVH order → index into `geoms` / `ids`.
+        let order: Vec<u32> = bvh.order().iter().map(|&k| valid[k as usize]).collect();
         let prims: Vec<PrimGeom> = order
             .par_iter()
             .with_min_len(4096)
@@ -180,53 +157,22 @@ impl Geometry {
         self.prims.len()
     }
 
-    /// The traversal ray, or `None` when nothing can be hit.
-    ///
-    /// obvhs skips every node entered before `t = 1e-4` (an absolute distance), which would lose
-    /// short hits (contact shadows, small scenes). The traversal ray therefore starts
-    /// [`T_SHIFT`] behind `ray.o`: traversal distances are ours plus `T_SHIFT`. Primitive tests
-    /// still use the exact `ray.o`.
+    /// The two prepared rays of a traversal, or `None` when nothing can be hit.
     #[inline(always)]
-    fn cw_ray(&self, ray: &Ray) -> Option<obvhs::ray::Ray> {
+    fn rays(&self, ray: &Ray) -> Option<(TriangleRay, BoxRay)> {
         if self.prims.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
             return None;
         }
-        // `+ 0.0` turns −0 into +0: obvhs takes the octant from the sign bits but the slab
-        // order from `d < 0`, which disagree for −0 components (the ray would miss everything).
-        let d = Vec3A::from(ray.d) + Vec3A::ZERO;
-        Some(obvhs::ray::Ray::new(
-            Vec3A::from(ray.o) - d * T_SHIFT,
-            d,
-            0.0,
-            to_cw(ray.t_max),
-        ))
+        Some((TriangleRay::new(ray.o, ray.d), BoxRay::new(ray.o, ray.d)))
     }
 
     #[inline]
-    fn closest(&self, ray: &Ray) -> Option<Hit> {
-        let cw_ray = self.cw_ray(ray)?;
-        let mut best: Option<Hit> = None;
+    fn closest(&self, ray: &Ray) -> Option<WideHit> {
+        let (tr, br) = self.rays(ray)?;
         let (o, d) = (ray.o, ray.d);
-        let tr = TriangleRay::new(o, d);
-        let mut t_max = ray.t_max;
-        self.bvh.ray_traverse(
-            cw_ray,
-            &mut obvhs::ray::RayHit::none(),
-            |_: &obvhs::ray::Ray, k: usize| match self.prims[k].intersect(&tr, o, d, t_max) {
-                Some((t, b1, b2)) => {
-                    t_max = t;
-                    best = Some(Hit {
-                        t,
-                        prim: k as u32,
-                        b1,
-                        b2,
-                    });
-                    to_cw(t)
-                }
-                None => f32::INFINITY,
-            },
-        );
-        best
+        self.bvh.closest(&tr, &br, ray.t_max, |k, t_max| {
+            self.prims[k as usize].intersect(&tr, o, d, t_max)
+        })
     }
 
     /// Closest hit along `ray` with `t ∈ (0, ray.t_max)`.
@@ -243,19 +189,13 @@ impl Geometry {
 
     /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let Some(cw_ray) = self.cw_ray(ray) else {
+        let Some((tr, br)) = self.rays(ray) else {
             return false;
         };
         let (o, d) = (ray.o, ray.d);
-        let tr = TriangleRay::new(o, d);
-        !self
-            .bvh
-            .ray_traverse_miss(cw_ray, |_: &obvhs::ray::Ray, k: usize| {
-                match self.prims[k].intersect(&tr, o, d, ray.t_max) {
-                    Some(_) => f32::NEG_INFINITY,
-                    None => f32::INFINITY,
-                }
-            })
+        self.bvh.any(&tr, &br, ray.t_max, |k, t_max| {
+            self.prims[k as usize].intersect(&tr, o, d, t_max)
+        })
     }
 
     /// World bounds of all shapes.
@@ -264,7 +204,7 @@ impl Geometry {
     }
 
     /// The full record of a hit found by the traversal.
-    fn interaction(&self, ray: &Ray, hit: Hit) -> SurfaceInteraction {
+    fn interaction(&self, ray: &Ray, hit: WideHit) -> SurfaceInteraction {
         let geom = &self.prims[hit.prim as usize];
         let (shape_id, prim_id) = self.prim_ids[hit.prim as usize];
         let shape = &self.shapes[shape_id as usize];

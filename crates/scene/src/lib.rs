@@ -1,7 +1,7 @@
 //! Scene description of caustica: everything a ray can meet.
 //!
 //! * [`shape`] — triangle meshes, spheres, disks; [`geometry`] puts all their primitives in one
-//!   BVH (the `obvhs` crate's CWBVH) and answers closest-hit and shadow queries with a
+//!   4-wide BVH ([`wide_bvh`], built from the `obvhs` crate's binary tree) and answers closest-hit and shadow queries with a
 //!   [`SurfaceInteraction`].
 //! * [`bsdf`] — scattering functions in the local shading frame; [`material`] builds a
 //!   [`bsdf::Bsdf`] at a hit from (textured) parameters; [`texture`] evaluates those.
@@ -38,6 +38,7 @@ pub mod material;
 pub mod scene;
 pub mod shape;
 pub mod texture;
+pub mod wide_bvh;
 
 pub use error::SceneError;
 pub use intersection::SurfaceInteraction;

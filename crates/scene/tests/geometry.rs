@@ -150,7 +150,7 @@ fn large_mesh_bvh_matches_brute_force() {
     assert_eq!(geo.primitive_count(), n as usize);
     // Every primitive appears exactly once in the BVH order.
     let mut seen = vec![false; n as usize];
-    for &k in &geo.bvh.primitive_indices {
+    for &k in geo.bvh.order() {
         assert!(!seen[k as usize]);
         seen[k as usize] = true;
     }

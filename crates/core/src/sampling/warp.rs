@@ -94,14 +94,14 @@ pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
 /// the point is `(1 − b1 − b2) p0 + b1 p1 + b2 p2`.
 #[inline]
 pub fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
-    let (b0, b1);
-    if u.x < u.y {
-        b0 = u.x / 2.0;
-        b1 = u.y - b0;
-    } else {
-        b1 = u.y / 2.0;
-        b0 = u.x - b1;
-    }
+    // The smaller coordinate s maps to s/2 and the larger l to l − s/2, in whichever of b0, b1
+    // the coordinate stands for. Written as selects rather than an `if`: the comparison is a
+    // coin flip, and a mispredicted branch cost more than the whole map (light sampling).
+    let x_smaller = u.x < u.y;
+    let (s, l) = if x_smaller { (u.x, u.y) } else { (u.y, u.x) };
+    let h = s / 2.0;
+    let m = l - h;
+    let (b0, b1) = if x_smaller { (h, m) } else { (m, h) };
     Vec2::new(b1, 1.0 - b0 - b1)
 }
 

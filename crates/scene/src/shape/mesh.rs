@@ -15,15 +15,15 @@ use caustica_core::{Affine3A, Frame, Vec2, Vec3};
 /// edges or vertices of closed meshes).
 #[derive(Clone, Copy, Debug)]
 pub struct TriangleRay {
-    o: Vec3,
+    pub(crate) o: Vec3,
     /// Axis permutation: the ray's dominant axis is `kz`; `kx`, `ky` keep a right-handed order.
-    kx: usize,
-    ky: usize,
-    kz: usize,
+    pub(crate) kx: usize,
+    pub(crate) ky: usize,
+    pub(crate) kz: usize,
     /// Shear `(−d_kx/d_kz, −d_ky/d_kz)` and scale `1/d_kz` (Woop et al. 2013, eq. 2).
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    pub(crate) sx: f32,
+    pub(crate) sy: f32,
+    pub(crate) sz: f32,
 }
 
 impl TriangleRay {
