@@ -386,7 +386,7 @@ impl DiffVisitor<'_> {
         let ray = self.ray()?;
         match (
             self.scene.geometry.shapes.get(si.shape as usize),
-            si.triangle,
+            self.scene.geometry.triangle_vertices(si),
         ) {
             // Flat and Phong triangles share the plane (eq. B.24–B.29, B.36–B.40).
             (Some(s), Some(tri)) if matches!(s.geometry, ShapeGeometry::Mesh(_)) => {
@@ -477,8 +477,7 @@ fn surface_hit(
 ) -> Result<SurfaceHit<2>, DiffError> {
     let shape = scene.geometry.shapes.get(si.shape as usize);
     match shape.map(|s| &s.geometry) {
-        Some(ShapeGeometry::Mesh(_)) if si.triangle.is_some() => {
-            let tri = si.triangle.expect("checked");
+        Some(ShapeGeometry::Mesh(_)) if let Some(tri) = scene.geometry.triangle_vertices(si) => {
             match tri.n {
                 Some(n) => PhongTriangle { q: tri.p, n }.hit(ray),
                 None => FlatTriangle { q: tri.p }.hit(ray),

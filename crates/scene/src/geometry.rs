@@ -6,7 +6,7 @@
 //! (triangles as their three vertices). Traversal only tracks `(t, primitive, b1, b2)`; the full
 //! [`SurfaceInteraction`] is computed once, for the closest hit.
 
-use crate::intersection::SurfaceInteraction;
+use crate::intersection::{SurfaceInteraction, TriangleVertices};
 use crate::shape::mesh::TriangleRay;
 use crate::shape::{Aabb, Disk, Shape, ShapeGeometry, Sphere};
 use crate::wide_bvh::{BoxRay, WideBvh, WideHit};
@@ -209,23 +209,18 @@ impl Geometry {
         let (shape_id, prim_id) = self.prim_ids[hit.prim as usize];
         let shape = &self.shapes[shape_id as usize];
         let p_ray = ray.at(hit.t);
-        let (mut sh, triangle) = match (&shape.geometry, geom) {
-            (ShapeGeometry::Mesh(m), _) => match m.surface(prim_id as usize, hit.b1, hit.b2) {
-                Some((sh, tv)) => (sh, Some(tv)),
+        let mut sh = match (&shape.geometry, geom) {
+            (ShapeGeometry::Mesh(m), _) => m
+                .surface(prim_id as usize, hit.b1, hit.b2)
                 // Unreachable for primitives that passed the build; keep a sane record anyway.
-                None => (flat_hit(p_ray, -ray.d), None),
-            },
-            (_, PrimGeom::Sphere(s)) => (s.surface(p_ray), None),
-            (_, PrimGeom::Disk(d)) => (d.surface(p_ray), None),
-            (_, PrimGeom::Triangle(_)) => (flat_hit(p_ray, -ray.d), None),
+                .unwrap_or_else(|| flat_hit(p_ray, -ray.d)),
+            (_, PrimGeom::Sphere(s)) => s.surface(p_ray),
+            (_, PrimGeom::Disk(d)) => d.surface(p_ray),
+            (_, PrimGeom::Triangle(_)) => flat_hit(p_ray, -ray.d),
         };
-        let mut triangle = triangle;
         if shape.flip_normals {
             sh.ng = -sh.ng;
             sh.ns = -sh.ns;
-            if let Some(tv) = &mut triangle {
-                tv.n = tv.n.map(|n| n.map(|v| -v));
-            }
         }
         SurfaceInteraction {
             p: sh.p,
@@ -242,8 +237,28 @@ impl Geometry {
             light: shape.light,
             medium_inside: shape.medium_inside,
             medium_outside: shape.medium_outside,
-            triangle,
         }
+    }
+
+    /// The vertices (and vertex normals, when the mesh has them) of the triangle hit at `si`,
+    /// as ray and photon differentials need them (seed 000 app. B.3); `None` unless `si` is on a
+    /// mesh. Normals are reversed on `flip_normals` shapes, like `si.ns`. Looked up here rather
+    /// than stored in every [`SurfaceInteraction`], which then stays small to copy.
+    pub fn triangle_vertices(&self, si: &SurfaceInteraction) -> Option<TriangleVertices> {
+        let shape = self.shapes.get(si.shape as usize)?;
+        let ShapeGeometry::Mesh(m) = &shape.geometry else {
+            return None;
+        };
+        let i = si.prim as usize;
+        let n = m.triangle_normals(i);
+        Some(TriangleVertices {
+            p: m.triangle(i)?,
+            n: if shape.flip_normals {
+                n.map(|n| n.map(|v| -v))
+            } else {
+                n
+            },
+        })
     }
 }
 

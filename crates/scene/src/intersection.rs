@@ -16,6 +16,8 @@ pub struct TriangleVertices {
 pub const NONE: u32 = u32::MAX;
 
 /// Everything known about a ray–surface hit. See the crate docs for the orientation rules.
+/// The hit triangle's vertices and vertex normals are not copied into every record:
+/// `Geometry::triangle_vertices` looks them up from `shape` and `prim`.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceInteraction {
     /// Hit point (m).
@@ -45,8 +47,6 @@ pub struct SurfaceInteraction {
     /// participating media land.
     pub medium_inside: u32,
     pub medium_outside: u32,
-    /// The triangle's vertices when the hit shape is a mesh.
-    pub triangle: Option<TriangleVertices>,
 }
 
 impl SurfaceInteraction {

@@ -246,7 +246,7 @@ fn sphere_hit_from_outside() {
     assert!(close(si.dpdv, Vec3::new(0.0, 0.0, -PI), 1e-5));
     assert_eq!(si.material, 3);
     assert_eq!(si.light, NONE);
-    assert!(si.triangle.is_none());
+    assert!(geo.triangle_vertices(&si).is_none());
     // Hit at (0, 1, 0): φ = π/2 → u = 1/4.
     let si = geo
         .intersect(&Ray::new(Vec3::new(0.0, 3.0, 0.0), -Vec3::Y))
@@ -367,7 +367,9 @@ fn flip_normals_reverses_ng_and_ns() {
         assert!(close(si.uv.extend(0.0), Vec3::new(0.6, 0.55, 0.0), 1e-5));
         assert!(close(si.dpdu, Vec3::new(2.0, 0.0, 0.0), 1e-5));
         assert!(close(si.dpdv, Vec3::new(0.0, 2.0, 0.0), 1e-5));
-        let tv = si.triangle.expect("mesh hit has its vertices");
+        let tv = geo
+            .triangle_vertices(&si)
+            .expect("mesh hit has its vertices");
         assert!(tv.p.contains(&Vec3::new(-1.0, -1.0, 0.0)));
         let si = geo
             .intersect(&Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::Z))
@@ -398,7 +400,10 @@ fn phong_shading_normal_matches_hand_computation() {
     // Without uvs: uv = barycentrics, dpdu = e1, dpdv = e2.
     assert!(close(si.uv.extend(0.0), Vec3::new(0.25, 0.25, 0.0), 1e-6));
     assert!(close(si.dpdu, Vec3::X, 1e-6) && close(si.dpdv, Vec3::Y, 1e-6));
-    assert_eq!(si.triangle.unwrap().n.unwrap()[1], Vec3::new(h, 0.0, h));
+    assert_eq!(
+        geo.triangle_vertices(&si).unwrap().n.unwrap()[1],
+        Vec3::new(h, 0.0, h)
+    );
     // Vertex normals pointing to the other side get flipped into ng's hemisphere.
     let mut inv = mesh;
     inv.normals = Some(vec![-Vec3::Z; 3]);

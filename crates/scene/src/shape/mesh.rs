@@ -5,7 +5,6 @@
 
 use super::Aabb;
 use crate::geometry::ShapeHit;
-use crate::intersection::TriangleVertices;
 use caustica_core::{Affine3A, Frame, Vec2, Vec3};
 
 /// A ray prepared for the watertight ray/triangle test of Woop, Benthin and Wald (2013):
@@ -287,7 +286,7 @@ impl TriangleMesh {
     /// normals flipped into the hemisphere of `ng` (or `ng`); `uv` the interpolated texture
     /// coordinates or `(b1, b2)`; `dpdu`, `dpdv` solved from the uv parameterisation (for
     /// `uv = (b1, b2)` they are the edges `e1`, `e2`), or a frame around `ng` if it degenerates.
-    pub fn surface(&self, i: usize, b1: f32, b2: f32) -> Option<(ShapeHit, TriangleVertices)> {
+    pub fn surface(&self, i: usize, b1: f32, b2: f32) -> Option<ShapeHit> {
         let p = self.triangle(i)?;
         let normals = self.triangle_normals(i);
         let b0 = 1.0 - b1 - b2;
@@ -343,7 +342,7 @@ impl TriangleMesh {
             dpdu,
             dpdv,
         };
-        Some((hit, TriangleVertices { p, n: normals }))
+        Some(hit)
     }
 
     pub fn bounds(&self) -> Aabb {
