@@ -7,7 +7,7 @@
 //! [`SurfaceInteraction`] is computed once, for the closest hit.
 
 use crate::intersection::{SurfaceInteraction, TriangleVertices};
-use crate::shape::mesh::TriangleRay;
+use crate::shape::mesh::{TriangleConstants, TriangleRay};
 use crate::shape::{Aabb, Disk, Shape, ShapeGeometry, Sphere};
 use crate::wide_bvh::{BoxRay, WideBvh, WideHit};
 use caustica_core::{Ray, Vec2, Vec3};
@@ -57,6 +57,9 @@ pub struct Geometry {
     prims: Vec<PrimGeom>,
     /// (shape, primitive within the shape) in BVH order; read once per closest hit.
     prim_ids: Vec<(u32, u32)>,
+    /// Normal and tangents of each mesh triangle in BVH order (unused for other primitives),
+    /// so a hit only interpolates.
+    tri_constants: Vec<TriangleConstants>,
 }
 
 impl Geometry {
@@ -137,6 +140,14 @@ impl Geometry {
             .collect();
         let prim_ids: Vec<(u32, u32)> = order.iter().map(|&i| ids[i as usize]).collect();
         debug_assert_eq!(prims.len(), order.len());
+        let tri_constants: Vec<TriangleConstants> = prim_ids
+            .par_iter()
+            .with_min_len(4096)
+            .map(|&(s, p)| match &shapes[s as usize].geometry {
+                ShapeGeometry::Mesh(m) => m.triangle_constants(p as usize).unwrap_or_default(),
+                _ => TriangleConstants::default(),
+            })
+            .collect();
         let bounds = order.iter().fold(Aabb::EMPTY, |mut b, &i| {
             let pb = &boxes[i as usize];
             b.grow(pb.min);
@@ -149,6 +160,7 @@ impl Geometry {
             bounds,
             prims,
             prim_ids,
+            tri_constants,
         }
     }
 
@@ -210,12 +222,16 @@ impl Geometry {
         let shape = &self.shapes[shape_id as usize];
         let p_ray = ray.at(hit.t);
         let mut sh = match (&shape.geometry, geom) {
-            (ShapeGeometry::Mesh(m), _) => m
-                .surface(prim_id as usize, hit.b1, hit.b2)
-                // Unreachable for primitives that passed the build; keep a sane record anyway.
-                .unwrap_or_else(|| flat_hit(p_ray, -ray.d)),
+            (ShapeGeometry::Mesh(m), PrimGeom::Triangle(v)) => m.surface_at(
+                prim_id as usize,
+                v,
+                &self.tri_constants[hit.prim as usize],
+                hit.b1,
+                hit.b2,
+            ),
             (_, PrimGeom::Sphere(s)) => s.surface(p_ray),
             (_, PrimGeom::Disk(d)) => d.surface(p_ray),
+            // Unreachable (triangles come from meshes only); keep a sane record anyway.
             (_, PrimGeom::Triangle(_)) => flat_hit(p_ray, -ray.d),
         };
         if shape.flip_normals {

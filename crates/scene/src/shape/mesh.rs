@@ -103,6 +103,17 @@ pub fn intersect_triangle(
     TriangleRay::new(o, d).intersect(t_max, p0, p1, p2)
 }
 
+/// The parts of a triangle's surface data that do not depend on the hit point (see
+/// [`TriangleMesh::triangle_constants`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TriangleConstants {
+    /// Unit geometric normal (winding order).
+    pub ng: Vec3,
+    /// Surface tangents ∂p/∂u, ∂p/∂v.
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
+}
+
 /// An indexed triangle mesh in world space.
 #[derive(Clone, Debug, Default)]
 pub struct TriangleMesh {
@@ -280,22 +291,68 @@ impl TriangleMesh {
         Some(t.map(|k| uv[k as usize]))
     }
 
-    /// Surface data of triangle `i` at barycentrics `(b1, b2)`, or `None` for a bad index.
-    ///
-    /// `ng = normalize(e1 × e2)` (winding); `ns` the normalised Phong interpolation of vertex
-    /// normals flipped into the hemisphere of `ng` (or `ng`); `uv` the interpolated texture
-    /// coordinates or `(b1, b2)`; `dpdu`, `dpdv` solved from the uv parameterisation (for
-    /// `uv = (b1, b2)` they are the edges `e1`, `e2`), or a frame around `ng` if it degenerates.
+    /// Surface data of triangle `i` at barycentrics `(b1, b2)`, or `None` for a bad index:
+    /// [`Self::triangle_constants`] and [`Self::surface_at`] in one call.
     pub fn surface(&self, i: usize, b1: f32, b2: f32) -> Option<ShapeHit> {
         let p = self.triangle(i)?;
-        let normals = self.triangle_normals(i);
-        let b0 = 1.0 - b1 - b2;
+        let c = self.triangle_constants(i)?;
+        Some(self.surface_at(i, &p, &c, b1, b2))
+    }
+
+    /// What the surface data of triangle `i` has in common at every point, or `None` for a bad
+    /// index: `ng = normalize(e1 × e2)` (winding; +z if degenerate) and the tangents `dpdu`,
+    /// `dpdv` solved from the uv parameterisation (for `uv = (b1, b2)` they are the edges `e1`,
+    /// `e2`), or a frame around `ng` if that degenerates. Computed once per triangle when the
+    /// BVH is built.
+    pub fn triangle_constants(&self, i: usize) -> Option<TriangleConstants> {
+        let p = self.triangle(i)?;
         let e1 = p[1] - p[0];
         let e2 = p[2] - p[0];
         let ng = e1.cross(e2).normalize_or_zero();
         let ng = if ng == Vec3::ZERO { Vec3::Z } else { ng };
+        let (dpdu, dpdv) = match self.triangle_uvs(i) {
+            Some(t) => {
+                let d02 = t[0] - t[2];
+                let d12 = t[1] - t[2];
+                let dp02 = p[0] - p[2];
+                let dp12 = p[1] - p[2];
+                let det = d02.x * d12.y - d02.y * d12.x;
+                let (mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO);
+                if det.abs() > 1e-12 {
+                    let inv = 1.0 / det;
+                    du = (dp02 * d12.y - dp12 * d02.y) * inv;
+                    dv = (dp12 * d02.x - dp02 * d12.x) * inv;
+                }
+                (du, dv)
+            }
+            None => (e1, e2),
+        };
+        let (dpdu, dpdv) =
+            if dpdu.is_finite() && dpdv.is_finite() && dpdu.cross(dpdv).length_squared() > 0.0 {
+                (dpdu, dpdv)
+            } else {
+                let f = Frame::from_normal(ng);
+                (f.s, f.t)
+            };
+        Some(TriangleConstants { ng, dpdu, dpdv })
+    }
+
+    /// Surface data of triangle `i` (vertices `p`, constants `c`) at barycentrics `(b1, b2)`:
+    /// `ns` the normalised Phong interpolation of vertex normals flipped into the hemisphere of
+    /// `ng` (or `ng`); `uv` the interpolated texture coordinates or `(b1, b2)`.
+    #[inline]
+    pub fn surface_at(
+        &self,
+        i: usize,
+        p: &[Vec3; 3],
+        c: &TriangleConstants,
+        b1: f32,
+        b2: f32,
+    ) -> ShapeHit {
+        let b0 = 1.0 - b1 - b2;
+        let ng = c.ng;
         let pos = p[0] * b0 + p[1] * b1 + p[2] * b2;
-        let ns = match normals {
+        let ns = match self.triangle_normals(i) {
             Some(n) => {
                 let v = (n[0] * b0 + n[1] * b1 + n[2] * b2).normalize_or_zero();
                 if v == Vec3::ZERO || !v.is_finite() {
@@ -308,41 +365,19 @@ impl TriangleMesh {
             }
             None => ng,
         };
-        let (uv, dpdu, dpdv) = match self.triangle_uvs(i) {
-            Some(t) => {
-                let uv = t[0] * b0 + t[1] * b1 + t[2] * b2;
-                let d02 = t[0] - t[2];
-                let d12 = t[1] - t[2];
-                let dp02 = p[0] - p[2];
-                let dp12 = p[1] - p[2];
-                let det = d02.x * d12.y - d02.y * d12.x;
-                let (mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO);
-                if det.abs() > 1e-12 {
-                    let inv = 1.0 / det;
-                    du = (dp02 * d12.y - dp12 * d02.y) * inv;
-                    dv = (dp12 * d02.x - dp02 * d12.x) * inv;
-                }
-                (uv, du, dv)
-            }
-            None => (Vec2::new(b1, b2), e1, e2),
+        let uv = match self.triangle_uvs(i) {
+            Some(t) => t[0] * b0 + t[1] * b1 + t[2] * b2,
+            None => Vec2::new(b1, b2),
         };
-        let (dpdu, dpdv) =
-            if dpdu.is_finite() && dpdv.is_finite() && dpdu.cross(dpdv).length_squared() > 0.0 {
-                (dpdu, dpdv)
-            } else {
-                let f = Frame::from_normal(ng);
-                (f.s, f.t)
-            };
-        let hit = ShapeHit {
+        ShapeHit {
             p: pos,
             ng,
             ns,
             uv,
             bary: Vec2::new(b1, b2),
-            dpdu,
-            dpdv,
-        };
-        Some(hit)
+            dpdu: c.dpdu,
+            dpdv: c.dpdv,
+        }
     }
 
     pub fn bounds(&self) -> Aabb {
