@@ -95,13 +95,14 @@ pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
 #[inline]
 pub fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
     // The smaller coordinate s maps to s/2 and the larger l to l − s/2, in whichever of b0, b1
-    // the coordinate stands for. Written as selects rather than an `if`: the comparison is a
+    // the coordinate stands for. The choice is a bit mask, not an `if`: the comparison is a
     // coin flip, and a mispredicted branch cost more than the whole map (light sampling).
-    let x_smaller = u.x < u.y;
-    let (s, l) = if x_smaller { (u.x, u.y) } else { (u.y, u.x) };
+    let mask = ((u.x < u.y) as u32).wrapping_neg();
+    let pick = |a: f32, b: f32| f32::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask));
+    let (s, l) = (pick(u.x, u.y), pick(u.y, u.x));
     let h = s / 2.0;
     let m = l - h;
-    let (b0, b1) = if x_smaller { (h, m) } else { (m, h) };
+    let (b0, b1) = (pick(h, m), pick(m, h));
     Vec2::new(b1, 1.0 - b0 - b1)
 }
 
