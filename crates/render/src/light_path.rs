@@ -9,7 +9,7 @@ use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use crate::surface::{Vertex, emission_ray, interior_transmittance, russian_roulette};
 use caustica_core::sampling::Sampler;
-use caustica_core::{Spectrum, Vec3};
+use caustica_core::{Ray, Spectrum, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::{BsdfSample, TransportMode};
 use caustica_scene::light::EmissionSample;
@@ -20,6 +20,9 @@ pub struct LightStart<'a> {
     /// Discrete probability of having chosen this light.
     pub pmf: f32,
     pub emission: &'a EmissionSample,
+    /// The ray the walker traces first: the emission ray with its origin moved off the
+    /// emitting surface ([`emission_ray`]).
+    pub ray: Ray,
 }
 
 /// A surface vertex of a light path, as seen by the visitor.
@@ -115,17 +118,18 @@ pub fn walk_light_path_with(
     if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() {
         return;
     }
+    let mut ray = emission_ray(&es);
     visitor.event(
         LightEvent::Start(&LightStart {
             light: li,
             pmf,
             emission: &es,
+            ray,
         }),
         sampler,
         stats,
     );
     let mut beta = es.weight / pmf;
-    let mut ray = emission_ray(&es);
     let mut depth = 1u32; // edges of the path including the one being traced
     let mut all_delta = true; // every scattering vertex so far was delta
     loop {

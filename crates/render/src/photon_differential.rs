@@ -58,7 +58,7 @@ use crate::light_path::{
 use crate::options::RenderOptions;
 use crate::photon_tracer::trace_paths;
 use crate::stats::RenderStats;
-use crate::surface::{Vertex, emission_ray};
+use crate::surface::Vertex;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum, Vec3};
 use caustica_density::kernel::{Dim, Kernel};
@@ -384,16 +384,11 @@ impl DiffVisitor<'_> {
     /// barycentrics of [`Self::hit_at`], which only scattering needs).
     fn landing_at(&mut self, si: &SurfaceInteraction) -> Result<Transferred<2>, DiffError> {
         let ray = self.ray()?;
-        match (
-            self.scene.geometry.shapes.get(si.shape as usize),
-            self.scene.geometry.triangle_vertices(si),
-        ) {
+        match self.scene.geometry.triangle_positions(si) {
             // Flat and Phong triangles share the plane (eq. B.24–B.29, B.36–B.40).
-            (Some(s), Some(tri)) if matches!(s.geometry, ShapeGeometry::Mesh(_)) => {
-                FlatTriangle { q: tri.p }.transfer(&ray)
-            }
+            Some(q) => FlatTriangle { q }.transfer(&ray),
             // Spheres and disks: the tangent plane at the hit.
-            _ => transfer_to_fixed_plane(&ray, si.p, si.ng),
+            None => transfer_to_fixed_plane(&ray, si.p, si.ng),
         }
     }
 }
@@ -408,7 +403,7 @@ impl LightVisitor for DiffVisitor<'_> {
             LightEvent::Start(start) => {
                 let es = start.emission;
                 self.pmf = start.pmf;
-                self.emission = (emission_ray(es), es.normal, start.light);
+                self.emission = (start.ray, es.normal, start.light);
                 self.ray = None;
             }
             LightEvent::Vertex(lv) => {

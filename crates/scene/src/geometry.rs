@@ -7,7 +7,7 @@
 //! [`SurfaceInteraction`] is computed once, for the closest hit.
 
 use crate::intersection::{SurfaceInteraction, TriangleVertices};
-use crate::shape::mesh::{TriangleConstants, TriangleRay};
+use crate::shape::mesh::{TriangleConstants, TriangleMesh, TriangleRay};
 use crate::shape::{Aabb, Disk, Shape, ShapeGeometry, Sphere};
 use crate::wide_bvh::{BoxRay, WideBvh, WideHit};
 use caustica_core::{Ray, Vec2, Vec3};
@@ -261,10 +261,7 @@ impl Geometry {
     /// mesh. Normals are reversed on `flip_normals` shapes, like `si.ns`. Looked up here rather
     /// than stored in every [`SurfaceInteraction`], which then stays small to copy.
     pub fn triangle_vertices(&self, si: &SurfaceInteraction) -> Option<TriangleVertices> {
-        let shape = self.shapes.get(si.shape as usize)?;
-        let ShapeGeometry::Mesh(m) = &shape.geometry else {
-            return None;
-        };
+        let (shape, m) = self.mesh_of(si)?;
         let i = si.prim as usize;
         let n = m.triangle_normals(i);
         Some(TriangleVertices {
@@ -275,6 +272,21 @@ impl Geometry {
                 n
             },
         })
+    }
+
+    /// The vertex positions of the triangle hit at `si` ([`Self::triangle_vertices`] without
+    /// the normals); `None` unless `si` is on a mesh.
+    pub fn triangle_positions(&self, si: &SurfaceInteraction) -> Option<[Vec3; 3]> {
+        self.mesh_of(si)?.1.triangle(si.prim as usize)
+    }
+
+    /// The shape of `si` and its mesh, if it is one.
+    fn mesh_of(&self, si: &SurfaceInteraction) -> Option<(&Shape, &TriangleMesh)> {
+        let shape = self.shapes.get(si.shape as usize)?;
+        match &shape.geometry {
+            ShapeGeometry::Mesh(m) => Some((shape, m)),
+            _ => None,
+        }
     }
 }
 
