@@ -1,6 +1,9 @@
 //! Discrete distributions sampled by inverting a cumulative table (light selection by power,
 //! triangle selection by area).
 
+/// Tables of at most this many cdf entries are searched by a branch-free count.
+const SHORT: usize = 16;
+
 /// A discrete distribution over `0..n` proportional to non-negative weights.
 #[derive(Clone, Debug, Default)]
 pub struct Distribution1D {
@@ -64,11 +67,15 @@ impl Distribution1D {
     pub fn sample(&self, u: f32) -> (usize, f32, f32) {
         // First index with cdf[i+1] > u, skipping zero-probability entries.
         let n = self.pmf.len();
-        let mut i = self
-            .cdf
-            .partition_point(|&c| c <= u)
-            .saturating_sub(1)
-            .min(n - 1);
+        // The number of cdf entries ≤ u, minus one. Short tables (a few lights, a quad light's
+        // two triangles) count without branches: the binary search's comparisons are coin flips
+        // that a branch predictor loses. Both give the same index, the cdf being sorted.
+        let below = if self.cdf.len() <= SHORT {
+            self.cdf.iter().map(|&c| (c <= u) as usize).sum()
+        } else {
+            self.cdf.partition_point(|&c| c <= u)
+        };
+        let mut i = below.saturating_sub(1).min(n - 1);
         while self.pmf[i] == 0.0 && i + 1 < n {
             i += 1;
         }
@@ -103,5 +110,47 @@ mod tests {
         let r = chi_square(&obs, &exp);
         assert!(r.passed(), "{r}");
         assert!(Distribution1D::new(&[0.0, f32::NAN]).is_none());
+    }
+
+    #[test]
+    fn short_tables_pick_what_the_binary_search_picks() {
+        // The branch-free count against the binary search it replaces, on tables below and
+        // above the cut-off, with zero weights and with u exactly on cdf entries.
+        let mut rng = Pcg32::new(4, 21);
+        for n in 1..=2 * SHORT {
+            let w: Vec<f32> = (0..n)
+                .map(|k| {
+                    if k % 3 == 1 {
+                        0.0
+                    } else {
+                        0.1 + rng.next_f32()
+                    }
+                })
+                .collect();
+            let Some(d) = Distribution1D::new(&w) else {
+                continue;
+            };
+            let by_search = |u: f32| {
+                let mut i = d
+                    .cdf
+                    .partition_point(|&c| c <= u)
+                    .saturating_sub(1)
+                    .min(n - 1);
+                while d.pmf[i] == 0.0 && i + 1 < n {
+                    i += 1;
+                }
+                while d.pmf[i] == 0.0 && i > 0 {
+                    i -= 1;
+                }
+                i
+            };
+            let us: Vec<f32> = (0..200)
+                .map(|_| rng.next_f32())
+                .chain(d.cdf.iter().copied().filter(|&c| c < 1.0))
+                .collect();
+            for u in us {
+                assert_eq!(d.sample(u).0, by_search(u), "n = {n}, u = {u}");
+            }
+        }
     }
 }
