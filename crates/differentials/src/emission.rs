@@ -248,7 +248,16 @@ pub fn emit_with_lengths(
     if !origin.is_finite() {
         return Err(DiffError::NonFinite);
     }
-    let b = emission_basis(direction, normal)?; // eq. 2–3
+    emit_with_basis(origin, &emission_basis(direction, normal)?, (lx, lw)) // eq. 2–3
+}
+
+/// [`emit_with_lengths`] with the basis of eq. 2–3 already computed ([`emission_basis`]): for
+/// collimated lights, whose photons all share one direction and normal, and so one basis.
+pub fn emit_with_basis(
+    origin: Vec3,
+    b: &EmissionBasis,
+    (lx, lw): (f32, f32),
+) -> Result<RayDiff<2>, DiffError> {
     RayDiff::new(
         origin,
         b.direction,

@@ -98,7 +98,7 @@ pub mod transfer;
 pub use camera::camera_ray_diff;
 pub use emission::{
     EmissionBasis, EmissionBudget, emission_basis, emit, emit_area, emit_beam, emit_directional,
-    emit_point, emit_spot, emit_with_lengths,
+    emit_point, emit_spot, emit_with_basis, emit_with_lengths,
 };
 pub use error::DiffError;
 pub use footprint::{Footprint, footprint_area, photon_solid_angle, silverman};

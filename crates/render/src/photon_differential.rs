@@ -64,8 +64,9 @@ use caustica_core::{Ray, Spectrum, Vec3};
 use caustica_density::kernel::{Dim, Kernel};
 use caustica_density::radius_buckets::RadiusBuckets;
 use caustica_differentials::{
-    DiffError, EmissionBudget, FlatTriangle, Footprint, PhongTriangle, RayDiff, SurfaceHit,
-    Transferred, emit_with_lengths, transfer_to_fixed_plane,
+    DiffError, EmissionBasis, EmissionBudget, FlatTriangle, Footprint, PhongTriangle, RayDiff,
+    SurfaceHit, Transferred, emission_basis, emit_with_basis, emit_with_lengths,
+    transfer_to_fixed_plane,
 };
 use caustica_scene::bsdf::{BsdfFlags, TransportMode};
 use caustica_scene::shape::ShapeGeometry;
@@ -216,24 +217,40 @@ pub fn unit_budget(smoothing: f32) -> Option<EmissionBudget> {
 }
 
 /// Traces light paths as photon differentials for one budget (normally [`unit_budget`]): the
-/// lengths of each light's initial vectors (eq. 5–6) are computed once here, not per photon.
+/// lengths of each light's initial vectors (eq. 5–6) are computed once here, not per photon,
+/// and so is the basis (eq. 2–3) of each collimated light.
 pub struct LandingTracer<'a> {
     scene: &'a Scene,
-    /// `(|D_u x|, |D_θ ω|)` per light, or why the light cannot emit photon differentials.
-    lengths: Vec<Result<(f32, f32), DiffError>>,
+    /// Per light: the lengths and fixed basis of [`LightEmission`].
+    lights: Vec<LightEmission>,
+}
+
+/// What every photon differential of one light shares.
+#[derive(Clone, Copy, Debug)]
+struct LightEmission {
+    /// `(|D_u x|, |D_θ ω|)` (eq. 5–6), or why the light cannot emit photon differentials.
+    lengths: Result<(f32, f32), DiffError>,
+    /// For a collimated light: its direction, normal and their basis (eq. 2–3), used for every
+    /// emitted ray with exactly that direction and normal.
+    fixed: Option<(Vec3, Option<Vec3>, EmissionBasis)>,
 }
 
 impl<'a> LandingTracer<'a> {
     pub fn new(scene: &'a Scene, budget: &EmissionBudget) -> Self {
-        let lengths = scene
+        let lights = scene
             .lights
             .iter()
             .map(|l| {
                 let (area, solid_angle) = l.emission_extent();
-                budget.emission_lengths(area, solid_angle)
+                LightEmission {
+                    lengths: budget.emission_lengths(area, solid_angle),
+                    fixed: l
+                        .fixed_emission_direction()
+                        .and_then(|(d, n)| emission_basis(d, n).ok().map(|b| (d, n, b))),
+                }
             })
             .collect();
-        Self { scene, lengths }
+        Self { scene, lights }
     }
 
     /// Traces one light path (the sampler positioned on it) and pushes its caustic landings
@@ -247,7 +264,7 @@ impl<'a> LandingTracer<'a> {
     ) {
         let mut v = DiffVisitor {
             scene: self.scene,
-            lengths: &self.lengths,
+            lights: &self.lights,
             out,
             emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0),
             ray: None,
@@ -347,8 +364,8 @@ pub fn count_caustic_paths(
 /// Per-path state: the emission sample and the differential along the current ray.
 struct DiffVisitor<'a> {
     scene: &'a Scene,
-    /// [`LandingTracer::lengths`].
-    lengths: &'a [Result<(f32, f32), DiffError>],
+    /// [`LandingTracer::lights`].
+    lights: &'a [LightEmission],
     out: &'a mut Vec<Landing>,
     /// The emission sample's ray and normal and the light's index, kept until the emitted
     /// differential is first needed (most paths never reach a delta surface, so their
@@ -365,12 +382,16 @@ impl DiffVisitor<'_> {
     fn ray(&mut self) -> Result<RayDiff<2>, DiffError> {
         *self.ray.get_or_insert_with(|| {
             let (ray, normal, light) = self.emission;
-            let lengths = self
-                .lengths
-                .get(light)
-                .copied()
-                .unwrap_or(Err(DiffError::NonFinite));
-            emit_with_lengths(ray.o, ray.d, normal, lengths?)
+            let Some(le) = self.lights.get(light) else {
+                return Err(DiffError::NonFinite);
+            };
+            match le.fixed {
+                // The light's one basis, for the exact direction and normal it was made from.
+                Some((d, n, b)) if d == ray.d && n == normal => {
+                    emit_with_basis(ray.o, &b, le.lengths?)
+                }
+                _ => emit_with_lengths(ray.o, ray.d, normal, le.lengths?),
+            }
         })
     }
 
@@ -383,13 +404,10 @@ impl DiffVisitor<'_> {
     /// position and direction differentials, which the footprint needs (not the normal and
     /// barycentrics of [`Self::hit_at`], which only scattering needs).
     fn landing_at(&mut self, si: &SurfaceInteraction) -> Result<Transferred<2>, DiffError> {
-        let ray = self.ray()?;
-        match self.scene.geometry.triangle_positions(si) {
-            // Flat and Phong triangles share the plane (eq. B.24–B.29, B.36–B.40).
-            Some(q) => FlatTriangle { q }.transfer(&ray),
-            // Spheres and disks: the tangent plane at the hit.
-            None => transfer_to_fixed_plane(&ray, si.p, si.ng),
-        }
+        // The plane through the hit with the geometric normal: a flat or Phong triangle's own
+        // plane (eq. B.24–B.29, B.36–B.40; the transfer depends on neither the normal's sign nor
+        // its length), a sphere's or disk's tangent plane.
+        transfer_to_fixed_plane(&self.ray()?, si.p, si.ng)
     }
 }
 

@@ -274,12 +274,6 @@ impl Geometry {
         })
     }
 
-    /// The vertex positions of the triangle hit at `si` ([`Self::triangle_vertices`] without
-    /// the normals); `None` unless `si` is on a mesh.
-    pub fn triangle_positions(&self, si: &SurfaceInteraction) -> Option<[Vec3; 3]> {
-        self.mesh_of(si)?.1.triangle(si.prim as usize)
-    }
-
     /// The shape of `si` and its mesh, if it is one.
     fn mesh_of(&self, si: &SurfaceInteraction) -> Option<(&Shape, &TriangleMesh)> {
         let shape = self.shapes.get(si.shape as usize)?;

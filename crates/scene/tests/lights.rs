@@ -747,3 +747,31 @@ fn camera_importance_integrates_to_one_per_pixel() {
         }
     }
 }
+
+#[test]
+fn collimated_lights_report_the_direction_they_emit() {
+    // Photon differentials reuse one emission basis per light only when the emitted ray's
+    // direction and normal equal `fixed_emission_direction` exactly.
+    let mut d = Light::Directional(DirectionalLight::new(
+        Vec3::new(0.3, -1.0, -0.2).normalize(),
+        Spectrum::splat(1.0),
+    ));
+    d.preprocess(Vec3::new(1.0, 2.0, 3.0), 4.0);
+    let beam = Light::Beam(BeamLight::new(
+        Vec3::new(0.0, 1.0, 5.0),
+        Vec3::new(0.1, 0.2, -1.0),
+        0.5,
+        Spectrum::splat(3.0),
+    ));
+    let mut rng = Pcg32::new(3, 3);
+    for light in [&d, &beam] {
+        let (dir, normal) = light.fixed_emission_direction().expect("collimated");
+        for _ in 0..100 {
+            let es = light.sample_emission(u2(&mut rng), u2(&mut rng));
+            assert_eq!(es.ray.d, dir);
+            assert_eq!(es.normal, normal);
+        }
+    }
+    let point = Light::Point(PointLight::new(Vec3::ZERO, Spectrum::splat(1.0)));
+    assert!(point.fixed_emission_direction().is_none());
+}

@@ -87,4 +87,8 @@ impl LightSource for BeamLight {
     fn emission_extent(&self) -> (f32, f32) {
         (PI * self.radius * self.radius, 0.0)
     }
+    /// Every photon leaves along self.frame.n, which is also the emitter normal.
+    fn fixed_emission_direction(&self) -> Option<(Vec3, Option<Vec3>)> {
+        Some((self.frame.n, Some(self.frame.n)))
+    }
 }

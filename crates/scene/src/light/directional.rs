@@ -79,4 +79,8 @@ impl LightSource for DirectionalLight {
     fn emission_extent(&self) -> (f32, f32) {
         (PI * self.scene_radius * self.scene_radius, 0.0)
     }
+    /// Every photon leaves along self.direction, which is also the emitter normal.
+    fn fixed_emission_direction(&self) -> Option<(Vec3, Option<Vec3>)> {
+        Some((self.direction, Some(self.direction)))
+    }
 }

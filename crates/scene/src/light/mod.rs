@@ -132,6 +132,12 @@ pub trait LightSource {
     /// emitted directions around each origin; 0 for a delta position or direction. Infinite
     /// lights report their emission disk (requires `preprocess`).
     fn emission_extent(&self) -> (f32, f32);
+    /// The direction and emitter normal every emitted ray shares, for collimated lights
+    /// (directional, beam): what photon differentials need to compute their emission basis
+    /// once per light. `None` for lights whose emitted directions vary.
+    fn fixed_emission_direction(&self) -> Option<(Vec3, Option<Vec3>)> {
+        None
+    }
 }
 
 /// Any light of the scene.
@@ -190,5 +196,9 @@ impl Light {
     /// See [`LightSource::emission_extent`].
     pub fn emission_extent(&self) -> (f32, f32) {
         dispatch!(self, l => l.emission_extent())
+    }
+    /// See [`LightSource::fixed_emission_direction`].
+    pub fn fixed_emission_direction(&self) -> Option<(Vec3, Option<Vec3>)> {
+        dispatch!(self, l => l.fixed_emission_direction())
     }
 }
