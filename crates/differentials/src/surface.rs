@@ -250,21 +250,15 @@ fn hit_plane_stationary<const N: usize>(
 /// (eq. B.30–B.31a), or [`DiffError::DegenerateTriangle`] (see [`DEGENERATE_SIN`]).
 #[inline]
 fn oriented_flat_normal(e0: Vec3, e1: Vec3, v: Vec3) -> Result<Vec3, DiffError> {
-    let n = oriented_flat_normal_unnormalized(e0, e1, v)?;
-    Ok(n / n.length())
-}
-
-/// [`oriented_flat_normal`] before normalisation, `±E₁ × E₀`: enough for a transfer, whose
-/// result does not depend on the normal's length. The degeneracy test compares squares.
-#[inline]
-fn oriented_flat_normal_unnormalized(e0: Vec3, e1: Vec3, v: Vec3) -> Result<Vec3, DiffError> {
+    // The degeneracy test compares squares.
     let n = e1.cross(e0); // eq. B.30, B.35a
     let scale2 = e0.length_squared() * e1.length_squared();
     let len2 = n.length_squared();
     if !(scale2 > 0.0 && len2 > DEGENERATE_SIN * DEGENERATE_SIN * scale2 && n.is_finite()) {
         return Err(DiffError::DegenerateTriangle);
     }
-    Ok(if n.dot(v) > 0.0 { -n } else { n })
+    let n = if n.dot(v) > 0.0 { -n } else { n };
+    Ok(n / n.length())
 }
 
 /// `c×`, the cross-product matrix of eq. B.32 / B.48: `c× b = c × b`.
@@ -295,16 +289,6 @@ impl FlatTriangle {
     /// stationary flat surface `dQ = K dP + s K dV` as in Igehy 1999, app. B after eq. B.34).
     pub fn hit<const N: usize>(&self, ray: &RayDiff<N>) -> Result<SurfaceHit<N>, DiffError> {
         hit_plane_stationary(&self.q, ray)
-    }
-
-    /// Transfers `ray` onto the plane of this stationary triangle without the normal and
-    /// barycentrics of [`FlatTriangle::hit`]: the position and direction differentials where
-    /// a photon lands (eq. B.24–B.29 with `dQ_k = 0`). A [`PhongTriangle`] lands on the same
-    /// plane, so use its vertices here too.
-    pub fn transfer<const N: usize>(&self, ray: &RayDiff<N>) -> Result<Transferred<N>, DiffError> {
-        let e = (self.q[1] - self.q[0], self.q[2] - self.q[0]);
-        let n = oriented_flat_normal_unnormalized(e.0, e.1, ray.v)?;
-        transfer_to_fixed_plane(ray, self.q[0], n)
     }
 
     /// Transfers `ray` onto this triangle whose vertices move with `motion.dq` (eq. B.28a with

@@ -488,20 +488,24 @@ fn surface_hit(
     si: &SurfaceInteraction,
     ray: &RayDiff<2>,
 ) -> Result<SurfaceHit<2>, DiffError> {
-    let shape = scene.geometry.shapes.get(si.shape as usize);
-    match shape.map(|s| &s.geometry) {
-        Some(ShapeGeometry::Mesh(_)) if let Some(tri) = scene.geometry.triangle_vertices(si) => {
-            match tri.n {
-                Some(n) => PhongTriangle { q: tri.p, n }.hit(ray),
-                None => FlatTriangle { q: tri.p }.hit(ray),
-            }
-        }
+    if let Some(tri) = scene.geometry.triangle_vertices(si) {
+        return match tri.n {
+            Some(n) => PhongTriangle { q: tri.p, n }.hit(ray),
+            None => FlatTriangle { q: tri.p }.hit(ray),
+        };
+    }
+    match scene
+        .geometry
+        .shapes
+        .get(si.shape as usize)
+        .map(|s| &s.geometry)
+    {
         Some(ShapeGeometry::Sphere(s)) => {
             let n_out = (si.p - s.center) / s.radius;
             let inv_r = 1.0 / s.radius;
             tangent_plane_hit(ray, si.p, n_out, |dq| dq * inv_r)
         }
-        // Disks (and, defensively, a mesh hit without its triangle): the tangent plane, dN = 0.
+        // Disks (and, defensively, a bad shape index): the tangent plane, dN = 0.
         _ => tangent_plane_hit(ray, si.p, si.ng, |_| Vec3::ZERO),
     }
 }

@@ -711,11 +711,43 @@ mod tests {
             hits += got.is_some() as u32;
         }
         assert!(hits > 3000, "hits {hits}");
+
+        // Rays straight down onto the shared edge x = 0 and the shared vertices of two
+        // triangles in z = 0: every quantity is an exact small dyadic number, so an edge
+        // function is exactly zero and the packet must take the scalar (double-precision)
+        // fallback. The hit must exist (no crack) and match the scalar test bit for bit.
+        let a = [
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+        ];
+        let b = [
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+        ];
+        for y in [-1.0, -0.5, 0.0, 0.25, 0.5, 1.0] {
+            let tr = TriangleRay::new(Vec3::new(0.0, y, 1.0), -Vec3::Z);
+            let mut expected = None;
+            let mut tm = f32::INFINITY;
+            for (l, t) in [a, b].iter().enumerate() {
+                if let Some((t, b1, b2)) = tr.intersect(tm, t[0], t[1], t[2]) {
+                    tm = t;
+                    expected = Some((t.to_bits(), l, b1.to_bits(), b2.to_bits()));
+                }
+            }
+            assert!(expected.is_some(), "the shared edge at y = {y} leaks");
+            let got = packet(&[a, b])
+                .closest_triangle(&tr, f32::INFINITY)
+                .map(|(t, l, b1, b2)| (t.to_bits(), l, b1.to_bits(), b2.to_bits()));
+            assert_eq!(got, expected, "y = {y}");
+        }
     }
 
     #[test]
-    fn slab_test_finds_boxes_touched_at_their_faces_and_rejects_the_rest() {
-        // Axis-parallel rays (zero direction components) grazing box faces, and rays that miss.
+    fn slab_test_finds_the_boxes_a_ray_passes_through_and_no_others() {
+        // Axis-parallel rays (zero direction components) just inside and just outside box
+        // faces, rays stopped early, a ray starting inside a box, and rays that miss.
         let mut node = Node {
             bounds: [[Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY)]; 3],
             child: [EMPTY; 4],

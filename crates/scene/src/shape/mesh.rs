@@ -291,14 +291,6 @@ impl TriangleMesh {
         Some(t.map(|k| uv[k as usize]))
     }
 
-    /// Surface data of triangle `i` at barycentrics `(b1, b2)`, or `None` for a bad index:
-    /// [`Self::triangle_constants`] and [`Self::surface_at`] in one call.
-    pub fn surface(&self, i: usize, b1: f32, b2: f32) -> Option<ShapeHit> {
-        let p = self.triangle(i)?;
-        let c = self.triangle_constants(i)?;
-        Some(self.surface_at(i, &p, &c, b1, b2))
-    }
-
     /// What the surface data of triangle `i` has in common at every point, or `None` for a bad
     /// index: `ng = normalize(e1 × e2)` (winding; +z if degenerate) and the tangents `dpdu`,
     /// `dpdv` solved from the uv parameterisation (for `uv = (b1, b2)` they are the edges `e1`,
@@ -337,7 +329,8 @@ impl TriangleMesh {
         Some(TriangleConstants { ng, dpdu, dpdv })
     }
 
-    /// Surface data of triangle `i` (vertices `p`, constants `c`) at barycentrics `(b1, b2)`:
+    /// Surface data of triangle `i` (vertices `p`, constants `c` from
+    /// [`Self::triangle_constants`]) at barycentrics `(b1, b2)`:
     /// `ns` the normalised Phong interpolation of vertex normals flipped into the hemisphere of
     /// `ng` (or `ng`); `uv` the interpolated texture coordinates or `(b1, b2)`.
     #[inline]
