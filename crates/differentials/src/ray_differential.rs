@@ -100,6 +100,29 @@ impl<const N: usize> RayDiff<N> {
         r.finite_or_err()
     }
 
+    /// The same ray with `M ≥ N` parameters: the first `N` derivatives as they are, the others
+    /// zero — a parameter this ray does not depend on yet (e.g. time at the emission from a
+    /// static light, before a moving surface adds its motion terms).
+    ///
+    /// # Panics
+    /// If `M < N` (a programming error).
+    pub fn widen<const M: usize>(&self) -> RayDiff<M> {
+        assert!(
+            M >= N,
+            "cannot widen a differential of {N} parameters to {M}"
+        );
+        let mut dp = [Vec3::ZERO; M];
+        let mut dv = [Vec3::ZERO; M];
+        dp[..N].copy_from_slice(&self.dp);
+        dv[..N].copy_from_slice(&self.dv);
+        RayDiff {
+            p: self.p,
+            v: self.v,
+            dp,
+            dv,
+        }
+    }
+
     /// First-order estimate of the ray at parameters θ + Δθ (eq. B.3–B.4 with `dθ = Δθ`,
     /// as in eq. B.9). The direction estimate is not renormalised.
     pub fn first_order(&self, delta: [f32; N]) -> (Vec3, Vec3) {
@@ -163,6 +186,22 @@ impl RayDiff<2> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn widening_keeps_the_derivatives_and_adds_zero_ones() {
+        let r = RayDiff::<2>::new(
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::Y,
+            [Vec3::X, Vec3::new(0.0, 0.0, -2.0)],
+            [Vec3::Z, Vec3::new(0.5, 0.0, 0.0)],
+        );
+        let w = r.widen::<3>();
+        assert_eq!((w.p, w.v), (r.p, r.v));
+        assert_eq!(&w.dp[..2], &r.dp[..]);
+        assert_eq!(&w.dv[..2], &r.dv[..]);
+        assert_eq!((w.dp[2], w.dv[2]), (Vec3::ZERO, Vec3::ZERO));
+        assert_eq!(r.widen::<2>(), r);
+    }
 
     #[test]
     fn finiteness_checks_catch_every_non_finite_component() {

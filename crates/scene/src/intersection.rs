@@ -56,6 +56,18 @@ impl SurfaceInteraction {
         Frame::from_normal_tangent(self.ns, self.dpdu)
     }
 
+    /// The geometric normal on the side of direction `w` (world space): `ng` when `w · ng ≥ 0`,
+    /// else `−ng`. The one rule for "the normal facing the viewer (or the light)" of photons,
+    /// footprints, eye vertices and density queries.
+    #[inline]
+    pub fn ng_toward(&self, w: Vec3) -> Vec3 {
+        if self.ng.dot(w) >= 0.0 {
+            self.ng
+        } else {
+            -self.ng
+        }
+    }
+
     /// Offset applied to ray origins leaving this surface, relative to the hit's magnitude.
     #[inline]
     fn offset(&self) -> f32 {
