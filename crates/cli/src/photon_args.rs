@@ -1,33 +1,40 @@
 //! Command-line settings of the photon-mapping integrators (`--integrator pm`).
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use caustica_density::kernel::Kernel;
-use caustica_render::PhotonOptions;
+use caustica_render::{
+    Bandwidth, CausticEstimator, Diffusivity, NoiseScale, NormalDistance, PhotonOptions, Smoothing,
+    Steepness,
+};
 use clap::Args;
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct PhotonArgs {
-    /// Caustic photons: stored in the caustic map (pm, dpm, pdm) or splatted (pds); default
-    /// 200000.
-    #[arg(long, help_heading = "Photon mapping")]
+    /// Caustic photons: stored in the caustic map (pm, dpm, pdm) or splatted (pds): light paths
+    /// are emitted until this many land (default 200000; at least 1).
+    #[arg(long, help_heading = "Photon mapping", conflicts_with = "light_paths")]
     pub photons: Option<usize>,
+    /// Emit exactly N light paths for the caustic photons instead of --photons (seed 002's N_e;
+    /// at least 1). pds then needs no counting pass.
+    #[arg(long, value_name = "N", help_heading = "Photon mapping")]
+    pub light_paths: Option<u64>,
     /// Photons stored in the global map (pm; default 100000; 0 = no indirect light).
     #[arg(long, help_heading = "Photon mapping")]
     pub global_photons: Option<usize>,
-    /// Photons per radiance estimate, k nearest (default 50).
+    /// Photons per radiance estimate, k nearest (default 50; at least 1).
     #[arg(long, help_heading = "Photon mapping")]
     pub k: Option<usize>,
-    /// Photons per estimate in the global map (default: the same as --k).
+    /// Photons per estimate in the global map (default: the same as --k; at least 1).
     #[arg(long, help_heading = "Photon mapping")]
     pub global_k: Option<usize>,
-    /// Largest gather radius in scene units (default: unbounded).
+    /// Largest gather radius in scene units (default: unbounded; a positive finite length).
     #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub max_radius: Option<f32>,
-    /// Density-estimation kernel (pdm, pds: of the footprints, default silverman): uniform,
-    /// epanechnikov (default), biweight, gaussian, cone,
-    /// cone:G, silverman, cubic.
+    /// Kernel of every density estimate: uniform, epanechnikov, biweight, gaussian, cone,
+    /// cone:G (G >= 1), silverman, cubic. Default: epanechnikov for the photon maps, silverman
+    /// for the footprints of pdm and pds.
     #[arg(long, help_heading = "Photon mapping")]
-    pub kernel: Option<String>,
+    pub kernel: Option<Kernel>,
     /// Final-gather rays per camera sample (default 16; 0 = show the global map directly).
     #[arg(long, help_heading = "Photon mapping")]
     pub final_gather: Option<u32>,
@@ -40,56 +47,58 @@ pub struct PhotonArgs {
     /// Density estimator of the caustic map: knn (pm's default), fixed, variable (k-NN pilot),
     /// diffusion (dpm's).
     #[arg(long, help_heading = "Photon mapping")]
-    pub estimator: Option<String>,
+    pub estimator: Option<CausticEstimator>,
     /// Fixed bandwidth h in scene units of the fixed and diffusion estimators (default: the
-    /// median distance from a caustic photon to its k-th nearest neighbour).
+    /// median distance from a caustic photon to its k-th nearest neighbour; a positive finite
+    /// length).
     #[arg(
         long,
         allow_negative_numbers = true,
         help_heading = "Diffusion photon mapping (dpm)"
     )]
-    pub bandwidth: Option<f32>,
-    /// Diffusivity coefficient q of eq. 4.15 (default 0.2; large = no adaptation).
+    pub bandwidth: Option<Bandwidth>,
+    /// Diffusivity coefficient q of eq. 4.15 (default 0.2; large = no adaptation; > 0).
     #[arg(
         long,
         allow_negative_numbers = true,
         help_heading = "Diffusion photon mapping (dpm)"
     )]
-    pub q: Option<f32>,
-    /// Steepness alpha of eq. 4.15 (default 1).
+    pub q: Option<Diffusivity>,
+    /// Steepness alpha of eq. 4.15 (default 1; > 0).
     #[arg(
         long,
         allow_negative_numbers = true,
         help_heading = "Diffusion photon mapping (dpm)"
     )]
-    pub alpha: Option<f32>,
-    /// Noise scale of the gradient pre-pass in scene units (default: half the bandwidth).
+    pub alpha: Option<Steepness>,
+    /// Noise scale of the gradient pre-pass in scene units (default: half the bandwidth; a
+    /// positive finite length).
     #[arg(
         long,
         allow_negative_numbers = true,
         help_heading = "Diffusion photon mapping (dpm)"
     )]
-    pub noise_scale: Option<f32>,
+    pub noise_scale: Option<NoiseScale>,
     /// Isotropic diffusion: a round kernel that shrinks near structure (seed 000 sec. 4.3.3).
     #[arg(long, help_heading = "Diffusion photon mapping (dpm)")]
     pub isotropic: bool,
     /// Smoothing parameter s of photon differentials (pdm, pds; seed 002 eq. 5-6): the
-    /// emitted footprints overlap s^2 times (default 1; > 0).
+    /// emitted footprints overlap s^2 times (default 1; a positive finite number).
     #[arg(
         long,
         allow_negative_numbers = true,
         help_heading = "Photon differentials (pdm, pds)"
     )]
-    pub smoothing: Option<f32>,
+    pub smoothing: Option<Smoothing>,
     /// Normal-distance threshold against topological bias (seed 002 sec. 3.3): a footprint
     /// does not reach points farther from its tangent plane than this fraction of its gather
-    /// radius (default 0.25; inf disables the test).
+    /// radius (default 0.25; >= 0; inf disables the test).
     #[arg(
         long,
         allow_negative_numbers = true,
         help_heading = "Photon differentials (pdm, pds)"
     )]
-    pub normal_distance: Option<f32>,
+    pub normal_distance: Option<NormalDistance>,
 }
 
 impl PhotonArgs {
@@ -99,6 +108,7 @@ impl PhotonArgs {
         if let Some(n) = self.photons {
             o.caustic_photons = n;
         }
+        o.light_paths = self.light_paths;
         if let Some(n) = self.global_photons {
             o.global_photons = n;
         }
@@ -107,19 +117,15 @@ impl PhotonArgs {
         }
         o.global_k = self.global_k;
         o.estimate.max_radius = self.max_radius;
-        if let Some(name) = &self.kernel {
-            o.estimate.kernel = Kernel::from_name(name).map_err(anyhow::Error::msg)?;
-            // The same choice for pdm's footprints (Silverman's by default there).
-            o.footprint_kernel = o.estimate.kernel;
+        if let Some(kernel) = self.kernel {
+            o.set_kernel(kernel);
         }
         if let Some(g) = self.final_gather {
             o.final_gather = g;
         }
         o.estimate.tangent_projection = self.tangent_projection;
         o.estimate.disc_test = self.disc_test;
-        if let Some(name) = &self.estimator {
-            o.caustic_estimator = name.parse().map_err(anyhow::Error::msg)?;
-        }
+        o.caustic_estimator = self.estimator;
         o.bandwidth = self.bandwidth;
         if let Some(q) = self.q {
             o.diffusion.q = q;
@@ -130,20 +136,19 @@ impl PhotonArgs {
         o.diffusion.noise_scale = self.noise_scale;
         o.diffusion.isotropic = self.isotropic;
         if let Some(s) = self.smoothing {
-            o.smoothing = s;
+            o.footprints.smoothing = s;
         }
         if let Some(t) = self.normal_distance {
-            o.normal_distance = t;
+            o.footprints.normal_distance = t;
         }
-        if let Err(e) = o.validate() {
-            bail!("{e}");
-        }
+        o.validate()?;
         Ok(o)
     }
 
     /// True if any photon-mapping option was given (they only affect photon integrators).
     pub fn any_given(&self) -> bool {
         self.photons.is_some()
+            || self.light_paths.is_some()
             || self.global_photons.is_some()
             || self.k.is_some()
             || self.global_k.is_some()

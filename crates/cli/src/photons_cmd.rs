@@ -7,7 +7,7 @@ use caustica_core::Spectrum;
 use caustica_core::sampling::SamplerKind;
 use caustica_render::integrator::photon_mapping::PhotonMaps;
 use caustica_render::photon_view::draw_photons;
-use caustica_render::{IntegratorKind, RenderControl, RenderOptions, render};
+use caustica_render::{IntegratorKind, PathLimits, RenderControl, RenderOptions, render};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -39,9 +39,7 @@ pub struct PhotonsArgs {
 pub fn run(args: PhotonsArgs) -> Result<()> {
     let defines = crate::render_cmd::parse_defines(&args.define)?;
     let scene = load(args.scene.as_deref(), &defines)?;
-    if scene.lights.is_empty() {
-        bail!("scene '{}' has no lights: no photons to show", scene.name);
-    }
+    IntegratorKind::PhotonMapping.check_scene(&scene)?;
     let max_depth = match args.max_depth {
         -1 => u32::MAX,
         d if d >= 1 => d.min(u32::MAX as i64) as u32,
@@ -51,7 +49,10 @@ pub fn run(args: PhotonsArgs) -> Result<()> {
         spp: args.background_spp.max(1),
         seed: args.seed,
         sampler: SamplerKind::Sobol,
-        max_depth,
+        limits: PathLimits {
+            max_depth,
+            ..PathLimits::default()
+        },
         photons: args.photon.options()?,
         ..RenderOptions::default()
     };
@@ -61,7 +62,7 @@ pub fn run(args: PhotonsArgs) -> Result<()> {
             IntegratorKind::Path,
             &opts,
             &RenderControl::silent(),
-        );
+        )?;
         let mut img = out.film.to_image();
         for p in &mut img.data {
             *p = p.map(|c| c * args.dim);
@@ -86,7 +87,7 @@ pub fn run(args: PhotonsArgs) -> Result<()> {
     );
     let c = draw_photons(
         &scene,
-        &maps.caustic.photons,
+        maps.caustic.point_photons(),
         Spectrum::new(1.0, 0.55, 0.05),
         &mut img,
     );

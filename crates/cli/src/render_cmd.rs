@@ -3,7 +3,9 @@
 use anyhow::{Context, Result, bail};
 use caustica_core::image_io::Image;
 use caustica_core::sampling::SamplerKind;
-use caustica_render::{Film, IntegratorKind, Progress, RenderControl, RenderOptions, render};
+use caustica_render::{
+    Film, IntegratorKind, PathLimits, Progress, RenderControl, RenderOptions, render,
+};
 use caustica_scene::Scene;
 use caustica_scene::loader;
 use clap::Args;
@@ -20,8 +22,9 @@ pub struct RenderSettings {
     /// Cornell box.
     pub scene: Option<String>,
     /// Integrator: path (path tracer with NEE and MIS), lighttrace (light tracer), pm (photon
-    /// mapping) or dpm (diffusion-based photon mapping). Default: the scene's suggestion
-    /// (Mitsuba `ptracer` maps to lighttrace), else path.
+    /// mapping), dpm (diffusion-based photon mapping), pdm (photon differential mapping) or pds
+    /// (photon differential splatting). Default: the scene's suggestion (Mitsuba `ptracer` maps
+    /// to lighttrace), else path.
     #[arg(long)]
     pub integrator: Option<String>,
     /// Mitsuba scene parameter overriding a `<default>`: `-D name=value` (repeatable).
@@ -127,12 +130,7 @@ impl RenderSettings {
             }),
             (None, None) => IntegratorKind::Path,
         };
-        if kind.uses_photons() && scene.lights.is_empty() {
-            bail!(
-                "scene '{}' has no lights: photon mapping needs at least one to emit photons",
-                scene.name
-            );
-        }
+        kind.check_scene(scene)?;
         let spp = self.spp.or(scene.settings.spp).unwrap_or(16);
         if spp == 0 {
             bail!("--spp must be at least 1");
@@ -147,33 +145,15 @@ impl RenderSettings {
             time_limit: self.time.map(Duration::from_secs_f64),
             seed: self.seed,
             sampler,
-            max_depth,
-            rr_depth: 5,
+            limits: PathLimits {
+                max_depth,
+                rr_depth: 5,
+            },
             checkpoint_interval: None,
             photons: self.photon.options()?,
             caustics_only: self.caustics_only,
         };
-        if self.caustics_only && kind == IntegratorKind::Path {
-            bail!(
-                "--caustics-only needs --integrator lighttrace, pm, dpm, pdm or pds: the path tracer cannot isolate L S+ D E paths"
-            );
-        }
-        if kind == IntegratorKind::DiffusionPhotonMapping
-            && let Some(e) = &self.photon.estimator
-            && e != "diffusion"
-        {
-            bail!(
-                "--integrator dpm uses the diffusion estimator; for --estimator {e} use --integrator pm"
-            );
-        }
-        if kind.uses_photon_differentials()
-            && let Some(e) = &self.photon.estimator
-        {
-            bail!(
-                "--integrator {} estimates caustics from photon-differential footprints; for --estimator {e} use --integrator pm",
-                kind.name()
-            );
-        }
+        kind.check(&opts)?;
         if (self.photon.smoothing.is_some() || self.photon.normal_distance.is_some())
             && !kind.uses_photon_differentials()
         {
@@ -315,7 +295,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         on_progress: &progress,
         on_checkpoint: &checkpoint,
     };
-    let out = render(&scene, kind, &opts, &ctl);
+    let out = render(&scene, kind, &opts, &ctl)?;
     bar.finish_and_clear();
     for note in &out.notes {
         eprintln!("{note}");

@@ -331,7 +331,7 @@ pub fn run(args: SweepArgs) -> Result<()> {
             on_checkpoint: &|_: &Film| {},
         };
         let start = Instant::now();
-        let out = render(&scene, r.kind, &r.opts, &ctl);
+        let out = render(&scene, r.kind, &r.opts, &ctl)?;
         let seconds = start.elapsed().as_secs_f64();
         for note in &out.notes {
             if !args.quiet || note.starts_with("warning") {
@@ -459,8 +459,8 @@ mod tests {
             Some(0.5)
         );
         assert_eq!(
-            set("kernel", "cone:1.1").unwrap().photon.kernel.as_deref(),
-            Some("cone:1.1")
+            set("kernel", "cone:1.1").unwrap().photon.kernel,
+            Some(caustica_density::kernel::Kernel::Cone { g: 1.1 })
         );
         assert!(set("disc-test", "true").unwrap().photon.disc_test);
         assert!(set("k", "ten").is_err());

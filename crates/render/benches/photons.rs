@@ -16,11 +16,11 @@
 use std::hint::black_box;
 
 use caustica_core::Vec2;
-use caustica_render::RenderOptions;
-use caustica_render::photon_differential::trace_photon_differentials;
-use caustica_render::photon_map::{EstimateOptions, PhotonMap};
-use caustica_render::photon_tracer::{MapKind, Photon, trace_photons};
-use caustica_render::surface::Vertex;
+use caustica_render::photon::differential::trace_photon_differentials;
+use caustica_render::photon::map::{EstimateOptions, PhotonMap};
+use caustica_render::photon::tracer::{MapKind, Photon, trace_photons};
+use caustica_render::transport::Vertex;
+use caustica_render::{PhotonBudget, RenderOptions, Smoothing};
 use caustica_scene::Scene;
 use caustica_scene::loader::builtin_scene;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
@@ -45,7 +45,8 @@ fn bench(c: &mut Criterion) {
         ("glass-sphere", MapKind::Caustic, 20_000),
     ] {
         let s = scene(name);
-        let probe = pool.install(|| trace_photons(&s, n, kind, 0, &opts));
+        let probe = pool
+            .install(|| trace_photons(&s, PhotonBudget::Records(n), kind, 0, &opts, &mut |_| {}));
         println!(
             "{name}: {n} {kind:?} photons from {} light paths ({:.3} photons/path)",
             probe.paths,
@@ -53,7 +54,18 @@ fn bench(c: &mut Criterion) {
         );
         g.throughput(Throughput::Elements(n as u64));
         g.bench_function(format!("{name}_{kind:?}_photons"), |b| {
-            b.iter(|| pool.install(|| black_box(trace_photons(&s, n, kind, 0, &opts))))
+            b.iter(|| {
+                pool.install(|| {
+                    black_box(trace_photons(
+                        &s,
+                        PhotonBudget::Records(n),
+                        kind,
+                        0,
+                        &opts,
+                        &mut |_| {},
+                    ))
+                })
+            })
         });
     }
     g.finish();
@@ -68,16 +80,45 @@ fn bench(c: &mut Criterion) {
         let s = scene(name);
         g.throughput(Throughput::Elements(n as u64));
         g.bench_function(format!("{name}_plain"), |b| {
-            b.iter(|| pool.install(|| black_box(trace_photons(&s, n, MapKind::Caustic, 0, &opts))))
+            b.iter(|| {
+                pool.install(|| {
+                    black_box(trace_photons(
+                        &s,
+                        PhotonBudget::Records(n),
+                        MapKind::Caustic,
+                        0,
+                        &opts,
+                        &mut |_| {},
+                    ))
+                })
+            })
         });
         g.bench_function(format!("{name}_differential"), |b| {
-            b.iter(|| pool.install(|| black_box(trace_photon_differentials(&s, n, 1.0, 0, &opts))))
+            b.iter(|| {
+                pool.install(|| {
+                    black_box(trace_photon_differentials(
+                        &s,
+                        PhotonBudget::Records(n),
+                        Smoothing::ONE,
+                        0,
+                        &opts,
+                        &mut |_| {},
+                    ))
+                })
+            })
         });
     }
     g.finish();
 
     let s = scene("cornell-box");
-    let traced = trace_photons(&s, 1_000_000, MapKind::Global, 0, &opts);
+    let traced = trace_photons(
+        &s,
+        PhotonBudget::Records(1_000_000),
+        MapKind::Global,
+        0,
+        &opts,
+        &mut |_| {},
+    );
     let map = PhotonMap::new(traced.photons, traced.paths);
     println!(
         "memory: {:.1} bytes per stored photon ({} bytes record + k-d tree)",

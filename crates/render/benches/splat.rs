@@ -23,10 +23,11 @@ use caustica_core::sampling::Pcg32;
 use caustica_core::{Frame, Spectrum, Vec3};
 use caustica_differentials::Footprint;
 use caustica_render::RenderStats;
-use caustica_render::eye_map::{BoxedPhoton, EyeMap, EyeVertex};
-use caustica_render::photon_differential::{
+use caustica_render::integrator::photon_splatting::splat_footprint;
+use caustica_render::photon::differential::{
     DiffPhoton, FootprintFilter, PdmMap, TracedDiffPhotons,
 };
+use caustica_render::photon::eye_map::{EyeMap, EyeVertex};
 use caustica_scene::bsdf::{Bsdf, Lambertian, TransportMode};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
@@ -102,16 +103,14 @@ fn bench(c: &mut Criterion) {
             eye.tiles.iter().map(|t| vec![[0.0; 3]; t.len()]).collect();
         let splat = |acc: &mut Vec<Vec<[f64; 3]>>| {
             let mut n = 0usize;
-            let boxed: Vec<BoxedPhoton> = photons
+            let boxed: Vec<(&DiffPhoton, Vec3, Vec3)> = photons
                 .iter()
-                .filter_map(|ph| BoxedPhoton::new(ph, &filter))
+                .filter_map(|ph| filter.bounds(ph).map(|(lo, hi)| (ph, lo, hi)))
                 .collect();
             for (tile, acc) in eye.tiles.iter().zip(acc.iter_mut()) {
-                for ph in &boxed {
-                    n += tile.splat(ph, &filter, |i, l| {
-                        for (a, v) in acc[i].iter_mut().zip(l.c) {
-                            *a += v as f64;
-                        }
+                for &(ph, lo, hi) in &boxed {
+                    tile.for_each_in_box(lo, hi, |i, v| {
+                        n += splat_footprint(&filter, ph, v, &mut acc[i]) as usize;
                     });
                 }
             }

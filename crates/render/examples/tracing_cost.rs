@@ -14,9 +14,9 @@
 
 use std::time::{Duration, Instant};
 
-use caustica_render::RenderOptions;
-use caustica_render::photon_differential::trace_photon_differentials;
-use caustica_render::photon_tracer::{MapKind, trace_photons};
+use caustica_render::photon::differential::trace_photon_differentials;
+use caustica_render::photon::tracer::{MapKind, trace_photons};
+use caustica_render::{PhotonBudget, RenderOptions, Smoothing};
 use caustica_scene::loader::builtin_scene;
 
 fn main() {
@@ -70,13 +70,31 @@ fn main() {
         for _ in 0..reps {
             if only != Some("differential") {
                 let t = Instant::now();
-                let p = pool.install(|| trace_photons(&scene, n, MapKind::Caustic, 0, &opts));
+                let p = pool.install(|| {
+                    trace_photons(
+                        &scene,
+                        PhotonBudget::Records(n),
+                        MapKind::Caustic,
+                        0,
+                        &opts,
+                        &mut |_| {},
+                    )
+                });
                 plain = plain.min(t.elapsed());
                 paths = p.paths;
             }
             if only != Some("plain") {
                 let t = Instant::now();
-                let d = pool.install(|| trace_photon_differentials(&scene, n, 1.0, 0, &opts));
+                let d = pool.install(|| {
+                    trace_photon_differentials(
+                        &scene,
+                        PhotonBudget::Records(n),
+                        Smoothing::ONE,
+                        0,
+                        &opts,
+                        &mut |_| {},
+                    )
+                });
                 diff = diff.min(t.elapsed());
                 assert!(
                     paths == 0 || paths == d.paths,

@@ -1,41 +1,40 @@
-//! Integrators and film of caustica.
+//! Integrators and film of caustica. The folders are the layers, data flowing down:
 //!
-//! * [`film`], [`filter`] — accumulation of camera samples and light-path splats.
-//! * [`image_loop`] — the pixel-parallel driver: every pixel sample is a pure function of
-//!   (seed, pixel, sample index), so images are identical for any thread count.
-//! * [`splat_loop`] — the light-path-parallel driver: paths are grouped in fixed chunks whose
-//!   splat buffers are merged in chunk order, again independent of the thread count.
-//! * [`surface`] and [`direct`] — shared per-vertex work (BSDF at a hit, shading-normal
-//!   correction, Beer–Lambert absorption, next-event estimation) used by every integrator.
-//! * [`light_path`] — the one light-path walker shared by the light tracer and the photon
-//!   tracer.
-//! * [`photon_tracer`], [`photon_map`] — the photon tracer shared by every photon method, and
-//!   photon maps with the radiance estimate of seed 000 eq. 3.2.
-//! * [`photon_differential`] — caustic photons carrying photon differentials, their footprints
-//!   and the estimate of seed 002 eq. 10 (`pdm`).
-//! * [`eye_map`] — the eye-path map that photon differential splatting (`pds`) splats onto.
-//! * [`integrator`] — the path tracer, the light tracer, photon mapping (`pm`, `dpm`, `pdm`) and
-//!   photon differential splatting (`pds`).
+//! * [`transport`] — what every path walks: the medium hook ([`transport::trace_segment`]),
+//!   vertices, path limits, next-event estimation, the light walker and the eye walker.
+//! * [`photon`] — the photon family: numbered light paths and their plan, photon tracing and
+//!   maps, the caustic estimate, the eye map, photon differentials.
+//! * [`driver`] — how work is spread over threads, deterministically: pixels, light paths,
+//!   and the eye-splat pipeline.
+//! * [`integrator`] — the methods, each a rule over the above: the path tracer, the light
+//!   tracer, photon mapping (`pm`, `dpm`, `pdm`) and photon differential splatting (`pds`).
+//! * [`options`], [`control`], [`error`] — what a render is asked to do, how it reports and
+//!   stops, and why it refuses.
+//! * [`film`], [`filter`], [`stats`], [`photon_view`] — accumulation, reconstruction,
+//!   counters, and photons drawn over an image.
 
-pub mod direct;
-pub mod eye_map;
+#![forbid(unsafe_code)]
+
+pub mod control;
+pub mod driver;
+pub mod error;
 pub mod film;
 pub mod filter;
-pub mod image_loop;
 pub mod integrator;
-pub mod light_path;
 pub mod options;
-pub mod photon_differential;
-pub mod photon_map;
-pub mod photon_tracer;
+pub mod photon;
 pub mod photon_view;
-pub mod splat_loop;
 pub mod stats;
-pub mod surface;
+pub mod transport;
 
+pub use control::{Progress, RenderControl};
+pub use error::{OptionError, RenderError};
 pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};
 pub use options::{
-    CausticEstimator, DiffusionSettings, PhotonOptions, Progress, RenderControl, RenderOptions,
+    Bandwidth, CausticEstimator, DiffusionSettings, Diffusivity, FootprintSettings, NoiseScale,
+    NormalDistance, PhotonOptions, RenderOptions, Smoothing, Steepness,
 };
+pub use photon::plan::PhotonBudget;
 pub use stats::RenderStats;
+pub use transport::PathLimits;

@@ -1,6 +1,6 @@
 //! Photons drawn as points over an image of the scene, for debugging (seed 000 fig. 6.4b).
 
-use crate::photon_tracer::Photon;
+use crate::photon::tracer::Photon;
 use caustica_core::image_io::Image;
 use caustica_core::{Ray, Spectrum, Vec2};
 use caustica_scene::Scene;

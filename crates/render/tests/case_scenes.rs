@@ -45,6 +45,7 @@ fn water_wave_light_tracer_shows_two_bands_at_the_geometric_folds() {
         &opts,
         &RenderControl::silent(),
     )
+    .expect("valid options")
     .film
     .to_image();
     // The wave is constant along z and the camera looks straight down with x to the right, so

@@ -3,12 +3,13 @@
 
 mod common;
 
-use caustica_density::estimator::Estimator;
+use caustica_render::control::Clock;
+use caustica_render::driver::pixels::render_pixels;
 use caustica_render::filter::Filter;
-use caustica_render::image_loop::render_pixels;
-use caustica_render::integrator::photon_mapping::{self, PhotonMaps, caustic_spec};
+use caustica_render::integrator::photon_mapping::{self, PhotonMaps};
 use caustica_render::{
-    CausticEstimator, Film, IntegratorKind, PhotonOptions, RenderControl, RenderOptions, render,
+    Bandwidth, CausticEstimator, Diffusivity, Film, IntegratorKind, PhotonOptions, RenderControl,
+    RenderOptions, render,
 };
 
 fn caustic_scene() -> caustica_scene::Scene {
@@ -29,6 +30,7 @@ fn render_caustics(
         ..Default::default()
     };
     render(&caustic_scene(), kind, &opts, &RenderControl::silent())
+        .expect("valid options")
         .film
         .to_image()
 }
@@ -40,12 +42,12 @@ fn render_caustics(
 fn dpm_with_large_q_is_pm_with_a_fixed_bandwidth() {
     let mut p = PhotonOptions {
         caustic_photons: 20_000,
-        bandwidth: Some(0.05),
+        bandwidth: Bandwidth::new(0.05).ok(),
         ..Default::default()
     };
-    p.diffusion.q = 1e12;
+    p.diffusion.q = Diffusivity::new(1e12).unwrap();
     let dpm = render_caustics(IntegratorKind::DiffusionPhotonMapping, p.clone(), 4);
-    p.caustic_estimator = CausticEstimator::Fixed;
+    p.caustic_estimator = Some(CausticEstimator::Fixed);
     let fixed = render_caustics(IntegratorKind::PhotonMapping, p, 4);
     let mut worst = 0.0f32;
     let mut lit = 0;
@@ -81,6 +83,7 @@ fn every_caustic_estimator_conserves_the_light_tracers_caustic_power() {
         &lt_opts,
         &RenderControl::silent(),
     )
+    .expect("valid options")
     .film
     .to_image();
     let m_lt = common::mean_lum(&lt);
@@ -97,29 +100,33 @@ fn every_caustic_estimator_conserves_the_light_tracers_caustic_power() {
     };
     let mut maps = PhotonMaps::build(&scene, &opts);
     for bw in [None, Some(0.01), Some(0.02), Some(0.04)] {
-        opts.photons.bandwidth = bw;
+        opts.photons.bandwidth = bw.and_then(|h| Bandwidth::new(h).ok());
         for est in [
             CausticEstimator::Knn,
             CausticEstimator::Fixed,
             CausticEstimator::Variable,
             CausticEstimator::Diffusion,
         ] {
-            opts.photons.caustic_estimator = est;
+            opts.photons.caustic_estimator = Some(est);
             // The default fixed bandwidth (the median 50-NN radius, 5 mm here) is set by the dense
             // focus and leaves the sparse rim of the caustic noisy (+4 % in the mean); 2 cm is
             // closer to what k-NN uses there.
-            opts.photons.bandwidth = (est == CausticEstimator::Fixed).then_some(0.02);
-            let spec = caustic_spec(&maps.caustic, &opts.photons);
-            maps.caustic_estimator =
-                Estimator::prepare(&spec, &maps.caustic.points(&opts.photons.estimate));
+            opts.photons.bandwidth =
+                (est == CausticEstimator::Fixed).then(|| Bandwidth::new(0.02).unwrap());
+            let spec = maps
+                .caustic
+                .set_estimator(est, &opts.photons)
+                .expect("pm's caustic map");
             let cam = &scene.camera;
             let mut film = Film::new(cam.width as usize, cam.height as usize);
             let filter = Filter::new(scene.settings.filter);
+            let ctl = RenderControl::silent();
+            let clock = Clock::start(&opts);
             render_pixels(
                 &mut film,
                 &filter,
                 &opts,
-                &RenderControl::silent(),
+                &clock.stage(&ctl),
                 |s, raster, st| {
                     let u_lens = s.next_2d();
                     let ray = cam.generate_ray(raster, u_lens).ray;
@@ -161,7 +168,7 @@ fn dpm_variants_differ_and_repeat() {
     // The focus of this caustic is hidden under the ball, so with the default q every visible
     // pixel has λ₁ ≪ max λ₁ and both variants are isotropic; a small q makes them adapt.
     let mut p = p;
-    p.diffusion.q = 1e-4;
+    p.diffusion.q = Diffusivity::new(1e-4).unwrap();
     let a = render_caustics(IntegratorKind::DiffusionPhotonMapping, p.clone(), 2);
     let mut iso = p;
     iso.diffusion.isotropic = true;

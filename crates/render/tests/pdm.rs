@@ -8,11 +8,13 @@ use caustica_core::image_io::Image;
 use caustica_core::{Affine3A, Spectrum, Vec3};
 use caustica_density::kernel::Kernel;
 use caustica_render::integrator::photon_mapping::PhotonMaps;
-use caustica_render::photon_differential::{
+use caustica_render::photon::caustic::{CAUSTIC_STREAM, CausticEstimate};
+use caustica_render::photon::differential::{
     Landing, PdmMap, TracedDiffPhotons, photons_from_landings, trace_photon_differentials,
 };
 use caustica_render::{
-    IntegratorKind, PhotonOptions, RenderControl, RenderOptions, RenderStats, render,
+    FootprintSettings, IntegratorKind, PathLimits, PhotonBudget, PhotonOptions, RenderControl,
+    RenderOptions, RenderStats, Smoothing, render,
 };
 use caustica_scene::camera::PerspectiveCamera;
 use caustica_scene::light::{Light, PointLight};
@@ -94,7 +96,14 @@ fn footprint_irradiance_matches_a_point_light_seen_in_a_mirror() {
     let scene = mirror_scene();
     let s = 32.0;
     let opts = RenderOptions::default();
-    let traced = trace_photon_differentials(&scene, 300_000, s, 0xCA05, &opts);
+    let traced = trace_photon_differentials(
+        &scene,
+        PhotonBudget::Records(300_000),
+        Smoothing::new(s).unwrap(),
+        CAUSTIC_STREAM,
+        &opts,
+        &mut |_| {},
+    );
     assert!(traced.warning.is_none(), "{:?}", traced.warning);
     assert_eq!(traced.landings, 300_000);
     // A flat mirror neither collapses nor fails a footprint.
@@ -147,11 +156,14 @@ fn caustics(
         spp,
         seed,
         caustics_only: true,
-        max_depth: 16,
+        limits: PathLimits {
+            max_depth: 16,
+            ..PathLimits::default()
+        },
         photons,
         ..Default::default()
     };
-    let out = render(scene, kind, &opts, &RenderControl::silent());
+    let out = render(scene, kind, &opts, &RenderControl::silent()).expect("valid options");
     (out.film.to_image(), out.notes)
 }
 
@@ -177,7 +189,7 @@ fn pdm_agrees_with_the_light_tracer(name: &str, photons: usize, smoothing: f32, 
     );
     let photons = PhotonOptions {
         caustic_photons: photons,
-        smoothing,
+        footprints: footprints(smoothing),
         ..Default::default()
     };
     let (pdm, notes) = caustics(
@@ -237,7 +249,7 @@ fn pdm_is_deterministic_and_follows_the_caustic_paths_of_pm() {
     let scene = small_builtin("glass-sphere");
     let photons = PhotonOptions {
         caustic_photons: 20_000,
-        smoothing: 3.0,
+        footprints: footprints(3.0),
         ..Default::default()
     };
     let run = |threads: usize, seed: u64| {
@@ -269,8 +281,10 @@ fn pdm_is_deterministic_and_follows_the_caustic_paths_of_pm() {
     };
     let pm = PhotonMaps::build(&scene, &opts);
     let pdm = PhotonMaps::build_differential(&scene, &opts);
-    let d = pdm.differential.as_ref().unwrap();
-    assert_eq!(pm.caustic.paths, pdm.caustic.paths);
+    let CausticEstimate::Footprints(d) = &pdm.caustic else {
+        panic!("pdm estimates caustics from footprints");
+    };
+    assert_eq!(pm.caustic.paths(), pdm.caustic.paths());
     assert_eq!(d.landings, pm.caustic.len());
     assert_eq!(d.collapsed + d.failed + d.len() as u64, d.landings as u64);
     assert!(
@@ -280,7 +294,7 @@ fn pdm_is_deterministic_and_follows_the_caustic_paths_of_pm() {
         d.landings
     );
     if d.collapsed + d.failed == 0 {
-        for (p, q) in pm.caustic.photons.iter().zip(&d.photons) {
+        for (p, q) in pm.caustic.point_photons().iter().zip(&d.photons) {
             assert_eq!(p.p, q.footprint.center());
             assert_eq!(p.flux, q.flux);
         }
@@ -360,12 +374,16 @@ fn collapsed_and_failed_footprints_are_dropped_and_counted_without_nan() {
 #[test]
 fn smoothing_must_be_positive() {
     for s in [0.0, -1.0, f32::NAN, f32::INFINITY] {
-        let p = PhotonOptions {
-            smoothing: s,
-            ..Default::default()
-        };
-        let e = p.validate().unwrap_err();
+        let e = Smoothing::new(s).unwrap_err().to_string();
         assert!(e.contains("smoothing"), "{e}");
     }
     assert!(PhotonOptions::default().validate().is_ok());
+}
+
+/// The default footprints with smoothing `s`.
+fn footprints(s: f32) -> FootprintSettings {
+    FootprintSettings {
+        smoothing: Smoothing::new(s).unwrap(),
+        ..Default::default()
+    }
 }

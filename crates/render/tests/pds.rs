@@ -6,7 +6,10 @@
 mod common;
 
 use caustica_core::image_io::Image;
-use caustica_render::{IntegratorKind, PhotonOptions, RenderControl, RenderOptions, render};
+use caustica_render::{
+    FootprintSettings, IntegratorKind, NormalDistance, PathLimits, PhotonOptions, RenderControl,
+    RenderOptions, Smoothing, render,
+};
 use caustica_scene::Scene;
 use caustica_scene::loader::builtin_scene;
 
@@ -20,7 +23,7 @@ fn small_builtin(name: &str, w: u32, h: u32) -> Scene {
 }
 
 fn run(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions) -> (Image, Vec<String>) {
-    let out = render(scene, kind, opts, &RenderControl::silent());
+    let out = render(scene, kind, opts, &RenderControl::silent()).expect("valid options");
     (out.film.to_image(), out.notes)
 }
 
@@ -76,15 +79,31 @@ fn assert_pds_equals_pdm(name: &str, opts: RenderOptions) {
     );
 }
 
+/// Paths of at most 16 edges.
+fn depth16() -> PathLimits {
+    PathLimits {
+        max_depth: 16,
+        ..PathLimits::default()
+    }
+}
+
+/// The default footprints with smoothing `s`.
+fn footprints(s: f32) -> FootprintSettings {
+    FootprintSettings {
+        smoothing: Smoothing::new(s).unwrap(),
+        ..Default::default()
+    }
+}
+
 fn caustics_only(photons: usize, smoothing: f32, spp: u32) -> RenderOptions {
     RenderOptions {
         spp,
         seed: 5,
         caustics_only: true,
-        max_depth: 16,
+        limits: depth16(),
         photons: PhotonOptions {
             caustic_photons: photons,
-            smoothing,
+            footprints: footprints(smoothing),
             ..Default::default()
         },
         ..Default::default()
@@ -110,12 +129,12 @@ fn pds_equals_pdm_in_a_full_render_of_the_glass_sphere() {
     let opts = RenderOptions {
         spp: 2,
         seed: 9,
-        max_depth: 16,
+        limits: depth16(),
         photons: PhotonOptions {
             caustic_photons: 20_000,
             global_photons: 5_000,
             final_gather: 2,
-            smoothing: 2.0,
+            footprints: footprints(2.0),
             ..Default::default()
         },
         ..Default::default()
@@ -170,18 +189,10 @@ fn pds_without_caustic_paths_warns_and_renders_the_rest() {
 #[test]
 fn a_negative_normal_distance_threshold_is_rejected() {
     for t in [-0.1, f32::NAN] {
-        let o = PhotonOptions {
-            normal_distance: t,
-            ..Default::default()
-        };
-        let e = o.validate().unwrap_err();
+        let e = NormalDistance::new(t).unwrap_err().to_string();
         assert!(e.contains("normal-distance"), "{e}");
     }
-    let inf = PhotonOptions {
-        normal_distance: f32::INFINITY,
-        ..Default::default()
-    };
-    assert!(inf.validate().is_ok());
+    assert_eq!(NormalDistance::new(f32::INFINITY), Ok(NormalDistance::OFF));
 }
 
 #[test]
@@ -189,24 +200,28 @@ fn the_recorded_landing_paths_are_exactly_the_paths_with_caustic_photons() {
     // pds re-traces only the recorded paths; that gives pdm's photons only if the record holds
     // every path with a landing and its count agrees with the unrecorded count.
     use caustica_core::sampling::Sampler;
-    use caustica_render::photon_differential::{LandingTracer, count_caustic_paths, unit_budget};
+    use caustica_render::photon::caustic::CAUSTIC_STREAM;
+    use caustica_render::photon::differential::{
+        Landing, LandingTracer, count_caustic_paths, unit_budget,
+    };
+    use caustica_render::photon::plan::PathStream;
     let scene = small_builtin("metal-ring", 8, 8);
     let opts = caustics_only(3000, 1.0, 1);
-    let stream = 0xCA05;
-    let rec = count_caustic_paths(&scene, 3000, stream, &opts, true, &mut |_| {});
-    let plain = count_caustic_paths(&scene, 3000, stream, &opts, false, &mut |_| {});
+    let stream = PathStream::new(&opts, CAUSTIC_STREAM);
+    let limits = &opts.limits;
+    let rec = count_caustic_paths(&scene, 3000, &stream, limits, true, &mut |_| true);
+    let plain = count_caustic_paths(&scene, 3000, &stream, limits, false, &mut |_| true);
     assert_eq!((rec.paths, rec.landings), (plain.paths, plain.landings));
     assert!(plain.landing_paths.is_none());
     let listed = rec.landing_paths.expect("recorded");
-    let budget = unit_budget(1.0).unwrap();
-    let tracer = LandingTracer::new(&scene, &budget);
+    let tracer = LandingTracer::new(&scene, &unit_budget(Smoothing::ONE));
     let mut sampler = Sampler::new(opts.sampler, opts.seed);
     let (mut with_landings, mut total) = (Vec::new(), 0usize);
     let mut stats = caustica_render::RenderStats::default();
     for path in 0..rec.paths {
-        sampler.start_path(stream, path);
-        let mut out = Vec::new();
-        tracer.trace(&mut sampler, &opts, &mut out, &mut stats);
+        sampler.start_path(CAUSTIC_STREAM, path);
+        let mut out: Vec<Landing> = Vec::new();
+        tracer.trace(&mut sampler, limits, &mut out, &mut stats);
         if !out.is_empty() {
             with_landings.push(path);
             total += out.len();

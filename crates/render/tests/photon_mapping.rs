@@ -6,10 +6,12 @@ mod common;
 use caustica_core::{Ray, Vec3};
 use caustica_density::kernel::Kernel;
 use caustica_render::integrator::photon_mapping::PhotonMaps;
-use caustica_render::photon_map::{EstimateOptions, PhotonMap};
-use caustica_render::photon_tracer::{MapKind, trace_photons};
-use caustica_render::surface::Vertex;
-use caustica_render::{IntegratorKind, PhotonOptions, RenderControl, RenderOptions, render};
+use caustica_render::photon::map::{EstimateOptions, PhotonMap};
+use caustica_render::photon::tracer::{MapKind, trace_photons};
+use caustica_render::transport::Vertex;
+use caustica_render::{
+    IntegratorKind, PhotonBudget, PhotonOptions, RenderControl, RenderOptions, render,
+};
 use caustica_scene::Scene;
 
 const ALBEDO: f32 = 0.5;
@@ -41,7 +43,14 @@ fn radiance_estimate_matches_the_analytic_irradiance_of_a_point_light() {
         seed: 3,
         ..Default::default()
     };
-    let traced = trace_photons(&scene, 1_500_000, MapKind::Global, 0, &opts);
+    let traced = trace_photons(
+        &scene,
+        PhotonBudget::Records(1_500_000),
+        MapKind::Global,
+        0,
+        &opts,
+        &mut |_| {},
+    );
     assert!(traced.warning.is_none());
     // Every photon is a direct hit on the floor: depth 1, not caustic, on the floor plane.
     assert!(
@@ -106,14 +115,14 @@ fn caustic_map_holds_only_specular_chain_photons_and_maps_are_deterministic() {
     };
     let one = build(1);
     let two = build(2);
-    assert_eq!(one.caustic.photons, two.caustic.photons);
+    assert_eq!(one.caustic.point_photons(), two.caustic.point_photons());
     assert_eq!(one.global.photons, two.global.photons);
-    assert_eq!(one.caustic.paths, two.caustic.paths);
+    assert_eq!(one.caustic.paths(), two.caustic.paths());
     let c = &one.caustic;
     assert!(c.len() >= 20_000 && c.len() < 20_010, "{}", c.len());
     // Caustic photons came through or off the glass (≥ 2 edges) and lie on the floor.
     assert!(
-        c.photons
+        c.point_photons()
             .iter()
             .all(|p| p.caustic && p.depth >= 2 && p.p.y.abs() < 1e-4)
     );
@@ -124,14 +133,14 @@ fn caustic_map_holds_only_specular_chain_photons_and_maps_are_deterministic() {
     let sin_a = 0.5f64 / 3.0;
     let omega = 2.0 * std::f64::consts::PI * (1.0 - (1.0 - sin_a * sin_a).sqrt());
     let intercepted = INTENSITY as f64 * omega;
-    let caustic_flux: f64 = c.photons.iter().map(|p| p.flux.c[0] as f64).sum();
+    let caustic_flux: f64 = c.point_photons().iter().map(|p| p.flux.c[0] as f64).sum();
     assert!(
         caustic_flux < 1.02 * intercepted && caustic_flux > 0.7 * intercepted,
         "caustic flux {caustic_flux} W vs {intercepted} W intercepted by the ball"
     );
     // The refracted light focuses: most caustic photons fall within 0.5 m of the axis.
     let focused = c
-        .photons
+        .point_photons()
         .iter()
         .filter(|p| p.p.x.hypot(p.p.z) < 0.5)
         .count();
@@ -160,6 +169,7 @@ fn render_pm(scene: &Scene, photons: PhotonOptions, spp: u32) -> caustica_core::
         &opts,
         &RenderControl::silent(),
     )
+    .expect("valid options")
     .film
     .to_image()
 }
@@ -250,6 +260,7 @@ fn caustics_only_light_tracer_and_pm_agree() {
             &opts,
             &RenderControl::silent(),
         )
+        .expect("valid options")
         .film
         .to_image()
     };
@@ -270,6 +281,7 @@ fn caustics_only_light_tracer_and_pm_agree() {
         &opts,
         &RenderControl::silent(),
     )
+    .expect("valid options")
     .film
     .to_image();
     let (m1, m2, mp) = (

@@ -5,10 +5,10 @@
 
 use crate::film::SplatBuffer;
 use crate::filter::Filter;
-use crate::light_path::{LightEvent, walk_light_path};
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
-use crate::surface::offset_origin;
+use crate::transport::light_walk::{LightEvent, walk_light_path};
+use crate::transport::vertex::offset_origin;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum};
 use caustica_scene::Scene;
@@ -32,57 +32,67 @@ pub fn trace_light_path(
             stats.nonfinite += 1;
         }
     };
-    walk_light_path(scene, sampler, opts, stats, |event, sampler, stats| {
-        let u_lens = sampler.next_2d();
-        match event {
-            // Path of one edge: the light seen directly (area lights only; delta positions
-            // cannot be hit).
-            LightEvent::Start(start) => {
-                let es = start.emission;
-                if !es.delta_pos
-                    && !opts.caustics_only
-                    && opts.max_depth >= 1
-                    && let Some(n) = es.normal
-                    && let Some(cs) = camera.sample_wi(es.ray.o, u_lens)
-                {
-                    let le = scene.lights[start.light].le(n, cs.wi);
-                    if !le.is_black() {
-                        let o = offset_origin(es.ray.o, n, cs.wi);
-                        let shadow =
-                            Ray::with_t_max(o, cs.wi, (cs.lens_p - o).length() * (1.0 - 1e-4));
-                        stats.rays += 1;
-                        if !scene.occluded(&shadow) {
-                            let w = n.dot(cs.wi).abs() / (es.pdf_pos * start.pmf);
-                            splat(out, cs.raster, le * w * cs.weight, stats);
+    walk_light_path(
+        scene,
+        sampler,
+        &opts.limits,
+        stats,
+        |event, sampler, stats| {
+            let u_lens = sampler.next_2d();
+            match event {
+                // Path of one edge: the light seen directly (area lights only; delta positions
+                // cannot be hit).
+                LightEvent::Start(start) => {
+                    let es = start.emission;
+                    if !es.delta_pos
+                        && !opts.caustics_only
+                        && opts.limits.max_depth >= 1
+                        && let Some(n) = es.normal
+                        && let Some(cs) = camera.sample_wi(es.ray.o, u_lens)
+                    {
+                        let le = scene.lights[start.light].le(n, cs.wi);
+                        if !le.is_black() {
+                            let o = offset_origin(es.ray.o, n, cs.wi);
+                            let shadow =
+                                Ray::with_t_max(o, cs.wi, (cs.lens_p - o).length() * (1.0 - 1e-4));
+                            stats.rays += 1;
+                            if !scene.occluded(&shadow) {
+                                let w = n.dot(cs.wi).abs() / (es.pdf_pos * start.pmf);
+                                splat(out, cs.raster, le * w * cs.weight, stats);
+                            }
+                        }
+                    }
+                }
+                // Connect to the camera: the full path then has depth + 1 edges.
+                LightEvent::Vertex(lv) => {
+                    let v = lv.v;
+                    let wanted = if opts.caustics_only {
+                        lv.is_caustic()
+                    } else {
+                        v.bsdf.flags().is_smooth()
+                    };
+                    if wanted
+                        && lv.depth < opts.limits.max_depth
+                        && let Some(cs) = camera.sample_wi(v.si.p, u_lens)
+                    {
+                        let wi_local = v.frame.to_local(cs.wi);
+                        let f = v.bsdf.eval(v.wo, wi_local, TransportMode::Importance);
+                        if !f.is_black() && v.same_side_consistent(lv.wo, cs.wi, wi_local) {
+                            let shadow = v.si.spawn_ray_to(cs.lens_p);
+                            stats.rays += 1;
+                            if !scene.occluded(&shadow) {
+                                let corr = v.shading_normal_correction(
+                                    lv.wo,
+                                    cs.wi,
+                                    TransportMode::Importance,
+                                );
+                                let c = lv.beta * f * (wi_local.z.abs() * corr) * cs.weight;
+                                splat(out, cs.raster, c, stats);
+                            }
                         }
                     }
                 }
             }
-            // Connect to the camera: the full path then has depth + 1 edges.
-            LightEvent::Vertex(lv) => {
-                let v = lv.v;
-                if v.bsdf.flags().is_smooth()
-                    && (lv.after_specular_chain || !opts.caustics_only)
-                    && lv.depth < opts.max_depth
-                    && let Some(cs) = camera.sample_wi(v.si.p, u_lens)
-                {
-                    let wi_local = v.frame.to_local(cs.wi);
-                    let f = v.bsdf.eval(v.wo, wi_local, TransportMode::Importance);
-                    if !f.is_black() && v.same_side_consistent(lv.wo, cs.wi, wi_local) {
-                        let shadow = v.si.spawn_ray_to(cs.lens_p);
-                        stats.rays += 1;
-                        if !scene.occluded(&shadow) {
-                            let corr = v.shading_normal_correction(
-                                lv.wo,
-                                cs.wi,
-                                TransportMode::Importance,
-                            );
-                            let c = lv.beta * f * (wi_local.z.abs() * corr) * cs.weight;
-                            splat(out, cs.raster, c, stats);
-                        }
-                    }
-                }
-            }
-        }
-    });
+        },
+    );
 }

@@ -5,15 +5,17 @@ pub mod path;
 pub mod photon_mapping;
 pub mod photon_splatting;
 
+use crate::control::{Clock, RenderControl};
+use crate::driver::light_paths::render_paths;
+use crate::driver::pixels::render_pixels;
+use crate::error::{OptionError, RenderError};
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::image_loop::render_pixels;
-use crate::options::{CausticEstimator, RenderControl, RenderOptions};
-use crate::splat_loop::render_paths;
+use crate::options::{CausticEstimator, RenderOptions};
 use crate::stats::RenderStats;
-use caustica_density::estimator::Estimator;
 use caustica_scene::Scene;
-use std::time::{Duration, Instant};
+use photon_mapping::PhotonMaps;
+use std::time::Duration;
 
 /// The available integrators.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,6 +63,81 @@ impl IntegratorKind {
         )
     }
 
+    /// A one-line description (for `--help` and `caustica` listings).
+    pub fn description(self) -> &'static str {
+        match self {
+            IntegratorKind::Path => "path tracer with next-event estimation and MIS",
+            IntegratorKind::LightTrace => {
+                "light tracer (the reference for caustics from point lights)"
+            }
+            IntegratorKind::PhotonMapping => {
+                "photon mapping: caustic and global maps, final gathering"
+            }
+            IntegratorKind::DiffusionPhotonMapping => {
+                "diffusion-based photon mapping (seed 000 ch. 4)"
+            }
+            IntegratorKind::PhotonDifferentialMapping => {
+                "photon differential mapping (seed 002, seed 000 ch. 5)"
+            }
+            IntegratorKind::PhotonDifferentialSplatting => {
+                "photon differential splatting (seed 002 sec. 3.3)"
+            }
+        }
+    }
+
+    /// Every integrator, in the order of [`IntegratorKind::NAMES`].
+    pub const ALL: [IntegratorKind; 6] = [
+        IntegratorKind::Path,
+        IntegratorKind::LightTrace,
+        IntegratorKind::PhotonMapping,
+        IntegratorKind::DiffusionPhotonMapping,
+        IntegratorKind::PhotonDifferentialMapping,
+        IntegratorKind::PhotonDifferentialSplatting,
+    ];
+
+    /// Checks that this integrator can render with `opts` (the values themselves are valid by
+    /// their types and [`crate::PhotonOptions::validate`]); the message says what to change.
+    pub fn check(self, opts: &RenderOptions) -> Result<(), OptionError> {
+        if self.uses_photons() {
+            opts.photons.validate()?;
+        }
+        if opts.caustics_only && self == IntegratorKind::Path {
+            return Err(OptionError::Conflict(
+                "--caustics-only needs --integrator lighttrace, pm, dpm, pdm or pds: the path tracer cannot isolate L S+ D E paths".into(),
+            ));
+        }
+        match (self, opts.photons.caustic_estimator) {
+            (IntegratorKind::DiffusionPhotonMapping, Some(e))
+                if e != CausticEstimator::Diffusion =>
+            {
+                Err(OptionError::Conflict(format!(
+                    "--integrator dpm uses the diffusion estimator; for --estimator {} use --integrator pm",
+                    e.name()
+                )))
+            }
+            (
+                IntegratorKind::PhotonDifferentialMapping
+                | IntegratorKind::PhotonDifferentialSplatting,
+                Some(e),
+            ) => Err(OptionError::Conflict(format!(
+                "--integrator {} estimates caustics from photon-differential footprints; for --estimator {} use --integrator pm",
+                self.name(),
+                e.name()
+            ))),
+            _ => Ok(()),
+        }
+    }
+
+    /// Checks that this integrator can render `scene`: the photon methods need a light.
+    pub fn check_scene(self, scene: &Scene) -> Result<(), RenderError> {
+        if self.uses_photons() && scene.lights.is_empty() {
+            return Err(RenderError::NoLights {
+                scene: scene.name.clone(),
+            });
+        }
+        Ok(())
+    }
+
     /// True for the integrators built on photon differentials (`--smoothing` applies).
     pub fn uses_photon_differentials(self) -> bool {
         matches!(
@@ -97,21 +174,25 @@ pub struct RenderOutput {
     pub notes: Vec<String>,
 }
 
-/// Renders `scene` with integrator `kind`.
+/// Renders `scene` with integrator `kind`, after [`IntegratorKind::check`]ing the options.
+/// One clock covers the whole render: a time budget is shared by all its passes.
 pub fn render(
     scene: &Scene,
     kind: IntegratorKind,
     opts: &RenderOptions,
     ctl: &RenderControl,
-) -> RenderOutput {
-    let start = Instant::now();
+) -> Result<RenderOutput, RenderError> {
+    kind.check(opts)?;
+    kind.check_scene(scene)?;
+    let clock = Clock::start(opts);
+    let stage = clock.stage(ctl);
     let cam = &scene.camera;
     let mut film = Film::new(cam.width as usize, cam.height as usize);
     let filter = Filter::new(scene.settings.filter);
     let mut notes = Vec::new();
-    let stats = match kind {
+    let stats: RenderStats = match kind {
         IntegratorKind::Path => {
-            render_pixels(&mut film, &filter, opts, ctl, |sampler, raster, st| {
+            render_pixels(&mut film, &filter, opts, &stage, |sampler, raster, st| {
                 let u_lens = sampler.next_2d();
                 let ray = cam.generate_ray(raster, u_lens).ray;
                 path::radiance(scene, ray, sampler, opts, st)
@@ -119,82 +200,25 @@ pub fn render(
         }
         IntegratorKind::LightTrace => {
             let total = opts.spp as u64 * cam.width as u64 * cam.height as u64;
-            render_paths(&mut film, total, opts, ctl, |sampler, out, st| {
+            render_paths(&mut film, total, opts, &stage, |sampler, out, st| {
                 light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
             })
         }
         IntegratorKind::PhotonDifferentialSplatting => {
-            photon_splatting::render(scene, opts, ctl, &mut film, &filter, &mut notes)
+            photon_splatting::render(scene, opts, &stage, &mut film, &filter, &mut notes)
         }
         IntegratorKind::PhotonMapping
         | IntegratorKind::DiffusionPhotonMapping
         | IntegratorKind::PhotonDifferentialMapping => {
-            let mut pm_opts;
-            let opts = if kind == IntegratorKind::DiffusionPhotonMapping {
-                pm_opts = opts.clone();
-                pm_opts.photons.caustic_estimator = CausticEstimator::Diffusion;
-                &pm_opts
-            } else {
-                opts
-            };
-            let t = Instant::now();
-            let maps = if kind == IntegratorKind::PhotonDifferentialMapping {
-                photon_mapping::PhotonMaps::build_differential(scene, opts)
-            } else {
-                photon_mapping::PhotonMaps::build(scene, opts)
-            };
-            let secs = t.elapsed().as_secs_f64().max(1e-9);
-            let (caustic_len, caustic_bytes) = match &maps.differential {
-                Some(d) => (d.len(), d.memory_bytes()),
-                None => (maps.caustic.len(), maps.caustic.memory_bytes()),
-            };
-            notes.push(format!(
-                "photons: caustic {} from {} paths, global {} from {} paths, in {secs:.2} s ({:.2} M paths/s), {:.1} MB",
-                caustic_len,
-                maps.caustic.paths,
-                maps.global.len(),
-                maps.global.paths,
-                (maps.caustic.paths + maps.global.paths) as f64 / secs / 1e6,
-                (caustic_bytes + maps.global.memory_bytes()) as f64 / 1e6,
-            ));
-            if let Some(d) = &maps.differential {
-                notes.push(format!(
-                    "photon differentials: smoothing s = {}, {} caustic landings, {} stored, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated; gather radius median {:.4} m, max {:.4} m",
-                    opts.photons.smoothing,
-                    d.landings,
-                    d.len(),
-                    d.collapsed,
-                    d.failed,
-                    d.median_gather_radius(),
-                    d.max_gather_radius(),
-                ));
-            }
-            if let Estimator::Diffusion(d) = &maps.caustic_estimator {
-                let p = d.params();
-                notes.push(format!(
-                    "diffusion estimate: bandwidth {:.4}, noise scale {:.4}, q {}, alpha {}{}; pre-passes {:.2} s (included above)",
-                    p.bandwidth,
-                    p.noise_scale,
-                    p.q,
-                    p.alpha,
-                    if p.isotropic { ", isotropic" } else { "" },
-                    maps.prepare_secs
-                ));
-            }
-            notes.extend(maps.warnings.iter().map(|w| format!("warning: {w}")));
-            let mut st = render_pixels(&mut film, &filter, opts, ctl, |sampler, raster, st| {
-                let u_lens = sampler.next_2d();
-                let ray = cam.generate_ray(raster, u_lens).ray;
-                photon_mapping::radiance(scene, &maps, ray, sampler, opts, st)
-            });
-            st.rays += maps.stats.rays;
-            st
+            photon_mapping::render(scene, opts, &stage, &mut film, &filter, &mut notes, |p| {
+                PhotonMaps::for_integrator(scene, kind, opts, p)
+            })
         }
     };
-    RenderOutput {
+    Ok(RenderOutput {
         film,
         stats,
-        elapsed: start.elapsed(),
+        elapsed: clock.elapsed(),
         notes,
-    }
+    })
 }

@@ -1,10 +1,14 @@
 //! Unidirectional path tracer with next-event estimation, MIS (power heuristic) and Russian
-//! roulette. Radiance estimate of one camera ray (W/m²/sr).
+//! roulette. Radiance estimate of one camera ray (W/m²/sr). Its own loop (MIS needs the previous
+//! vertex's pdf at every emitter hit), over the shared segment and vertex code of
+//! [`crate::transport`].
 
-use crate::direct::sample_direct;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
-use crate::surface::{Vertex, interior_transmittance, russian_roulette};
+use crate::transport::direct::sample_direct;
+use crate::transport::limits::russian_roulette;
+use crate::transport::medium::{Segment, trace_segment};
+use crate::transport::vertex::Vertex;
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
 use caustica_core::{Ray, Spectrum, Vec3};
@@ -28,8 +32,7 @@ pub fn radiance(
     let mut prev_p = Vec3::ZERO;
     let mut depth = 0u32; // edges traced so far
     loop {
-        stats.rays += 1;
-        let Some(si) = scene.intersect(&ray) else {
+        let Segment::Surface { si, transmittance } = trace_segment(scene, &ray, stats) else {
             for &li in &scene.infinite_lights {
                 let light = &scene.lights[li as usize];
                 let le = light.le(Vec3::ZERO, -ray.d);
@@ -46,7 +49,7 @@ pub fn radiance(
             break;
         };
         depth += 1;
-        beta *= interior_transmittance(scene, &si, &ray);
+        beta *= transmittance;
         if si.light != NONE {
             let light = &scene.lights[si.light as usize];
             let le = light.le(si.ng, -ray.d);
@@ -62,7 +65,7 @@ pub fn radiance(
                 l += beta * le * w;
             }
         }
-        if depth >= opts.max_depth {
+        if depth >= opts.limits.max_depth {
             break;
         }
         let v = Vertex::new(scene, si, &ray);
@@ -91,7 +94,7 @@ pub fn radiance(
         if beta.is_black() {
             break;
         }
-        if !russian_roulette(&mut beta, depth, opts.rr_depth, u_rr) {
+        if !russian_roulette(&mut beta, depth, opts.limits.rr_depth, u_rr) {
             break;
         }
         ray = v.si.spawn_ray(wi);

@@ -12,40 +12,32 @@
 //! With `final_gather = 0` the global map is visualised directly: L(x) is the global estimate at
 //! x (direct, caustic and indirect light together; fast and blotchy).
 
-use crate::direct::sample_direct;
-use crate::options::RenderOptions;
-use crate::options::{CausticEstimator, PhotonOptions};
-use crate::photon_differential::{FootprintFilter, PdmMap, trace_photon_differentials};
-use crate::photon_map::PhotonMap;
-use crate::photon_tracer::{MapKind, trace_photons};
+use super::IntegratorKind;
+use crate::control::Stage;
+use crate::options::{CausticEstimator, RenderOptions};
+use crate::photon::caustic::{CausticEstimate, global_radiance};
+use crate::photon::map::PhotonMap;
+use crate::photon::tracer::{MapKind, TracedPhotons, trace_photons};
 use crate::stats::RenderStats;
-use crate::surface::{Vertex, interior_transmittance};
+use crate::transport::direct::sample_direct;
+use crate::transport::eye_walk::{EyeEvent, Flow, walk_eye};
+use crate::transport::vertex::Vertex;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum, Vec3};
-use caustica_density::diffusion::DiffusionParams;
-use caustica_density::estimator::{Estimator, EstimatorSpec, Scratch, median_knn_radius};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 use caustica_scene::intersection::NONE;
-use std::cell::RefCell;
 
-/// Random-number streams of the two maps (the camera pass uses pixel streams).
-pub(crate) const CAUSTIC_STREAM: u64 = 0xCA05;
+/// Random-number stream of the global map (the caustic map's is
+/// [`crate::photon::caustic::CAUSTIC_STREAM`]; the camera pass uses pixel streams).
 const GLOBAL_STREAM: u64 = 0x610B;
 /// Longest specular chain a final-gather ray follows.
 const MAX_GATHER_CHAIN: u32 = 16;
 
-/// The caustic and global photon maps of a scene, with the caustic map's density estimator.
+/// The photon maps of a render: the caustic estimate and the global map.
 pub struct PhotonMaps {
-    pub caustic: PhotonMap,
+    pub caustic: CausticEstimate,
     pub global: PhotonMap,
-    /// The caustic map's estimator, prepared for it (k-NN for `pm`, diffusion for `dpm`).
-    pub caustic_estimator: Estimator,
-    /// Seconds spent preparing the caustic estimator (the diffusion pre-passes).
-    pub prepare_secs: f64,
-    /// `pdm`: the caustic photons as photon differentials, whose footprint estimate (seed 002
-    /// eq. 10) replaces the caustic map's (`caustic` is then empty).
-    pub differential: Option<PdmMap>,
     /// Photon-tracing work.
     pub stats: RenderStats,
     /// Messages for the user (e.g. fewer photons than requested).
@@ -53,170 +45,112 @@ pub struct PhotonMaps {
 }
 
 impl PhotonMaps {
-    /// Traces both maps with the sizes in `opts.photons` and prepares the caustic map's
-    /// estimator `opts.photons.caustic_estimator`.
+    /// The maps of photon integrator `kind`: `pm`'s caustic map with
+    /// `opts.photons.caustic_estimator` (k-NN by default), `dpm`'s with the diffusion estimate,
+    /// `pdm`'s footprints (the same light paths, traced as photon differentials), or none for
+    /// `pds` (it splats them); and the global map. `progress` sees the fraction done.
+    pub fn for_integrator(
+        scene: &Scene,
+        kind: IntegratorKind,
+        opts: &RenderOptions,
+        progress: &mut dyn FnMut(f64),
+    ) -> Self {
+        let density = |estimator, progress: &mut dyn FnMut(f64)| {
+            let (caustic, traced) = CausticEstimate::density(scene, estimator, opts, progress);
+            (caustic, traced.warning, traced.stats)
+        };
+        Self::with_caustic(scene, opts, progress, |progress| match kind {
+            IntegratorKind::DiffusionPhotonMapping => {
+                density(CausticEstimator::Diffusion, progress)
+            }
+            IntegratorKind::PhotonDifferentialMapping => {
+                CausticEstimate::footprints(scene, opts, progress)
+            }
+            IntegratorKind::PhotonDifferentialSplatting => {
+                (CausticEstimate::Splatted, None, RenderStats::default())
+            }
+            _ => density(opts.photons.caustic_estimator.unwrap_or_default(), progress),
+        })
+    }
+
+    /// The maps of `pm` ([`PhotonMaps::for_integrator`] without progress).
     pub fn build(scene: &Scene, opts: &RenderOptions) -> Self {
-        let p = &opts.photons;
-        let c = trace_photons(
+        Self::for_integrator(scene, IntegratorKind::PhotonMapping, opts, &mut |_| {})
+    }
+
+    /// The maps of `pdm` ([`PhotonMaps::for_integrator`] without progress).
+    pub fn build_differential(scene: &Scene, opts: &RenderOptions) -> Self {
+        Self::for_integrator(
             scene,
-            p.caustic_photons,
-            MapKind::Caustic,
-            CAUSTIC_STREAM,
+            IntegratorKind::PhotonDifferentialMapping,
             opts,
-        );
-        let g = Self::trace_global(scene, opts);
-        let mut stats = c.stats;
+            &mut |_| {},
+        )
+    }
+
+    /// The maps of a photon integrator whose caustic estimate `caustic(progress)` makes (with
+    /// its warning and statistics); `progress` sees the fraction of both passes done.
+    pub fn with_caustic(
+        scene: &Scene,
+        opts: &RenderOptions,
+        progress: &mut dyn FnMut(f64),
+        caustic: impl FnOnce(&mut dyn FnMut(f64)) -> (CausticEstimate, Option<String>, RenderStats),
+    ) -> Self {
+        let has_global = Self::wants_global(opts);
+        let share = if has_global { 0.5 } else { 1.0 };
+        let (caustic, warning, mut stats) = caustic(&mut |f| progress(share * f));
+        let g = Self::trace_global(scene, opts, &mut |f| progress(share + (1.0 - share) * f));
         stats += g.stats;
-        let warnings = c.warning.into_iter().chain(g.warning).collect();
-        let caustic = PhotonMap::new(c.photons, c.paths);
-        let spec = caustic_spec(&caustic, &opts.photons);
-        let t = std::time::Instant::now();
-        let caustic_estimator = Estimator::prepare(&spec, &caustic.points(&p.estimate));
-        let prepare_secs = t.elapsed().as_secs_f64();
         Self {
             caustic,
             global: PhotonMap::new(g.photons, g.paths),
-            caustic_estimator,
-            prepare_secs,
-            differential: None,
             stats,
-            warnings,
+            warnings: warning.into_iter().chain(g.warning).collect(),
         }
     }
 
-    /// The maps of `pdm`: the caustic light paths of [`PhotonMaps::build`] (same stream) traced
-    /// as photon differentials with smoothing `opts.photons.smoothing`
-    /// ([`trace_photon_differentials`]), and the global map as for `pm`.
-    pub fn build_differential(scene: &Scene, opts: &RenderOptions) -> Self {
-        let p = &opts.photons;
-        let d =
-            trace_photon_differentials(scene, p.caustic_photons, p.smoothing, CAUSTIC_STREAM, opts);
-        let g = Self::trace_global(scene, opts);
-        let mut stats = d.stats;
-        stats += g.stats;
-        let warnings = d.warning.iter().cloned().chain(g.warning).collect();
-        Self {
-            caustic: PhotonMap::new(Vec::new(), d.paths),
-            global: PhotonMap::new(g.photons, g.paths),
-            caustic_estimator: PhotonMap::knn_estimator(&p.estimate),
-            prepare_secs: 0.0,
-            differential: Some(PdmMap::with_filter(d, footprint_filter(p))),
-            stats,
-            warnings,
-        }
-    }
-
-    /// Maps with the global map of [`PhotonMaps::build`] and no caustic photons (`pds` splats
-    /// them instead).
-    pub fn global_only(scene: &Scene, opts: &RenderOptions) -> Self {
-        let g = Self::trace_global(scene, opts);
-        Self {
-            caustic: PhotonMap::new(Vec::new(), 0),
-            global: PhotonMap::new(g.photons, g.paths),
-            caustic_estimator: PhotonMap::knn_estimator(&opts.photons.estimate),
-            prepare_secs: 0.0,
-            differential: None,
-            stats: g.stats,
-            warnings: g.warning.into_iter().collect(),
-        }
+    /// True when the render needs the global map (indirect light; caustics alone need none).
+    fn wants_global(opts: &RenderOptions) -> bool {
+        opts.photons.global_photons > 0 && !opts.caustics_only
     }
 
     /// The global map, or none when it is not needed.
-    fn trace_global(scene: &Scene, opts: &RenderOptions) -> crate::photon_tracer::TracedPhotons {
-        let p = &opts.photons;
-        // Caustics alone need no global map.
-        if p.global_photons > 0 && !opts.caustics_only {
-            trace_photons(
-                scene,
-                p.global_photons,
-                MapKind::Global,
-                GLOBAL_STREAM,
-                opts,
-            )
-        } else {
-            crate::photon_tracer::TracedPhotons {
+    fn trace_global(
+        scene: &Scene,
+        opts: &RenderOptions,
+        progress: &mut dyn FnMut(f64),
+    ) -> TracedPhotons {
+        if !Self::wants_global(opts) {
+            return TracedPhotons {
                 photons: Vec::new(),
                 paths: 0,
                 stats: RenderStats::default(),
                 warning: None,
-            }
+            };
         }
-    }
-}
-
-/// How photon-differential footprints are evaluated (`pdm` and `pds` alike).
-pub fn footprint_filter(p: &PhotonOptions) -> FootprintFilter {
-    FootprintFilter {
-        kernel: p.footprint_kernel,
-        normal_distance: p.normal_distance,
-    }
-}
-
-/// The caustic map's estimator as `opts` asks for it, with the data-driven default bandwidth
-/// (median k-NN radius, k = `estimate.k`) where none is given.
-pub fn caustic_spec(map: &PhotonMap, opts: &PhotonOptions) -> EstimatorSpec {
-    let e = &opts.estimate;
-    let bandwidth = || {
-        opts.bandwidth
-            .or_else(|| median_knn_radius(&map.points(e), e.k))
-            .unwrap_or(1.0)
-    };
-    match opts.caustic_estimator {
-        CausticEstimator::Knn => EstimatorSpec::Knn {
-            k: e.k,
-            max_radius: e.max_radius,
-            kernel: e.kernel,
-        },
-        CausticEstimator::Fixed => EstimatorSpec::Fixed {
-            h: bandwidth(),
-            kernel: e.kernel,
-        },
-        CausticEstimator::Variable => EstimatorSpec::Variable {
-            k: e.k,
-            max_radius: e.max_radius,
-            kernel: e.kernel,
-        },
-        CausticEstimator::Diffusion => {
-            let h = bandwidth();
-            let d = &opts.diffusion;
-            EstimatorSpec::Diffusion(DiffusionParams {
-                bandwidth: h,
-                noise_scale: d.noise_scale.unwrap_or(0.5 * h),
-                q: d.q,
-                alpha: d.alpha,
-                isotropic: d.isotropic,
-                kernel: e.kernel,
-            })
-        }
-    }
-}
-
-thread_local! {
-    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
-}
-
-/// The caustic map's radiance estimate at `v`, with the maps' caustic estimator.
-fn caustic_estimate(maps: &PhotonMaps, v: &Vertex, opts: &RenderOptions) -> Spectrum {
-    if let Some(d) = &maps.differential {
-        return d.radiance(v);
-    }
-    SCRATCH.with(|b| {
-        maps.caustic.estimate_with(
-            v,
-            &opts.photons.estimate,
-            &maps.caustic_estimator,
-            &mut b.borrow_mut(),
+        trace_photons(
+            scene,
+            crate::photon::plan::PhotonBudget::Records(opts.photons.global_photons),
+            MapKind::Global,
+            GLOBAL_STREAM,
+            opts,
+            progress,
         )
-    })
-}
-
-/// The global map's radiance estimate at `v` (its own k when `global_k` is set).
-fn global_estimate(map: &PhotonMap, v: &Vertex, opts: &RenderOptions) -> Spectrum {
-    let mut est = opts.photons.estimate;
-    if let Some(k) = opts.photons.global_k {
-        est.k = k;
     }
-    SCRATCH.with(|b| map.estimate(v, &est, &mut b.borrow_mut()))
+
+    /// The line for the user about the photon pass that took `secs` seconds.
+    pub fn summary(&self, secs: f64) -> String {
+        let secs = secs.max(1e-9);
+        format!(
+            "photons: caustic {} from {} paths, global {} from {} paths, in {secs:.2} s ({:.2} M paths/s), {:.1} MB",
+            self.caustic.len(),
+            self.caustic.paths(),
+            self.global.len(),
+            self.global.paths,
+            (self.caustic.paths() + self.global.paths) as f64 / secs / 1e6,
+            (self.caustic.memory_bytes() + self.global.memory_bytes()) as f64 / 1e6,
+        )
+    }
 }
 
 /// Radiance (W/m²/sr) arriving at the camera along `ray`.
@@ -229,7 +163,7 @@ pub fn radiance(
     stats: &mut RenderStats,
 ) -> Spectrum {
     radiance_with(scene, maps, ray, sampler, opts, stats, &mut |v, beta| {
-        beta * caustic_estimate(maps, v, opts)
+        beta * maps.caustic.radiance(v, &opts.photons)
     })
 }
 
@@ -240,57 +174,54 @@ pub fn radiance(
 pub(crate) fn radiance_with(
     scene: &Scene,
     maps: &PhotonMaps,
-    mut ray: Ray,
+    ray: Ray,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
     caustic: &mut dyn FnMut(&Vertex, Spectrum) -> Spectrum,
 ) -> Spectrum {
     let mut l = Spectrum::ZERO;
-    let mut beta = Spectrum::ONE;
-    let mut depth = 0u32;
-    loop {
-        stats.rays += 1;
-        let Some(si) = scene.intersect(&ray) else {
-            // Every earlier vertex was delta: the environment is seen through them.
-            for &li in &scene.infinite_lights {
-                l += beta * scene.lights[li as usize].le(Vec3::ZERO, -ray.d);
+    walk_eye(
+        scene,
+        ray,
+        sampler,
+        u32::MAX,
+        stats,
+        |event, sampler, stats| {
+            let (v, wo, beta, depth) = match event {
+                // Every earlier vertex was delta: the environment is seen through them.
+                EyeEvent::Escaped { ray, beta } => {
+                    for &li in &scene.infinite_lights {
+                        l += beta * scene.lights[li as usize].le(Vec3::ZERO, -ray.d);
+                    }
+                    return Flow::Stop;
+                }
+                EyeEvent::Vertex { v, wo, beta, depth } => (v, wo, beta, depth),
+            };
+            let smooth = v.bsdf.flags().is_smooth();
+            if opts.caustics_only {
+                // L S+ D E only: the caustic estimate at the first surface, if it is non-delta.
+                if smooth {
+                    l += caustic(v, beta);
+                }
+                return Flow::Stop;
             }
-            break;
-        };
-        depth += 1;
-        beta *= interior_transmittance(scene, &si, &ray);
-        let v = Vertex::new(scene, si, &ray);
-        let smooth = v.bsdf.flags().is_smooth();
-        if opts.caustics_only {
-            // L S+ D E only: the caustic map at the first surface, if it is non-delta.
+            if v.si.light != NONE {
+                l += beta * scene.lights[v.si.light as usize].le(v.si.ng, wo);
+            }
+            if depth >= opts.limits.max_depth {
+                return Flow::Stop;
+            }
             if smooth {
-                l += caustic(&v, beta);
+                l += beta * shade(scene, maps, v, sampler, opts, stats);
+                if opts.photons.final_gather > 0 {
+                    l += caustic(v, beta);
+                }
+                return Flow::Stop;
             }
-            break;
-        }
-        if v.si.light != NONE {
-            l += beta * scene.lights[v.si.light as usize].le(v.si.ng, -ray.d);
-        }
-        if depth >= opts.max_depth {
-            break;
-        }
-        if smooth {
-            l += beta * shade(scene, maps, &v, sampler, opts, stats);
-            if opts.photons.final_gather > 0 {
-                l += caustic(&v, beta);
-            }
-            break;
-        }
-        let Some((weight, next)) = scatter_delta(&v, sampler) else {
-            break;
-        };
-        beta *= weight;
-        if beta.is_black() {
-            break;
-        }
-        ray = next;
-    }
+            Flow::Continue
+        },
+    );
     l
 }
 
@@ -306,7 +237,7 @@ fn shade(
 ) -> Spectrum {
     let gather_rays = opts.photons.final_gather;
     if gather_rays == 0 {
-        return global_estimate(&maps.global, v, opts);
+        return global_radiance(&maps.global, v, &opts.photons);
     }
     let direct = sample_direct(scene, v, sampler, stats, false);
     let mut indirect = Spectrum::ZERO;
@@ -331,47 +262,94 @@ fn shade(
 
 /// Radiance arriving along a final-gather ray from the global map at the first non-delta
 /// surface it reaches (through up to [`MAX_GATHER_CHAIN`] delta vertices). Emission is not
-/// counted: NEE and the caustic map already hold it.
+/// counted: NEE and the caustic estimate already hold it.
 fn gather(
     scene: &Scene,
     maps: &PhotonMaps,
-    mut ray: Ray,
+    ray: Ray,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
 ) -> Spectrum {
-    let mut beta = Spectrum::ONE;
-    for _ in 0..MAX_GATHER_CHAIN {
-        stats.rays += 1;
-        let Some(si) = scene.intersect(&ray) else {
-            return Spectrum::ZERO;
-        };
-        beta *= interior_transmittance(scene, &si, &ray);
-        let v = Vertex::new(scene, si, &ray);
-        if v.bsdf.flags().is_smooth() {
-            return beta * global_estimate(&maps.global, &v, opts);
-        }
-        let Some((weight, next)) = scatter_delta(&v, sampler) else {
-            return Spectrum::ZERO;
-        };
-        beta *= weight;
-        if beta.is_black() {
-            return Spectrum::ZERO;
-        }
-        ray = next;
-    }
-    Spectrum::ZERO
+    let mut l = Spectrum::ZERO;
+    walk_eye(
+        scene,
+        ray,
+        sampler,
+        MAX_GATHER_CHAIN,
+        stats,
+        |event, _, _| {
+            if let EyeEvent::Vertex { v, beta, .. } = event
+                && v.bsdf.flags().is_smooth()
+            {
+                l = beta * global_radiance(&maps.global, v, &opts.photons);
+            }
+            Flow::Continue
+        },
+    );
+    l
 }
 
-/// One step along a specular chain from the delta vertex `v` (camera side, radiance mode):
-/// the BSDF sample's weight and the continuing ray, or `None` when the sample fails or
-/// carries nothing. Consumes 3 sampler dimensions.
-fn scatter_delta(v: &Vertex, sampler: &mut Sampler) -> Option<(Spectrum, Ray)> {
-    let uc = sampler.next_1d();
-    let u = sampler.next_2d();
-    let bs = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance)?;
-    if bs.weight.is_black() {
-        return None;
+/// Renders with a photon method whose maps `build(progress)` makes: the photon pass (the first
+/// [`PHOTON_SHARE`] of the progress bar), then the camera pass with the pixel driver.
+pub(crate) fn render(
+    scene: &Scene,
+    opts: &RenderOptions,
+    stage: &Stage,
+    film: &mut crate::film::Film,
+    filter: &crate::filter::Filter,
+    notes: &mut Vec<String>,
+    build: impl FnOnce(&mut dyn FnMut(f64)) -> PhotonMaps,
+) -> RenderStats {
+    let t = std::time::Instant::now();
+    let photon_stage = stage.part(0.0, PHOTON_SHARE);
+    let maps = build(&mut |f| photon_stage.report(f, 0));
+    notes.push(maps.summary(t.elapsed().as_secs_f64()));
+    match &maps.caustic {
+        CausticEstimate::Footprints(d) => notes.push(format!(
+            "photon differentials: smoothing s = {}, {} caustic landings, {} stored, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated; gather radius median {:.4} m, max {:.4} m",
+            opts.photons.footprints.smoothing,
+            d.landings,
+            d.len(),
+            d.collapsed,
+            d.failed,
+            d.median_gather_radius(),
+            d.max_gather_radius(),
+        )),
+        CausticEstimate::Density {
+            estimator: caustica_density::estimator::Estimator::Diffusion(d),
+            prepare_secs,
+            ..
+        } => {
+            let p = d.params();
+            notes.push(format!(
+                "diffusion estimate: bandwidth {:.4}, noise scale {:.4}, q {}, alpha {}{}; pre-passes {prepare_secs:.2} s (included above)",
+                p.bandwidth,
+                p.noise_scale,
+                p.q,
+                p.alpha,
+                if p.isotropic { ", isotropic" } else { "" },
+            ));
+        }
+        _ => {}
     }
-    Some((bs.weight, v.si.spawn_ray(v.frame.to_world(bs.wi))))
+    notes.extend(maps.warnings.iter().map(|w| format!("warning: {w}")));
+    let cam = &scene.camera;
+    let mut st = crate::driver::pixels::render_pixels(
+        film,
+        filter,
+        opts,
+        &stage.part(PHOTON_SHARE, 1.0),
+        |sampler, raster, st| {
+            let u_lens = sampler.next_2d();
+            let ray = cam.generate_ray(raster, u_lens).ray;
+            radiance(scene, &maps, ray, sampler, opts, st)
+        },
+    );
+    st.rays += maps.stats.rays;
+    st
 }
+
+/// Share of the progress bar (and of a time budget) given to the photon pass of `pm`, `dpm`
+/// and `pdm`.
+const PHOTON_SHARE: f64 = 0.2;

@@ -10,77 +10,124 @@
 //! 2. The camera pass: `pm`'s camera paths ([`photon_mapping::radiance_with`]) with direct and
 //!    indirect light as there; where `pm` would add the caustic estimate, the vertex is
 //!    recorded instead (several per pixel: one per camera sample, the anti-aliasing).
-//! 3. The number `N` of light paths that yields `--photons` caustic landings, counted without
-//!    differentials ([`count_caustic_paths`]): the footprints scale with `1/√N` (eq. 5–6), so
-//!    `N` must be known before the first splat. These are the paths of `pdm`, so `pdm` and
+//! 3. The number `N` of light paths: `--light-paths N` (the seed's N_e), or the number that
+//!    yields `--photons` caustic landings, counted without differentials
+//!    ([`count_caustic_paths`]): the footprints scale with `1/√N` (eq. 5–6), so `N` must be
+//!    known before the first splat. These are the paths of `pdm`, so `pdm` and
 //!    `pds` use the same photons. Up to [`RECORD_LANDING_PATHS`] photons the count also notes
 //!    which paths landed (8 bytes each), and only those are traced again; most paths of a
 //!    low-yield scene (the glass sphere: 0.4 %) never reach a specular surface.
 //! 4. Paths `0..N` traced as photon differentials in batches of fixed chunks (in parallel);
 //!    each batch's photons splatted in path order by the eye map's tiles in parallel, each tile
-//!    adding to its own vertices' accumulators ([`crate::eye_map`]), so the image does not
-//!    depend on the thread count.
+//!    adding to its own vertices' accumulators, so the image does not depend on the thread
+//!    count. Steps 2–5 are the eye-splat driver ([`crate::driver::eye_splat`]); this file is
+//!    its rule for footprints ([`FootprintSplat`]).
 //! 5. Each camera sample's pixel receives `β · Σ splats` of its vertex.
+//!
+//! Under a time budget `T` the camera pass ends by 0.4 T, the count by 0.5 T and the splatting
+//! by T; splatting stopped after `M < N` of the paths (time, Ctrl-C) scales the splats by
+//! `N / M`, the estimate of the `M` paths splatted (their footprints keep the size of `N`).
 
-use super::photon_mapping::{self, CAUSTIC_STREAM, PhotonMaps, footprint_filter};
-use crate::eye_map::{BoxedPhoton, EyeMap, EyeVertex};
+use super::IntegratorKind;
+use super::photon_mapping::{self, PhotonMaps};
+use crate::control::Stage;
+use crate::driver::eye_splat::{SplatRule, eye_pass, resolve, splat_batches};
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::image_loop::render_pixels_collect;
-use crate::options::{Progress, RenderControl, RenderOptions};
-use crate::photon_differential::{
-    DiffPhoton, FootprintFilter, Landing, LandingTracer, RECORD_LANDING_PATHS, count_caustic_paths,
-    photons_from_landings, unit_budget,
+use crate::options::RenderOptions;
+use crate::photon::caustic::CAUSTIC_STREAM;
+use crate::photon::differential::{
+    DiffPhoton, EMISSION_PARAMS, FootprintFilter, Landing, LandingTracer, RECORD_LANDING_PATHS,
+    count_caustic_paths, photons_from_landings, unit_budget,
 };
+use crate::photon::eye_map::EyeVertex;
+use crate::photon::plan::{PathSet, PathStream, PhotonBudget};
+use crate::photon::tracer::NO_CAUSTIC_PATHS;
 use crate::stats::RenderStats;
-use caustica_core::Spectrum;
 use caustica_core::sampling::Sampler;
+use caustica_core::{Spectrum, Vec3};
 use caustica_scene::Scene;
-use rayon::prelude::*;
-use std::sync::atomic::Ordering;
+use caustica_scene::bsdf::TransportMode;
 use std::time::Instant;
 
-/// Light paths per chunk of the splatting pass (traced in parallel; photons kept in path order).
-const CHUNK: u64 = 1 << 12;
-/// Shares of the progress bar given to the camera pass and to counting the light paths (the
-/// splatting pass has the rest).
-const EYE_SHARE: f64 = 0.4;
-const COUNT_SHARE: f64 = 0.1;
+/// Shares of the render (progress bar and time budget) of the passes: the global map, the
+/// camera pass, counting the light paths; the splatting pass has the rest.
+const GLOBAL_END: f64 = 0.05;
+const EYE_END: f64 = 0.4;
+const COUNT_END: f64 = 0.5;
+
+/// What a `pds` render did, for its notes and for tests.
+#[derive(Clone, Debug, Default)]
+pub struct PdsReport {
+    /// Eye vertices recorded by the camera pass, and their memory (bytes).
+    pub eye_vertices: usize,
+    pub eye_bytes: usize,
+    /// Light paths of the pass (N) and the caustic landings in them.
+    pub paths: u64,
+    pub landings: usize,
+    /// Light paths splatted (M ≤ N; fewer when stopped).
+    pub paths_splatted: u64,
+    pub photons: u64,
+    pub collapsed: u64,
+    pub failed: u64,
+    pub splats: u64,
+    /// Photons in the global map.
+    pub global_photons: usize,
+    /// Seconds of the passes.
+    pub global_secs: f64,
+    pub eye_secs: f64,
+    pub count_secs: f64,
+    pub splat_secs: f64,
+    /// Set when the render stopped before every path was splatted.
+    pub stopped: Option<&'static str>,
+}
 
 /// Renders `scene` by photon differential splatting into `film`; returns the statistics and
 /// appends the notes for the user.
 pub fn render(
     scene: &Scene,
     opts: &RenderOptions,
-    ctl: &RenderControl,
+    stage: &Stage,
     film: &mut Film,
     filter: &Filter,
     notes: &mut Vec<String>,
 ) -> RenderStats {
-    let t0 = Instant::now();
-    let maps = PhotonMaps::global_only(scene, opts);
-    let global_secs = t0.elapsed().as_secs_f64();
+    let (stats, report, warnings) = render_report(scene, opts, stage, film, filter);
+    notes.extend(report_notes(&report, opts));
+    notes.extend(warnings.iter().map(|w| format!("warning: {w}")));
+    stats
+}
+
+/// [`render`] returning what it did instead of notes: the statistics, the report, the warnings.
+pub fn render_report(
+    scene: &Scene,
+    opts: &RenderOptions,
+    stage: &Stage,
+    film: &mut Film,
+    filter: &Filter,
+) -> (RenderStats, PdsReport, Vec<String>) {
+    let mut report = PdsReport::default();
+    let t = Instant::now();
+    let global_stage = stage.part(0.0, GLOBAL_END);
+    let maps = PhotonMaps::for_integrator(
+        scene,
+        IntegratorKind::PhotonDifferentialSplatting,
+        opts,
+        &mut |f| global_stage.report(f, 0),
+    );
+    report.global_secs = t.elapsed().as_secs_f64();
+    report.global_photons = maps.global.len();
     let mut stats = maps.stats;
+    let mut warnings = Vec::new();
 
     // 2. Camera pass and eye map.
     let t = Instant::now();
     let cam = &scene.camera;
-    let eye_progress = |p: Progress| {
-        (ctl.on_progress)(Progress {
-            fraction: p.fraction * EYE_SHARE,
-            ..p
-        })
-    };
-    let eye_ctl = RenderControl {
-        stop: ctl.stop,
-        on_progress: &eye_progress,
-        on_checkpoint: ctl.on_checkpoint,
-    };
-    let (st, vertices) = render_pixels_collect(
+    let (eye, st) = eye_pass(
         film,
         filter,
         opts,
-        &eye_ctl,
+        &stage.part(GLOBAL_END, EYE_END),
         |sampler, raster, pixel, out: &mut Vec<EyeVertex>, st| {
             let u_lens = sampler.next_2d();
             let ray = cam.generate_ray(raster, u_lens).ray;
@@ -91,192 +138,180 @@ pub fn render(
         },
     );
     stats += st;
-    let eye = EyeMap::new(vertices);
-    let eye_secs = t.elapsed().as_secs_f64();
-    if ctl.stop.load(Ordering::Relaxed) {
-        notes.push(
-            "photon differential splatting: stopped during the camera pass; no caustics splatted"
-                .into(),
-        );
-        return stats;
+    report.eye_vertices = eye.len();
+    report.eye_bytes = eye.memory_bytes();
+    report.eye_secs = t.elapsed().as_secs_f64();
+    warnings.extend(maps.warnings.iter().cloned());
+    if stage.interrupted() {
+        report.stopped = Some("during the camera pass; no caustics splatted");
+        return (stats, report, warnings);
     }
 
-    // 3. How many light paths make the requested caustic photons.
+    // 3. How many light paths: the budget N_e, or as many as make the requested photons.
     let t = Instant::now();
-    let target = opts.photons.caustic_photons;
-    let record = target <= RECORD_LANDING_PATHS;
-    let counted = count_caustic_paths(scene, target, CAUSTIC_STREAM, opts, record, &mut |f| {
-        (ctl.on_progress)(Progress {
-            fraction: EYE_SHARE + COUNT_SHARE * f.clamp(0.0, 1.0),
-            samples: 0,
-        })
-    });
-    let (paths, landings) = (counted.paths, counted.landings);
-    stats.rays += counted.stats.rays;
-    // The paths to trace with differentials: those that landed when they were recorded (most
-    // paths of a low-yield scene never reach a specular surface), else all of them.
-    let work = match &counted.landing_paths {
-        Some(list) => Work::Listed(list),
-        None => Work::All(paths),
+    let stream = PathStream::new(opts, CAUSTIC_STREAM);
+    let counted;
+    let work = match opts.photons.caustic_budget() {
+        PhotonBudget::Paths(n) => {
+            report.paths = n;
+            PathSet::Range { first: 0, n }
+        }
+        PhotonBudget::Records(target) => {
+            let count_stage = stage.part(EYE_END, COUNT_END);
+            counted = count_caustic_paths(
+                scene,
+                target,
+                &stream,
+                &opts.limits,
+                target <= RECORD_LANDING_PATHS,
+                &mut |f| {
+                    count_stage.report(f, 0);
+                    !(count_stage.interrupted() || count_stage.out_of_time())
+                },
+            );
+            stats.rays += counted.stats.rays;
+            report.paths = counted.paths;
+            report.landings = counted.landings;
+            if counted.landings < target {
+                warnings.push(format!(
+                    "only {} caustic photons found after {} light paths (requested {target}){}",
+                    counted.landings,
+                    counted.paths,
+                    if counted.landings == 0 {
+                        format!(": {NO_CAUSTIC_PATHS}")
+                    } else {
+                        String::new()
+                    }
+                ));
+            }
+            // The paths to trace with differentials: those that landed when they were recorded
+            // (most paths of a low-yield scene never reach a specular surface), else all.
+            match &counted.landing_paths {
+                Some(list) => PathSet::Listed {
+                    list,
+                    first: 0,
+                    n: counted.paths,
+                },
+                None => PathSet::Range {
+                    first: 0,
+                    n: counted.paths,
+                },
+            }
+        }
     };
-    let count_secs = t.elapsed().as_secs_f64();
+    report.count_secs = t.elapsed().as_secs_f64();
+    if stage.interrupted() {
+        report.stopped = Some("while counting the light paths; no caustics splatted");
+        return (stats, report, warnings);
+    }
 
-    // 4. Trace and splat.
+    // 4. Trace and splat; 5. into the pixels.
     let t = Instant::now();
-    let splat = SplatPass {
+    let rule = FootprintSplat {
         opts,
-        eye: &eye,
-        filter: footprint_filter(&opts.photons),
-        tracer: unit_budget(opts.photons.smoothing).map(|b| LandingTracer::new(scene, &b)),
-        paths,
+        stream,
+        work,
+        filter: FootprintFilter::new(&opts.photons.footprints),
+        tracer: LandingTracer::new(scene, &unit_budget(opts.photons.footprints.smoothing)),
     };
-    // One accumulator per eye vertex, per tile (W/m²/sr before the throughput β).
-    let mut acc: Vec<Vec<[f64; 3]>> = eye.tiles.iter().map(|t| vec![[0.0; 3]; t.len()]).collect();
-    let mut totals = ChunkTotals::default();
-    let chunks = work.chunks();
-    // Chunks traced concurrently per batch (any number gives the same image: each vertex sums
-    // its photons in path order).
-    let wave = (4 * rayon::current_num_threads()).max(1) as u64;
-    let mut last_checkpoint = Instant::now();
-    let mut stopped = false;
-    let mut c = 0u64;
-    while c < chunks {
-        let end = (c + wave).min(chunks);
-        let parts: Vec<(Vec<DiffPhoton>, ChunkTotals, RenderStats)> = (c..end)
-            .into_par_iter()
-            .map(|i| splat.trace(&work, i))
-            .collect();
-        let mut batch = Vec::new();
-        for (photons, tot, st) in parts {
-            batch.extend(photons);
-            totals += tot;
-            stats.rays += st.rays;
-            stats.nonfinite += st.nonfinite;
-        }
-        totals.splats += splat.splat(&batch, &mut acc);
-        c = end;
-        (ctl.on_progress)(Progress {
-            fraction: EYE_SHARE
-                + COUNT_SHARE
-                + (1.0 - EYE_SHARE - COUNT_SHARE) * c as f64 / chunks.max(1) as f64,
-            samples: work.done(c),
-        });
-        if ctl.stop.load(Ordering::Relaxed) {
-            stopped = c < chunks;
-            break;
-        }
-        if let Some(iv) = opts.checkpoint_interval
-            && last_checkpoint.elapsed() >= iv
-        {
-            let mut partial = film.clone();
-            resolve(&mut partial, &eye, &acc);
-            (ctl.on_checkpoint)(&partial);
-            last_checkpoint = Instant::now();
+    let done = splat_batches(film, &eye, &rule, &stage.part(COUNT_END, 1.0));
+    resolve(film, &eye, &rule, &done.acc, done.chunks_done);
+    stats.rays += done.stats.rays;
+    stats.nonfinite += done.stats.nonfinite;
+    report.splat_secs = t.elapsed().as_secs_f64();
+    report.paths_splatted = rule.work.covered(done.chunks_done);
+    report.photons = done.totals.photons;
+    report.collapsed = done.totals.collapsed;
+    report.failed = done.totals.failed;
+    report.splats = done.splats;
+    if let PhotonBudget::Paths(_) = opts.photons.caustic_budget() {
+        report.landings =
+            (done.totals.photons + done.totals.collapsed + done.totals.failed) as usize;
+        if report.landings == 0 && done.chunks_done == rule.work.chunks() {
+            warnings.push(format!(
+                "no caustic photons in {} light paths: {NO_CAUSTIC_PATHS}",
+                report.paths
+            ));
         }
     }
-    let splat_secs = t.elapsed().as_secs_f64().max(1e-9);
-
-    // 5. Into the pixels.
-    resolve(film, &eye, &acc);
-
-    notes.push(format!(
-        "photon differential splatting: eye map {} vertices ({:.1} MB) in {eye_secs:.2} s; {landings} caustic photons from {paths} light paths (counted in {count_secs:.2} s){}; global map {} photons in {global_secs:.2} s",
-        eye.len(),
-        eye.memory_bytes() as f64 / 1e6,
-        if stopped {
-            format!(", stopped after {} paths", work.done(c))
+    if done.chunks_done < rule.work.chunks() {
+        report.stopped = Some(if stage.interrupted() {
+            "interrupted"
         } else {
-            String::new()
+            "out of time"
+        });
+    }
+    (stats, report, warnings)
+}
+
+/// The notes of a `pds` render.
+fn report_notes(r: &PdsReport, opts: &RenderOptions) -> Vec<String> {
+    let splat_secs = r.splat_secs.max(1e-9);
+    let mut notes = vec![format!(
+        "photon differential splatting: eye map {} vertices ({:.1} MB) in {:.2} s; {} caustic photons from {} light paths (counted in {:.2} s){}; global map {} photons in {:.2} s",
+        r.eye_vertices,
+        r.eye_bytes as f64 / 1e6,
+        r.eye_secs,
+        r.landings,
+        r.paths,
+        r.count_secs,
+        match r.stopped {
+            Some(why) => format!(
+                ", stopped {why} after {} paths (splats scaled by N/M)",
+                r.paths_splatted
+            ),
+            None => String::new(),
         },
-        maps.global.len(),
-    ));
+        r.global_photons,
+        r.global_secs,
+    )];
     notes.push(format!(
         "splatting: smoothing s = {}, {} photons splatted, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated; {} splats in {splat_secs:.2} s ({:.2} M photons/s, {:.2} M splats/s), {:.1} splats per photon",
-        opts.photons.smoothing,
-        totals.photons,
-        totals.collapsed,
-        totals.failed,
-        totals.splats,
-        totals.photons as f64 / splat_secs / 1e6,
-        totals.splats as f64 / splat_secs / 1e6,
-        totals.splats as f64 / totals.photons.max(1) as f64,
+        opts.photons.footprints.smoothing,
+        r.photons,
+        r.collapsed,
+        r.failed,
+        r.splats,
+        r.photons as f64 / splat_secs / 1e6,
+        r.splats as f64 / splat_secs / 1e6,
+        r.splats as f64 / r.photons.max(1) as f64,
     ));
-    if landings < target {
-        notes.push(format!(
-            "warning: only {landings} caustic photons found after {paths} light paths (requested {target}){}",
-            if landings == 0 {
-                ": no light reaches a diffuse surface through glass or mirrors"
-            } else {
-                ""
-            }
-        ));
-    }
-    if splat.tracer.is_none() {
-        notes.push(format!(
-            "warning: smoothing s = {} is not a positive number; nothing splatted",
-            opts.photons.smoothing
-        ));
-    }
-    notes.extend(maps.warnings.iter().map(|w| format!("warning: {w}")));
-    stats
+    notes
 }
 
-/// Adds `β · Σ splats` of every eye vertex to its pixel's camera-sample sum.
-fn resolve(film: &mut Film, eye: &EyeMap, acc: &[Vec<[f64; 3]>]) {
-    for (tile, acc) in eye.tiles.iter().zip(acc) {
-        for (v, a) in tile.vertices.iter().zip(acc) {
-            let px = &mut film.sum[v.pixel as usize];
-            for k in 0..3 {
-                px[k] += v.beta.c[k] as f64 * a[k];
-            }
+/// Adds the reflected radiance of footprint `ph` at eye vertex `v`,
+/// `f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, seed 002 eq. 10–12 with `filter`, before the
+/// throughput β), to `acc`; true if it reached the vertex with a finite, non-zero value.
+#[inline]
+pub fn splat_footprint(
+    filter: &FootprintFilter,
+    ph: &DiffPhoton,
+    v: &EyeVertex,
+    acc: &mut [f64; 3],
+) -> bool {
+    let Some(w) = filter.weight(ph, v.p, v.n) else {
+        return false;
+    };
+    let f = v
+        .bsdf
+        .eval(v.wo, v.frame.to_local(ph.wi), TransportMode::Radiance);
+    let l = f * ph.flux * w;
+    if l.is_finite() && !l.is_black() {
+        for (a, x) in acc.iter_mut().zip(l.c) {
+            *a += x as f64;
         }
-    }
-}
-
-/// The light paths of the splatting pass, in chunks of [`CHUNK`] paths.
-enum Work<'a> {
-    /// Paths `0..N`.
-    All(u64),
-    /// These paths (ascending).
-    Listed(&'a [u64]),
-}
-
-impl Work<'_> {
-    fn chunks(&self) -> u64 {
-        match self {
-            Work::All(n) => n.div_ceil(CHUNK),
-            Work::Listed(l) => (l.len() as u64).div_ceil(CHUNK),
-        }
-    }
-
-    /// Calls `f(path)` for the paths of chunk `c`, in order.
-    fn for_each_path(&self, c: u64, mut f: impl FnMut(u64)) {
-        match self {
-            Work::All(n) => (c * CHUNK..((c + 1) * CHUNK).min(*n)).for_each(f),
-            Work::Listed(l) => {
-                let lo = (c * CHUNK) as usize;
-                let hi = ((c + 1) * CHUNK).min(l.len() as u64) as usize;
-                l[lo..hi].iter().for_each(|&p| f(p));
-            }
-        }
-    }
-
-    /// Paths traced after the first `c` chunks.
-    fn done(&self, c: u64) -> u64 {
-        match self {
-            Work::All(n) => (c * CHUNK).min(*n),
-            Work::Listed(l) => (c * CHUNK).min(l.len() as u64),
-        }
+        true
+    } else {
+        false
     }
 }
 
 /// Counts of one chunk of the splatting pass.
 #[derive(Clone, Copy, Debug, Default)]
-struct ChunkTotals {
-    photons: u64,
-    collapsed: u64,
-    failed: u64,
-    splats: u64,
+pub struct ChunkTotals {
+    pub photons: u64,
+    pub collapsed: u64,
+    pub failed: u64,
 }
 
 impl std::ops::AddAssign for ChunkTotals {
@@ -284,66 +319,203 @@ impl std::ops::AddAssign for ChunkTotals {
         self.photons += o.photons;
         self.collapsed += o.collapsed;
         self.failed += o.failed;
-        self.splats += o.splats;
     }
 }
 
-/// What every chunk of the splatting pass needs.
-struct SplatPass<'a> {
-    opts: &'a RenderOptions,
-    eye: &'a EyeMap,
-    filter: FootprintFilter,
-    /// The light-path tracer for the unit budget (built once for all chunks); `None` for an
-    /// invalid smoothing parameter (nothing is splatted).
-    tracer: Option<LandingTracer<'a>>,
-    /// Light paths `N` of the whole pass (the N of Φ = β/N and of eq. 5–6).
-    paths: u64,
+/// The splat rule of photon differential splatting: photons are footprints (seed 002 eq. 4,
+/// 12), a vertex accumulates `f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, eq. 10 before the
+/// throughput β) for every footprint that reaches it ([`FootprintFilter::weight`], the rule
+/// `pdm` gathers with), and resolves to `β · Σ`.
+pub struct FootprintSplat<'a> {
+    pub opts: &'a RenderOptions,
+    pub stream: PathStream,
+    /// The light paths, `N` of them (the N of Φ = β/N and of eq. 5–6).
+    pub work: PathSet<'a>,
+    pub filter: FootprintFilter,
+    /// The light-path tracer for the unit budget (built once for all chunks).
+    pub tracer: LandingTracer<'a>,
 }
 
-impl SplatPass<'_> {
-    /// Traces the paths of chunk `c` of `work` as photon differentials; returns their caustic
-    /// photons in path order.
-    fn trace(&self, work: &Work, c: u64) -> (Vec<DiffPhoton>, ChunkTotals, RenderStats) {
-        let mut st = RenderStats::default();
-        let mut totals = ChunkTotals::default();
-        let Some(tracer) = &self.tracer else {
-            return (Vec::new(), totals, st);
-        };
+impl SplatRule for FootprintSplat<'_> {
+    type Photon = DiffPhoton;
+    type Acc = [f64; 3];
+    type Totals = ChunkTotals;
+
+    fn empty(&self) -> [f64; 3] {
+        [0.0; 3]
+    }
+
+    fn chunks(&self) -> u64 {
+        self.work.chunks()
+    }
+
+    fn trace_chunk(&self, c: u64, st: &mut RenderStats) -> (Vec<DiffPhoton>, ChunkTotals) {
         let mut landings: Vec<Landing> = Vec::new();
-        let mut sampler = Sampler::new(self.opts.sampler, self.opts.seed);
-        work.for_each_path(c, |path| {
-            sampler.start_path(CAUSTIC_STREAM, path);
-            tracer.trace(&mut sampler, self.opts, &mut landings, &mut st);
+        let mut sampler = Sampler::new(self.stream.sampler, self.stream.seed);
+        self.work.for_each_path(c, |path| {
+            sampler.start_path(self.stream.stream, path);
+            self.tracer.trace::<EMISSION_PARAMS>(
+                &mut sampler,
+                &self.opts.limits,
+                &mut landings,
+                st,
+            );
         });
-        let (photons, collapsed, failed) = photons_from_landings(&landings, self.paths);
-        totals.photons = photons.len() as u64;
-        totals.collapsed = collapsed;
-        totals.failed = failed;
-        (photons, totals, st)
+        let (photons, collapsed, failed) = photons_from_landings(&landings, self.work.len());
+        let totals = ChunkTotals {
+            photons: photons.len() as u64,
+            collapsed,
+            failed,
+        };
+        (photons, totals)
     }
 
-    /// Splats `photons` in order onto every tile (tiles in parallel, each into its own
-    /// accumulators `acc[tile]`); returns the number of splats.
-    fn splat(&self, photons: &[DiffPhoton], acc: &mut [Vec<[f64; 3]>]) -> u64 {
-        let photons: Vec<BoxedPhoton> = photons
-            .par_iter()
-            .filter_map(|ph| BoxedPhoton::new(ph, &self.filter))
-            .collect();
-        self.eye
-            .tiles
-            .par_iter()
-            .zip(acc.par_iter_mut())
-            .map(|(tile, acc)| {
-                let mut n = 0u64;
-                for ph in &photons {
-                    n += tile.splat(ph, &self.filter, |i, l| {
-                        for (a, v) in acc[i].iter_mut().zip(l.c) {
-                            *a += v as f64;
-                        }
-                    }) as u64;
+    fn bounds(&self, photon: &DiffPhoton) -> Option<(Vec3, Vec3)> {
+        self.filter.bounds(photon)
+    }
+
+    #[inline]
+    fn splat(&self, ph: &DiffPhoton, v: &EyeVertex, acc: &mut [f64; 3]) -> bool {
+        splat_footprint(&self.filter, ph, v, acc)
+    }
+
+    fn resolve(&self, v: &EyeVertex, acc: &[f64; 3], chunks_done: u64) -> [f64; 3] {
+        // Stopped after M < N paths: the estimate of the M paths splatted (flux β/M).
+        let covered = self.work.covered(chunks_done);
+        let scale = if covered == 0 || covered >= self.work.len() {
+            1.0
+        } else {
+            self.work.len() as f64 / covered as f64
+        };
+        std::array::from_fn(|k| v.beta.c[k] as f64 * acc[k] * scale)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::photon::eye_map::EyeMap;
+    use caustica_core::Frame;
+    use caustica_density::kernel::Kernel;
+    use caustica_differentials::Footprint;
+    use caustica_scene::bsdf::{Bsdf, Lambertian};
+    use std::f32::consts::PI;
+
+    const ALBEDO: f32 = 0.5;
+
+    /// A vertex on the floor y = 0 (normal +y) seen from straight above.
+    fn vertex(p: Vec3, n: Vec3, pixel: u32) -> EyeVertex {
+        let frame = Frame::from_normal(n);
+        EyeVertex {
+            p,
+            n,
+            wo: frame.to_local(n),
+            frame,
+            bsdf: Bsdf::Lambertian(Lambertian::new(Spectrum::splat(ALBEDO))),
+            beta: Spectrum::ONE,
+            pixel,
+        }
+    }
+
+    /// A photon of flux 2 W landing at the origin from straight above, footprint semi-axes
+    /// 0.2 m along x and 0.05 m along z (D x = twice the semi-axes).
+    fn photon() -> DiffPhoton {
+        DiffPhoton {
+            footprint: Footprint::new(
+                Vec3::ZERO,
+                Vec3::new(0.4, 0.0, 0.0),
+                Vec3::new(0.0, 0.0, 0.1),
+                Vec3::Y,
+            )
+            .unwrap(),
+            wi: Vec3::Y,
+            n: Vec3::Y,
+            flux: Spectrum::splat(2.0),
+            depth: 2,
+        }
+    }
+
+    /// (pixel, radiance) of every vertex `photon()` reaches, by pixel; tiles of two vertices so
+    /// that the tile culling is exercised too.
+    fn splats(map: &EyeMap, filter: &FootprintFilter) -> Vec<(u32, Spectrum)> {
+        let mut out = Vec::new();
+        let ph = photon();
+        let (lo, hi) = filter.bounds(&ph).expect("a finite footprint");
+        for t in &map.tiles {
+            t.for_each_in_box(lo, hi, |_, v| {
+                let mut acc = [0.0; 3];
+                if splat_footprint(filter, &ph, v, &mut acc) {
+                    let l = Spectrum::new(acc[0] as f32, acc[1] as f32, acc[2] as f32);
+                    out.push((v.pixel, l));
                 }
-                n
-            })
-            .sum()
+            });
+        }
+        out.sort_by_key(|s| s.0);
+        out
+    }
+
+    fn tiled(vertices: Vec<EyeVertex>) -> EyeMap {
+        EyeMap::with_tile_size(vertices, 2)
+    }
+
+    #[test]
+    fn a_splat_reaches_exactly_the_vertices_inside_the_ellipse() {
+        let map = tiled(vec![
+            vertex(Vec3::ZERO, Vec3::Y, 0),                   // centre
+            vertex(Vec3::new(0.15, 0.0, 0.0), Vec3::Y, 1),    // inside, along the long axis
+            vertex(Vec3::new(0.0, 0.0, 0.06), Vec3::Y, 2),    // outside, across
+            vertex(Vec3::new(0.21, 0.0, 0.0), Vec3::Y, 3),    // outside, along
+            vertex(Vec3::new(0.0, 0.0, 0.0), Vec3::NEG_Y, 4), // the underside
+        ]);
+        let f = FootprintFilter::default();
+        let s = splats(&map, &f);
+        let ids: Vec<u32> = s.iter().map(|s| s.0).collect();
+        assert_eq!(ids, vec![0, 1]);
+        // Eq. 10–12 at the centre: f_r Φ π K(0) / A, K(0) = 3/π (eq. 11), A = π · 0.2 · 0.05.
+        let area = PI * 0.2 * 0.05;
+        let expected = ALBEDO / PI * 2.0 * 3.0 / area;
+        let got = s[0].1.c[0];
+        assert!((got / expected - 1.0).abs() < 1e-5, "{got} vs {expected}");
+        // At 3/4 of the long semi-axis: K ∝ (1 − 0.75²)².
+        let ratio = s[1].1.c[0] / got;
+        let k = (1.0f32 - 0.75 * 0.75).powi(2);
+        assert!((ratio / k - 1.0).abs() < 1e-4, "{ratio} vs {k}");
+        // The Epanechnikov kernel: 2/π at the centre.
+        let e = splats(
+            &map,
+            &FootprintFilter {
+                kernel: Kernel::Epanechnikov,
+                ..f
+            },
+        );
+        let r = e[0].1.c[0] / got;
+        assert!((r - 2.0 / 3.0).abs() < 1e-5, "{r}");
+    }
+
+    #[test]
+    fn the_normal_distance_threshold_keeps_splats_off_nearby_surfaces() {
+        // A vertex 0.04 m above the floor (a step), inside the footprint's projection: the gather
+        // radius is 0.2 m, so it is reached with the threshold off, not with 0.1 · 0.2 = 0.02 m.
+        let map = tiled(vec![vertex(Vec3::new(0.05, 0.04, 0.0), Vec3::Y, 0)]);
+        let off = FootprintFilter {
+            normal_distance: f32::INFINITY,
+            ..Default::default()
+        };
+        let on = FootprintFilter {
+            normal_distance: 0.1,
+            ..Default::default()
+        };
+        assert_eq!(splats(&map, &off).len(), 1);
+        assert_eq!(splats(&map, &on).len(), 0);
+        // A wall (normal +x) at the centre: rejected by the normal test whatever the threshold.
+        let wall = tiled(vec![vertex(Vec3::ZERO, Vec3::X, 0)]);
+        assert_eq!(splats(&wall, &off).len(), 0);
+    }
+
+    #[test]
+    fn an_empty_map_splats_nothing() {
+        let empty = tiled(Vec::new());
+        assert_eq!(splats(&empty, &FootprintFilter::default()).len(), 0);
+        assert!(empty.is_empty());
     }
 }

@@ -4,7 +4,7 @@
 use caustica_core::Affine3A;
 use caustica_core::image_io::Image;
 use caustica_core::{Spectrum, Vec3};
-use caustica_render::{IntegratorKind, RenderControl, RenderOptions, render};
+use caustica_render::{IntegratorKind, PathLimits, RenderControl, RenderOptions, render};
 use caustica_scene::camera::PerspectiveCamera;
 use caustica_scene::light::{Light, PointLight};
 use caustica_scene::material::Material;
@@ -27,10 +27,14 @@ pub fn render_image_depth(
     let opts = RenderOptions {
         spp,
         seed,
-        max_depth,
+        limits: PathLimits {
+            max_depth,
+            ..PathLimits::default()
+        },
         ..Default::default()
     };
     render(scene, kind, &opts, &RenderControl::silent())
+        .expect("valid options")
         .film
         .to_image()
 }

@@ -1,6 +1,7 @@
-//! Per-vertex work shared by all integrators.
+//! The scattering state at a surface vertex, shared by every walker and integrator, and rays
+//! spawned off surfaces.
 
-use caustica_core::{Frame, Ray, Spectrum, Vec3};
+use caustica_core::{Frame, Ray, Vec3};
 use caustica_scene::bsdf::{Bsdf, TransportMode};
 use caustica_scene::light::EmissionSample;
 use caustica_scene::{Scene, SurfaceInteraction};
@@ -29,6 +30,12 @@ impl Vertex {
         }
     }
 
+    /// The geometric normal on the side the vertex is seen from (toward `wo`).
+    #[inline]
+    pub fn facing_normal(&self) -> Vec3 {
+        self.si.ng_toward(self.frame.to_world(self.wo))
+    }
+
     /// Factor that makes transport with shading normals correct for importance (light paths):
     /// |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|) (Veach 1997, §5.3). `wo` and `wi` are world space.
     #[inline]
@@ -51,18 +58,6 @@ impl Vertex {
     }
 }
 
-/// Beer–Lambert transmittance exp(−σa t) of the segment that ended at `si`, if that segment ran
-/// inside an absorbing dielectric, i.e. the ray hit the surface from its inside (−ng side).
-#[inline]
-pub fn interior_transmittance(scene: &Scene, si: &SurfaceInteraction, ray: &Ray) -> Spectrum {
-    if ray.d.dot(si.ng) > 0.0
-        && let Some(sigma) = scene.materials[si.material as usize].interior_absorption()
-    {
-        return (sigma * -si.t).exp();
-    }
-    Spectrum::ONE
-}
-
 /// Moves `p` off a surface with normal `n` to the side of direction `d`, by the same relative
 /// offset `SurfaceInteraction::spawn_ray` uses.
 #[inline]
@@ -79,20 +74,4 @@ pub fn emission_ray(es: &EmissionSample) -> Ray {
         Some(n) => Ray::new(offset_origin(es.ray.o, n, es.ray.d), es.ray.d),
         None => es.ray,
     }
-}
-
-/// Russian roulette after `depth` edges: from `rr_depth` on, a path survives with probability
-/// q = min(max channel of `beta`, 0.95) (Mitsuba's rule) and its throughput is divided by q.
-/// Returns false when the path ends. `u` is the uniform number reserved for the decision.
-#[inline]
-pub fn russian_roulette(beta: &mut Spectrum, depth: u32, rr_depth: u32, u: f32) -> bool {
-    if depth < rr_depth {
-        return true;
-    }
-    let q = beta.max_component().min(0.95);
-    if u >= q {
-        return false;
-    }
-    *beta /= q;
-    true
 }

@@ -2,7 +2,7 @@
 //! sampling (power heuristic, Veach 1997).
 
 use crate::stats::RenderStats;
-use crate::surface::Vertex;
+use crate::transport::vertex::Vertex;
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
 use caustica_core::{Ray, Spectrum};

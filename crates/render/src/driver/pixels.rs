@@ -1,11 +1,12 @@
-//! Pixel-parallel render driver. Work is split into passes of a few samples per pixel; within a
+//! The pixel driver: pixel-parallel camera samples. Work is split into passes of a few samples per pixel; within a
 //! pass rows are rendered in parallel and each pixel's samples in index order, so the result is
 //! a pure function of (scene, options, seed) whatever the thread count. Between passes the
 //! driver checks the stop flag, the time budget and the checkpoint timer.
 
+use crate::control::Stage;
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::options::{PassClock, Progress, RenderControl, RenderOptions};
+use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec2};
@@ -21,7 +22,7 @@ pub fn render_pixels<F>(
     film: &mut Film,
     filter: &Filter,
     opts: &RenderOptions,
-    ctl: &RenderControl,
+    stage: &Stage,
     sample: F,
 ) -> RenderStats
 where
@@ -31,7 +32,7 @@ where
         film,
         filter,
         opts,
-        ctl,
+        stage,
         |s, raster, _, _: &mut Vec<()>, st| sample(s, raster, st),
     );
     stats
@@ -45,7 +46,7 @@ pub fn render_pixels_collect<F, R>(
     film: &mut Film,
     filter: &Filter,
     opts: &RenderOptions,
-    ctl: &RenderControl,
+    stage: &Stage,
     sample: F,
 ) -> (RenderStats, Vec<R>)
 where
@@ -55,7 +56,6 @@ where
     let mut records = Vec::new();
     let (w, h) = (film.width, film.height);
     let pixels = (w * h) as u64;
-    let mut clock = PassClock::new();
     let per_pass = (SAMPLES_PER_PASS / pixels.max(1)).clamp(1, 64) as u32;
     let mut done_spp = 0u32;
     let mut stats = RenderStats::default();
@@ -98,10 +98,10 @@ where
                 st.samples += (w as u64) * pass_spp as u64;
                 let total = samples_done.fetch_add(w as u64 * pass_spp as u64, Ordering::Relaxed)
                     + w as u64 * pass_spp as u64;
-                (ctl.on_progress)(Progress {
-                    fraction: clock.fraction(opts, total as f64, (pixels * opts.spp as u64) as f64),
-                    samples: total,
-                });
+                stage.report(
+                    total as f64 / (pixels * opts.spp as u64).max(1) as f64,
+                    total,
+                );
                 (st, out)
             })
             .collect();
@@ -110,7 +110,7 @@ where
             records.extend(out);
         }
         done_spp += pass_spp;
-        if clock.end_of_pass(opts, ctl, film) {
+        if stage.end_of_pass(film) {
             break;
         }
     }

@@ -1,7 +1,7 @@
 //! A photon map: photons in a kd-tree, and the radiance estimate of seed 000 eq. 3.2.
 
-use crate::photon_tracer::Photon;
-use crate::surface::Vertex;
+use crate::photon::tracer::Photon;
+use crate::transport::vertex::Vertex;
 use caustica_core::{Spectrum, Vec3};
 use caustica_density::estimate::{disc_test, project_to_tangent_plane};
 use caustica_density::estimator::{Estimator, PointSet, Query, Scratch};
@@ -108,10 +108,7 @@ impl PhotonMap {
         if self.photons.is_empty() {
             return Spectrum::ZERO;
         }
-        let wo_world = v.frame.to_world(v.wo);
-        let ng = v.si.ng;
-        let n_query = if ng.dot(wo_world) >= 0.0 { ng } else { -ng };
-        let q = Query::new(v.si.p, n_query);
+        let q = Query::new(v.si.p, v.facing_normal());
         let mut sum = Spectrum::ZERO;
         est.weights(&self.points(opts), &q, scratch, |i, w| {
             let ph = &self.photons[i as usize];

@@ -5,9 +5,10 @@
 //! (origin, direction, and the frame at the origin); it then scatters by BSDF sampling in
 //! importance mode, with Russian roulette, until it leaves the scene or reaches `max_depth`.
 
-use crate::options::RenderOptions;
 use crate::stats::RenderStats;
-use crate::surface::{Vertex, emission_ray, interior_transmittance, russian_roulette};
+use crate::transport::limits::{PathLimits, russian_roulette};
+use crate::transport::medium::{Segment, trace_segment};
+use crate::transport::vertex::{Vertex, emission_ray};
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum, Vec3};
 use caustica_scene::Scene;
@@ -38,6 +39,26 @@ pub struct LightVertex<'a> {
     /// True when every earlier scattering vertex of the path was delta (mirror or glass) and
     /// there was at least one: the vertex receives caustic light, L S+ x.
     pub after_specular_chain: bool,
+}
+
+impl LightVertex<'_> {
+    /// True where a light path ends as a caustic: a non-delta surface reached through one or
+    /// more delta vertices (L S+ D). The one rule of the caustic photon map, photon
+    /// differentials, the light tracer's caustics-only mode and the pds counting pass.
+    #[inline]
+    pub fn is_caustic(&self) -> bool {
+        self.after_specular_chain && self.v.bsdf.flags().is_smooth()
+    }
+}
+
+impl LightScatter<'_> {
+    /// True if a path that is still a caustic candidate stays one after this scattering: only
+    /// delta scattering keeps it (after a non-delta bounce no later vertex receives caustic
+    /// light, L S+ D). Caustic tracers end their paths where this is false.
+    #[inline]
+    pub fn keeps_caustic(&self) -> bool {
+        self.sample.flags.is_delta()
+    }
 }
 
 /// What [`walk_light_path`] shows its visitor.
@@ -89,11 +110,11 @@ impl<F: FnMut(LightEvent, &mut Sampler, &mut RenderStats)> LightVisitor for Even
 pub fn walk_light_path(
     scene: &Scene,
     sampler: &mut Sampler,
-    opts: &RenderOptions,
+    limits: &PathLimits,
     stats: &mut RenderStats,
     visit: impl FnMut(LightEvent, &mut Sampler, &mut RenderStats),
 ) {
-    walk_light_path_with(scene, sampler, opts, stats, &mut EventsOnly(visit))
+    walk_light_path_with(scene, sampler, limits, stats, &mut EventsOnly(visit))
 }
 
 /// [`walk_light_path`] with a [`LightVisitor`] that also sees each sampled scattering (and may
@@ -102,7 +123,7 @@ pub fn walk_light_path(
 pub fn walk_light_path_with(
     scene: &Scene,
     sampler: &mut Sampler,
-    opts: &RenderOptions,
+    limits: &PathLimits,
     stats: &mut RenderStats,
     visitor: &mut impl LightVisitor,
 ) {
@@ -132,12 +153,8 @@ pub fn walk_light_path_with(
     let mut beta = es.weight / pmf;
     let mut depth = 1u32; // edges of the path including the one being traced
     let mut all_delta = true; // every scattering vertex so far was delta
-    loop {
-        stats.rays += 1;
-        let Some(si) = scene.intersect(&ray) else {
-            break;
-        };
-        beta *= interior_transmittance(scene, &si, &ray);
+    while let Segment::Surface { si, transmittance } = trace_segment(scene, &ray, stats) {
+        beta *= transmittance;
         let v = Vertex::new(scene, si, &ray);
         let wo = -ray.d;
         visitor.event(
@@ -154,7 +171,7 @@ pub fn walk_light_path_with(
         let uc = sampler.next_1d();
         let u = sampler.next_2d();
         let u_rr = sampler.next_1d();
-        if depth + 1 >= opts.max_depth {
+        if depth + 1 >= limits.max_depth {
             break;
         }
         let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Importance) else {
@@ -179,7 +196,7 @@ pub fn walk_light_path_with(
         }
         all_delta &= bs.flags.is_delta();
         depth += 1;
-        if !russian_roulette(&mut beta, depth, opts.rr_depth, u_rr) {
+        if !russian_roulette(&mut beta, depth, limits.rr_depth, u_rr) {
             break;
         }
         ray = v.si.spawn_ray(wi);

@@ -1,9 +1,10 @@
-//! Light-path-parallel render driver. Paths are numbered; fixed-size chunks of consecutive paths
+//! The path driver: light-path-parallel splats into the film. Paths are numbered; fixed-size chunks of consecutive paths
 //! each splat into their own buffer, and buffers are merged into the film in chunk order. Since
 //! neither the chunking nor the merge order depends on the thread count, neither does the image.
 
+use crate::control::Stage;
 use crate::film::{Film, SplatBuffer};
-use crate::options::{PassClock, Progress, RenderControl, RenderOptions};
+use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use caustica_core::sampling::Sampler;
 use rayon::prelude::*;
@@ -19,13 +20,12 @@ pub fn render_paths<F>(
     film: &mut Film,
     total_paths: u64,
     opts: &RenderOptions,
-    ctl: &RenderControl,
+    stage: &Stage,
     trace: F,
 ) -> RenderStats
 where
     F: Fn(&mut Sampler, &mut SplatBuffer, &mut RenderStats) + Sync,
 {
-    let mut clock = PassClock::new();
     let mut buffers: Vec<SplatBuffer> = (0..WAVE)
         .map(|_| SplatBuffer::new(film.width, film.height))
         .collect();
@@ -65,11 +65,8 @@ where
             next_path += n;
             stats += st;
         }
-        (ctl.on_progress)(Progress {
-            fraction: clock.fraction(opts, next_path as f64, total_paths as f64),
-            samples: next_path,
-        });
-        if clock.end_of_pass(opts, ctl, film) {
+        stage.report(next_path as f64 / total_paths.max(1) as f64, next_path);
+        if stage.end_of_pass(film) {
             break;
         }
     }

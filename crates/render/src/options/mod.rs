@@ -1,0 +1,56 @@
+//! What a render is asked to do: the options every integrator shares ([`RenderOptions`]) and the
+//! settings of each family ([`photon`]), whose values validate themselves ([`value`]).
+
+pub mod photon;
+pub mod value;
+
+pub use photon::{CausticEstimator, DiffusionSettings, FootprintSettings, PhotonOptions};
+pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Smoothing, Steepness};
+
+use crate::transport::limits::PathLimits;
+use caustica_core::sampling::SamplerKind;
+use std::time::Duration;
+
+/// Parameters shared by all integrators.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// Samples per pixel (path tracer, the camera passes of the photon methods) or light paths
+    /// per pixel (light tracer: the number of light paths is `spp × width × height`, as
+    /// Mitsuba's `ptracer` counts them).
+    pub spp: u32,
+    /// A time budget for the whole render, shared by all its passes (`spp` is then ignored by
+    /// the passes that can run on). Such a render is not reproducible bit for bit, since the
+    /// work done depends on the machine.
+    pub time_limit: Option<Duration>,
+    pub seed: u64,
+    pub sampler: SamplerKind,
+    /// Path length limits (maximum depth, Russian roulette) of camera and light paths.
+    pub limits: PathLimits,
+    /// Interval at which `RenderControl::on_checkpoint` receives the film.
+    pub checkpoint_interval: Option<Duration>,
+    /// Settings of the photon-mapping integrators.
+    pub photons: PhotonOptions,
+    /// Render only caustic light seen directly, paths L S+ D E: light that reached the first
+    /// surface the camera sees, a non-delta one, through one or more delta (mirror, glass)
+    /// bounces. Pixels that see a delta surface first are black. The light tracer and the photon
+    /// methods honour it (the light tracer connects only such vertices to the camera; the photon
+    /// methods return the caustic estimate alone), so their caustics can be compared without
+    /// the noise of the other light (seed 000 ch. 6 compares caustics alone). The path tracer
+    /// cannot isolate these paths and refuses it.
+    pub caustics_only: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            spp: 16,
+            time_limit: None,
+            seed: 0,
+            sampler: SamplerKind::Sobol,
+            limits: PathLimits::default(),
+            checkpoint_interval: None,
+            photons: PhotonOptions::default(),
+            caustics_only: false,
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! Settings of the photon-mapping family: `pm`, `dpm`, `pdm` and `pds`.
+
+use crate::error::OptionError;
+use crate::options::value::{
+    Bandwidth, Diffusivity, NoiseScale, NormalDistance, Smoothing, Steepness,
+};
+use crate::photon::map::EstimateOptions;
+use crate::photon::plan::PhotonBudget;
+use caustica_density::kernel::Kernel;
+
+/// Settings of the photon-mapping integrators.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhotonOptions {
+    /// Caustic photons (L S+ D) the caustic pass stores or splats: light paths are emitted until
+    /// it holds this many; ≥ 1. Ignored when `light_paths` is set.
+    pub caustic_photons: usize,
+    /// A fixed number of light paths for the caustic pass instead (seed 002's N_e): exactly this
+    /// many are emitted, whatever they store; ≥ 1.
+    pub light_paths: Option<u64>,
+    /// Photons stored in the global map (every non-delta hit); 0 = no indirect light.
+    pub global_photons: usize,
+    /// The photon-map radiance estimate (k, maximum radius, kernel, bias controls), used for
+    /// both maps.
+    pub estimate: EstimateOptions,
+    /// Photons per estimate in the global map, when it should differ from `estimate.k` (the
+    /// caustic map's); `None` = the same k; ≥ 1.
+    pub global_k: Option<usize>,
+    /// Final-gather rays per camera sample; 0 = visualise the global map directly.
+    pub final_gather: u32,
+    /// The density estimator of `pm`'s caustic map; `None` = the integrator's own (k-NN for
+    /// `pm`, diffusion for `dpm`; `pdm` and `pds` estimate caustics from footprints and refuse
+    /// any other).
+    pub caustic_estimator: Option<CausticEstimator>,
+    /// Fixed bandwidth h (m) of the `fixed` and diffusion estimators; `None` = the median
+    /// distance from a caustic photon to its k-th nearest neighbour (k = `estimate.k`).
+    pub bandwidth: Option<Bandwidth>,
+    /// Parameters of the diffusion estimator (`dpm`).
+    pub diffusion: DiffusionSettings,
+    /// Photon-differential footprints (`pdm`, `pds`).
+    pub footprints: FootprintSettings,
+}
+
+impl Default for PhotonOptions {
+    fn default() -> Self {
+        Self {
+            caustic_photons: 200_000,
+            light_paths: None,
+            global_photons: 100_000,
+            estimate: EstimateOptions::default(),
+            global_k: None,
+            final_gather: 16,
+            caustic_estimator: None,
+            bandwidth: None,
+            diffusion: DiffusionSettings::default(),
+            footprints: FootprintSettings::default(),
+        }
+    }
+}
+
+impl PhotonOptions {
+    /// How many light paths the caustic pass emits.
+    pub fn caustic_budget(&self) -> PhotonBudget {
+        match self.light_paths {
+            Some(n) => PhotonBudget::Paths(n),
+            None => PhotonBudget::Records(self.caustic_photons),
+        }
+    }
+
+    /// One kernel for every density estimate: the photon maps' (eq. 3.2) and the footprints'
+    /// (seed 002 eq. 10). Without it each keeps its default (Epanechnikov, Silverman).
+    pub fn set_kernel(&mut self, kernel: Kernel) {
+        self.estimate.kernel = kernel;
+        self.footprints.kernel = kernel;
+    }
+
+    /// Checks the counts (the other values are valid by their types); the message names the
+    /// offending option.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let at_least_one = |what: &'static str, n: u64| {
+            if n >= 1 {
+                Ok(())
+            } else {
+                Err(OptionError::Invalid {
+                    what,
+                    rule: "at least 1",
+                    got: n.to_string(),
+                })
+            }
+        };
+        at_least_one("the number of caustic photons", self.caustic_photons as u64)?;
+        if let Some(n) = self.light_paths {
+            at_least_one("the number of light paths", n)?;
+        }
+        at_least_one("k (photons per estimate)", self.estimate.k as u64)?;
+        if let Some(k) = self.global_k {
+            at_least_one("the global map's k (photons per estimate)", k as u64)?;
+        }
+        if let Some(r) = self.estimate.max_radius
+            && !(r.is_finite() && r > 0.0)
+        {
+            return Err(OptionError::Invalid {
+                what: "the maximum radius",
+                rule: "a positive finite length",
+                got: r.to_string(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The estimate of the global map: the caustic map's, with `global_k` if set.
+    pub fn global_estimate(&self) -> EstimateOptions {
+        let mut est = self.estimate;
+        if let Some(k) = self.global_k {
+            est.k = k;
+        }
+        est
+    }
+}
+
+/// Density estimators the caustic map can use (all behind `caustica_density::Estimator`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CausticEstimator {
+    /// k-th nearest neighbour, eq. 3.2 (`pm`).
+    #[default]
+    Knn,
+    /// Fixed bandwidth, eq. 2.15.
+    Fixed,
+    /// Variable bandwidth with a k-NN pilot (k = `estimate.k`), eq. 2.13.
+    Variable,
+    /// Diffusion-based photon mapping, eq. 4.19 (`dpm`).
+    Diffusion,
+}
+
+impl CausticEstimator {
+    pub const NAMES: &'static [&'static str] = &["knn", "fixed", "variable", "diffusion"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            CausticEstimator::Knn => "knn",
+            CausticEstimator::Fixed => "fixed",
+            CausticEstimator::Variable => "variable",
+            CausticEstimator::Diffusion => "diffusion",
+        }
+    }
+}
+
+impl std::str::FromStr for CausticEstimator {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "knn" => Ok(Self::Knn),
+            "fixed" => Ok(Self::Fixed),
+            "variable" => Ok(Self::Variable),
+            "diffusion" | "dpm" => Ok(Self::Diffusion),
+            _ => Err(format!(
+                "unknown estimator '{s}' (expected one of: {})",
+                Self::NAMES.join(", ")
+            )),
+        }
+    }
+}
+
+/// Settings of diffusion-based photon mapping (seed 000 ch. 4); the bandwidth is
+/// [`PhotonOptions::bandwidth`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiffusionSettings {
+    /// Noise scale σ (m) of the gradient pre-pass; `None` = half the bandwidth.
+    pub noise_scale: Option<NoiseScale>,
+    /// Diffusivity coefficient q (eq. 4.15).
+    pub q: Diffusivity,
+    /// Steepness α (eq. 4.15).
+    pub alpha: Steepness,
+    /// Isotropic diffusion (sec. 4.3.3).
+    pub isotropic: bool,
+}
+
+impl Default for DiffusionSettings {
+    /// q = 0.2, α = 1 as in seed 000 fig. 4.6.
+    fn default() -> Self {
+        Self {
+            noise_scale: None,
+            q: Diffusivity::new(0.2).expect("0.2 is positive"),
+            alpha: Steepness::new(1.0).expect("1 is positive"),
+            isotropic: false,
+        }
+    }
+}
+
+/// Settings of photon-differential footprints (`pdm`, `pds`; seed 002 sec. 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FootprintSettings {
+    /// Radial kernel of the footprints; seed 002 eq. 11's Silverman kernel by default.
+    pub kernel: Kernel,
+    /// Smoothing parameter s (seed 002 eq. 5–6).
+    pub smoothing: Smoothing,
+    /// Normal-distance threshold against topological bias (seed 002 sec. 3.3): a footprint
+    /// does not reach a point farther than this fraction of its gather radius from its tangent
+    /// plane, `|n_p · (x − x_p)| > t · r_max`.
+    pub normal_distance: NormalDistance,
+}
+
+impl Default for FootprintSettings {
+    fn default() -> Self {
+        Self {
+            kernel: Kernel::Silverman,
+            smoothing: Smoothing::ONE,
+            normal_distance: NormalDistance::QUARTER,
+        }
+    }
+}

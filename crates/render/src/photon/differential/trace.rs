@@ -1,0 +1,337 @@
+//! Photon differentials along the walker's light paths: emission (seed 002 eq. 1–6), transfer,
+//! reflection and refraction at delta vertices (seed 000 app. B) and the landing on the first
+//! non-delta surface, for any number of differential parameters (see the module docs of
+//! [`super`]).
+
+use super::footprint::{DiffPhoton, Landing, photons_from_landings};
+use crate::options::{RenderOptions, Smoothing};
+use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
+use crate::photon::tracer::{NO_CAUSTIC_PATHS, shortfall};
+use crate::stats::RenderStats;
+use crate::transport::light_walk::{
+    LightEvent, LightScatter, LightVertex, LightVisitor, walk_light_path_with,
+};
+use crate::transport::limits::PathLimits;
+use crate::transport::vertex::Vertex;
+use caustica_core::sampling::Sampler;
+use caustica_core::{Ray, Vec3};
+use caustica_differentials::{
+    DiffError, EmissionBasis, EmissionBudget, FlatTriangle, PhongTriangle, RayDiff, SurfaceHit,
+    Transferred, emission_basis, emit_with_basis, emit_with_lengths, transfer_to_fixed_plane,
+};
+use caustica_scene::bsdf::BsdfFlags;
+use caustica_scene::shape::ShapeGeometry;
+use caustica_scene::{Scene, SurfaceInteraction};
+
+/// Photon differentials of one caustic map and how they were made.
+pub struct TracedDiffPhotons {
+    /// Stored photons in path order.
+    pub photons: Vec<DiffPhoton>,
+    /// Light paths emitted (the N of Φ = β/N).
+    pub paths: u64,
+    /// Caustic landings found (stored + collapsed + failed).
+    pub landings: usize,
+    /// Landings dropped because their footprint collapsed.
+    pub collapsed: u64,
+    /// Landings dropped because the differential could not be propagated.
+    pub failed: u64,
+    pub stats: RenderStats,
+    pub warning: Option<String>,
+}
+
+/// Traces the light paths of `stream` under `budget` — until that many caustic landings
+/// (L S+ D) are found, the paths of [`crate::photon::tracer::trace_photons`] with
+/// `MapKind::Caustic` and the same `stream`, or exactly `N_e` paths — and returns their photon
+/// differentials' footprints for smoothing `smoothing` (seed 002's `s`). `progress(fraction)`
+/// after each wave. Deterministic for a given seed whatever the thread count.
+pub fn trace_photon_differentials(
+    scene: &Scene,
+    budget: PhotonBudget,
+    smoothing: Smoothing,
+    stream: u64,
+    opts: &RenderOptions,
+    progress: &mut dyn FnMut(f64),
+) -> TracedDiffPhotons {
+    let tracer = LandingTracer::new(scene, &unit_budget(smoothing));
+    let limits = opts.limits;
+    let (landings, paths, stats) = trace_budget(
+        budget,
+        &PathStream::new(opts, stream),
+        0,
+        &mut |f| {
+            progress(f);
+            true
+        },
+        |_, sampler, out, st| tracer.trace::<EMISSION_PARAMS>(sampler, &limits, out, st),
+    );
+    let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
+    let warning = shortfall("caustic", landings.len(), paths, budget).map(|w| {
+        if landings.is_empty() {
+            format!("{w}: {NO_CAUSTIC_PATHS}")
+        } else {
+            w
+        }
+    });
+    TracedDiffPhotons {
+        photons,
+        paths,
+        landings: landings.len(),
+        collapsed,
+        failed,
+        stats,
+        warning,
+    }
+}
+
+/// The differential parameters of a photon at emission: the two of seed 002 eq. 1–6 (position
+/// on the light and direction, or the two directions of a point light). Temporal photon
+/// differentials (seed 003) trace `EMISSION_PARAMS + 1`.
+pub const EMISSION_PARAMS: usize = 2;
+
+/// The budget of [`trace_photon_differentials`] and [`LandingTracer`] (`N_e = 1`, see the
+/// module docs) for smoothing `s`.
+pub fn unit_budget(smoothing: Smoothing) -> EmissionBudget {
+    EmissionBudget::new(1, smoothing.get()).expect("one photon and a valid smoothing parameter")
+}
+
+/// Traces light paths as photon differentials for one budget (normally [`unit_budget`]): the
+/// lengths of each light's initial vectors (eq. 5–6) are computed once here, not per photon,
+/// and so is the basis (eq. 2–3) of each collimated light.
+pub struct LandingTracer<'a> {
+    scene: &'a Scene,
+    /// Per light: the lengths and fixed basis of [`LightEmission`].
+    lights: Vec<LightEmission>,
+}
+
+/// What every photon differential of one light shares.
+#[derive(Clone, Copy, Debug)]
+struct LightEmission {
+    /// `(|D_u x|, |D_θ ω|)` (eq. 5–6), or why the light cannot emit photon differentials.
+    lengths: Result<(f32, f32), DiffError>,
+    /// For a collimated light: its direction, normal and their basis (eq. 2–3), used for every
+    /// emitted ray with exactly that direction and normal.
+    fixed: Option<(Vec3, Option<Vec3>, EmissionBasis)>,
+}
+
+impl<'a> LandingTracer<'a> {
+    pub fn new(scene: &'a Scene, budget: &EmissionBudget) -> Self {
+        let lights = scene
+            .lights
+            .iter()
+            .map(|l| {
+                let (area, solid_angle) = l.emission_extent();
+                LightEmission {
+                    lengths: budget.emission_lengths(area, solid_angle),
+                    fixed: l
+                        .fixed_emission_direction()
+                        .and_then(|(d, n)| emission_basis(d, n).ok().map(|b| (d, n, b))),
+                }
+            })
+            .collect();
+        Self { scene, lights }
+    }
+
+    /// Traces one light path (the sampler positioned on it) and pushes its caustic landings
+    /// with their photon differentials in `N ≥ 2` parameters (the emission's two first).
+    pub fn trace<const N: usize>(
+        &self,
+        sampler: &mut Sampler,
+        limits: &PathLimits,
+        out: &mut Vec<Landing<N>>,
+        stats: &mut RenderStats,
+    ) {
+        let mut v = DiffVisitor {
+            scene: self.scene,
+            lights: &self.lights,
+            out,
+            emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0),
+            ray: None,
+            pmf: 1.0,
+        };
+        walk_light_path_with(self.scene, sampler, limits, stats, &mut v);
+    }
+}
+
+/// True for a vertex where a caustic photon lands: a non-delta surface reached through one or
+/// more delta vertices (L S+ D), with a finite throughput. The one rule of the tracer
+/// and of the counting pass ([`super::counting`]).
+pub(crate) fn is_caustic_landing(lv: &LightVertex) -> bool {
+    lv.is_caustic() && lv.beta.is_finite()
+}
+
+/// Per-path state: the emission sample and the differential along the current ray.
+struct DiffVisitor<'a, const N: usize> {
+    scene: &'a Scene,
+    /// [`LandingTracer::lights`].
+    lights: &'a [LightEmission],
+    out: &'a mut Vec<Landing<N>>,
+    /// The emission sample's ray and normal and the light's index, kept until the emitted
+    /// differential is first needed (most paths never reach a delta surface, so their
+    /// differentials are never computed).
+    emission: (Ray, Option<Vec3>, usize),
+    /// The differential of the ray being traced (origin at the last vertex, direction the
+    /// sampled one); `None` until computed.
+    ray: Option<Result<RayDiff<N>, DiffError>>,
+    pmf: f32,
+}
+
+impl<const N: usize> DiffVisitor<'_, N> {
+    /// The differential of the ray being traced (the emitted one computed on first use).
+    fn ray(&mut self) -> Result<RayDiff<N>, DiffError> {
+        *self.ray.get_or_insert_with(|| {
+            let (ray, normal, light) = self.emission;
+            let Some(le) = self.lights.get(light) else {
+                return Err(DiffError::NonFinite);
+            };
+            let emitted = match le.fixed {
+                // The light's one basis, for the exact direction and normal it was made from.
+                Some((d, n, b)) if d == ray.d && n == normal => {
+                    emit_with_basis(ray.o, &b, le.lengths?)
+                }
+                _ => emit_with_lengths(ray.o, ray.d, normal, le.lengths?),
+            };
+            emitted.map(|r| r.widen::<N>())
+        })
+    }
+
+    /// The differential transferred onto the surface at `si`, with the normal that scatters it.
+    fn hit_at(&mut self, si: &SurfaceInteraction) -> Result<SurfaceHit<N>, DiffError> {
+        surface_hit(self.scene, si, &self.ray()?)
+    }
+
+    /// The differential transferred onto the plane where the photon lands at `si`: only the
+    /// position and direction differentials, which the footprint needs (not the normal and
+    /// barycentrics of [`Self::hit_at`], which only scattering needs).
+    fn landing_at(&mut self, si: &SurfaceInteraction) -> Result<Transferred<N>, DiffError> {
+        // The plane through the hit with the geometric normal: a flat or Phong triangle's own
+        // plane (eq. B.24–B.29, B.36–B.40; the transfer depends on neither the normal's sign nor
+        // its length), a sphere's or disk's tangent plane.
+        transfer_to_fixed_plane(&self.ray()?, si.p, si.ng)
+    }
+}
+
+/// Cosine between the differential's scattered direction and the walker's below which the
+/// propagation counts as failed (~8°).
+const DIRECTION_COS: f32 = 0.99;
+
+impl<const N: usize> LightVisitor for DiffVisitor<'_, N> {
+    fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
+        match event {
+            LightEvent::Start(start) => {
+                let es = start.emission;
+                self.pmf = start.pmf;
+                self.emission = (start.ray, es.normal, start.light);
+                self.ray = None;
+            }
+            LightEvent::Vertex(lv) => {
+                // Non-finite throughputs are skipped (the photon tracer counts them).
+                if !is_caustic_landing(lv) {
+                    return;
+                }
+                let dp = self.landing_at(&lv.v.si).ok().map(|t| t.ray.dp);
+                self.out.push(Landing {
+                    p: lv.v.si.p,
+                    wi: lv.wo,
+                    n: lv.v.si.ng_toward(lv.wo),
+                    beta: lv.beta,
+                    depth: lv.depth.min(u16::MAX as u32) as u16,
+                    pmf: self.pmf,
+                    dp,
+                });
+            }
+        }
+    }
+
+    fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+        if !sc.keeps_caustic() {
+            return false;
+        }
+        let flags = sc.sample.flags;
+        let eta = sc.sample.eta;
+        let out = self.hit_at(&sc.v.si).and_then(|h| {
+            let out = if flags.intersects(BsdfFlags::TRANSMISSION) {
+                h.refract(1.0 / eta)? // eq. B.19–B.23 take n_incident / n_transmitted
+            } else {
+                h.reflect()? // eq. B.17–B.18
+            };
+            follow(out, sc.v, sc.wi)
+        });
+        self.ray = Some(out);
+        true
+    }
+}
+
+/// The scattered differential re-anchored on the walker's path: origin at the hit, direction
+/// the sampled one, `dv` made perpendicular to it (eq. B.1b keeps `v · dv = 0`). An error if the
+/// directions disagree by more than [`DIRECTION_COS`].
+fn follow<const N: usize>(out: RayDiff<N>, v: &Vertex, wi: Vec3) -> Result<RayDiff<N>, DiffError> {
+    let cos = out.v.dot(wi);
+    if cos.is_nan() || cos < DIRECTION_COS {
+        return Err(DiffError::NonFinite);
+    }
+    let dv = out.dv.map(|d| d - wi * wi.dot(d));
+    let r = RayDiff::new(v.si.p, wi, out.dp, dv);
+    if r.is_finite() {
+        Ok(r)
+    } else {
+        Err(DiffError::NonFinite)
+    }
+}
+
+/// Transfers `ray` onto the surface at `si` with the surface model of the hit shape (see the
+/// module docs): Phong or flat triangles, the sphere's curvature, the disk's plane.
+fn surface_hit<const N: usize>(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    ray: &RayDiff<N>,
+) -> Result<SurfaceHit<N>, DiffError> {
+    if let Some(tri) = scene.geometry.triangle_vertices(si) {
+        return match tri.n {
+            Some(n) => PhongTriangle { q: tri.p, n }.hit(ray),
+            None => FlatTriangle { q: tri.p }.hit(ray),
+        };
+    }
+    match scene
+        .geometry
+        .shapes
+        .get(si.shape as usize)
+        .map(|s| &s.geometry)
+    {
+        Some(ShapeGeometry::Sphere(s)) => {
+            let n_out = (si.p - s.center) / s.radius;
+            let inv_r = 1.0 / s.radius;
+            tangent_plane_hit(ray, si.p, n_out, |dq| dq * inv_r)
+        }
+        // Disks (and, defensively, a bad shape index): the tangent plane, dN = 0.
+        _ => tangent_plane_hit(ray, si.p, si.ng, |_| Vec3::ZERO),
+    }
+}
+
+/// Transfer onto the plane through `p` with normal `n` (unit, any orientation) whose normal
+/// changes with the hit point as `dN = dn(dQ)` for the orientation `n`.
+fn tangent_plane_hit<const N: usize>(
+    ray: &RayDiff<N>,
+    p: Vec3,
+    n: Vec3,
+    dn: impl Fn(Vec3) -> Vec3,
+) -> Result<SurfaceHit<N>, DiffError> {
+    let t = transfer_to_fixed_plane(ray, p, n)?;
+    // Orientation of eq. B.30: V · N < 0; dN flips with N.
+    let sign = if n.dot(ray.v) > 0.0 { -1.0 } else { 1.0 };
+    let normal = sign * n;
+    let dnormal = t.ray.dp.map(|dq| sign * dn(dq));
+    if dnormal.iter().any(|d| !d.is_finite()) {
+        return Err(DiffError::NonFinite);
+    }
+    Ok(SurfaceHit {
+        ray: t.ray,
+        s: t.s,
+        ds: t.ds,
+        geometric_normal: normal,
+        dgeometric_normal: dnormal,
+        normal,
+        dnormal,
+        barycentrics: [0.0; 3],
+        dbarycentrics: [[0.0; 3]; N],
+    })
+}

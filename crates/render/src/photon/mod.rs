@@ -1,0 +1,19 @@
+//! The photon family: everything the photon methods (`pm`, `dpm`, `pdm`, `pds`, and later the
+//! progressive methods and photon cone focusing) share on the light side and at the eye.
+//!
+//! * [`plan`] — numbered light paths cut into chunks, waves and ranges ([`plan::trace_paths`]
+//!   with a `first_path`, [`plan::trace_path_range`] for a fixed budget N_e): the seam
+//!   iterations and shards use.
+//! * [`tracer`] — photons from light paths: caustic and global maps ([`tracer::trace_photons`]).
+//! * [`map`] — a photon map with its k-d tree and the radiance estimate of seed 000 eq. 3.2.
+//! * [`caustic`] — the caustic estimate of a photon method, one enum over the density
+//!   estimators of `pm`/`dpm`, the footprints of `pdm` and the splatting of `pds`.
+//! * [`eye_map`] — the eye-path vertices of a camera pass, in spatial tiles.
+//! * [`differential`] — photon differentials: tracing, footprints, the `pdm` map, counting.
+
+pub mod caustic;
+pub mod differential;
+pub mod eye_map;
+pub mod map;
+pub mod plan;
+pub mod tracer;

@@ -1,0 +1,184 @@
+//! The photon tracer shared by every photon method.
+//!
+//! Photons are energy packets (seed 001 ch. 2): a light path emitted with throughput β (W, see
+//! [`crate::transport::light_walk`]) deposits at each non-delta surface it reaches a photon of flux
+//! Φ = β / N, where N is the number of paths emitted for that map. The sum of the fluxes of the
+//! photons in a surface region estimates the flux incident on it, so a density estimate of Φ
+//! per area gives irradiance (W/m²), and Σ f_r Φ / area reflected radiance (W/m²/sr), eq. 3.1–3.2
+//! of seed 000.
+//!
+//! Paths are numbered and traced in fixed chunks ([`crate::photon::plan`]) whose photons are
+//! concatenated in path order, so the maps depend on the seed only, not on the thread count.
+
+use crate::options::RenderOptions;
+use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
+use crate::stats::RenderStats;
+use crate::transport::light_walk::{LightEvent, LightScatter, LightVisitor, walk_light_path_with};
+use crate::transport::limits::PathLimits;
+use caustica_core::sampling::Sampler;
+use caustica_core::{Spectrum, Vec3};
+use caustica_scene::Scene;
+
+/// A stored photon.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Photon {
+    /// Hit point (m).
+    pub p: Vec3,
+    /// Unit direction toward where the photon came from (away from the surface, pbrt's ωi).
+    pub wi: Vec3,
+    /// Geometric normal at the hit, on the side the photon arrived from (unit).
+    pub n: Vec3,
+    /// Flux (W): path throughput divided by the number of emitted paths.
+    pub flux: Spectrum,
+    /// Edges from the light (1 = direct illumination).
+    pub depth: u16,
+    /// True for caustic photons: every earlier scattering vertex was delta, L S+ D.
+    pub caustic: bool,
+}
+
+/// Which photons a tracing pass keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapKind {
+    /// Paths L S+ D only.
+    Caustic,
+    /// Every non-delta hit, L (S|D)* D.
+    Global,
+}
+
+/// Photons of one map and how they were made.
+pub struct TracedPhotons {
+    /// Photons in path order, fluxes already divided by `paths`.
+    pub photons: Vec<Photon>,
+    /// Light paths emitted (the N of Φ = β/N).
+    pub paths: u64,
+    pub stats: RenderStats,
+    /// Set when fewer photons than requested were found (no caustic paths, no diffuse surfaces).
+    pub warning: Option<String>,
+}
+
+/// Emits light paths of `stream` under `budget` — until `n` photons of `kind` are stored, cut at
+/// the path where the count reaches `n` (so every emitted path contributes all of its photons
+/// and N counts exactly those paths), or exactly `N_e` paths — and returns their photons with
+/// flux β/N. `stream` separates the random numbers of different maps with the same seed.
+/// `progress(fraction)` after each wave of paths. Deterministic for a given seed whatever the
+/// thread count.
+pub fn trace_photons(
+    scene: &Scene,
+    budget: PhotonBudget,
+    kind: MapKind,
+    stream: u64,
+    opts: &RenderOptions,
+    progress: &mut dyn FnMut(f64),
+) -> TracedPhotons {
+    let limits = opts.limits;
+    let (mut photons, paths, stats) = trace_budget(
+        budget,
+        &PathStream::new(opts, stream),
+        0,
+        &mut |f| {
+            progress(f);
+            true
+        },
+        |_, sampler, out, st| trace_one(scene, sampler, &limits, kind, out, st),
+    );
+    let inv_n = 1.0 / paths.max(1) as f32;
+    for p in &mut photons {
+        p.flux *= inv_n;
+    }
+    let what = match kind {
+        MapKind::Caustic => "caustic",
+        MapKind::Global => "global",
+    };
+    let warning = shortfall(what, photons.len(), paths, budget).map(|w| {
+        if photons.is_empty() {
+            format!(
+                "{w}: {}",
+                match kind {
+                    MapKind::Caustic => NO_CAUSTIC_PATHS,
+                    MapKind::Global => "the scene has no non-specular surface lit by its lights",
+                }
+            )
+        } else {
+            w
+        }
+    });
+    TracedPhotons {
+        photons,
+        paths,
+        stats,
+        warning,
+    }
+}
+
+/// Why a caustic pass found nothing.
+pub(crate) const NO_CAUSTIC_PATHS: &str =
+    "no light reaches a diffuse surface through glass or mirrors";
+
+/// The warning of a pass that stored `found` `what` photons from `paths` light paths under
+/// `budget`, when it found fewer than asked for (or none from a fixed number of paths).
+pub(crate) fn shortfall(
+    what: &str,
+    found: usize,
+    paths: u64,
+    budget: PhotonBudget,
+) -> Option<String> {
+    match budget {
+        PhotonBudget::Records(target) => (found < target).then(|| {
+            format!(
+                "only {found} {what} photons stored after {paths} light paths (requested {target})"
+            )
+        }),
+        PhotonBudget::Paths(_) => {
+            (found == 0).then(|| format!("no {what} photons stored in {paths} light paths"))
+        }
+    }
+}
+
+/// Stores the photons of one light path: at every non-delta vertex (global map) or at those
+/// reached through delta vertices only (caustic map). A caustic map's path ends at its first
+/// non-delta bounce, after which no vertex can receive caustic light (L S+ D): the same photons,
+/// fewer rays.
+fn trace_one(
+    scene: &Scene,
+    sampler: &mut Sampler,
+    limits: &PathLimits,
+    kind: MapKind,
+    out: &mut Vec<Photon>,
+    stats: &mut RenderStats,
+) {
+    struct Store<'a> {
+        kind: MapKind,
+        out: &'a mut Vec<Photon>,
+    }
+    impl LightVisitor for Store<'_> {
+        fn event(&mut self, event: LightEvent, _: &mut Sampler, stats: &mut RenderStats) {
+            let LightEvent::Vertex(lv) = event else {
+                return;
+            };
+            let stored = match self.kind {
+                MapKind::Caustic => lv.is_caustic(),
+                MapKind::Global => lv.v.bsdf.flags().is_smooth(),
+            };
+            if !stored {
+                return;
+            }
+            let flux = lv.beta;
+            if !flux.is_finite() {
+                stats.nonfinite += 1;
+                return;
+            }
+            self.out.push(Photon {
+                p: lv.v.si.p,
+                wi: lv.wo,
+                n: lv.v.si.ng_toward(lv.wo),
+                flux,
+                depth: lv.depth.min(u16::MAX as u32) as u16,
+                caustic: lv.after_specular_chain,
+            });
+        }
+        fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+            self.kind == MapKind::Global || sc.keeps_caustic()
+        }
+    }
+    walk_light_path_with(scene, sampler, limits, stats, &mut Store { kind, out });
+}

@@ -1,0 +1,32 @@
+//! What every path walks, light side and camera side alike.
+//!
+//! * [`medium`] — the one place a ray segment meets what lies between surfaces
+//!   ([`trace_segment`]: today Beer–Lambert absorption inside dielectrics; free-flight sampling
+//!   in participating media goes here, and every walker then sees it).
+//! * [`vertex`] — the scattering state at a surface vertex ([`Vertex`]: BSDF, shading frame,
+//!   shading-normal correction, side tests) and rays spawned off surfaces.
+//! * [`limits`] — path length limits and Russian roulette ([`PathLimits`]).
+//! * [`direct`] — next-event estimation ([`sample_direct`]).
+//! * [`light_walk`] — the one light-path walker (light tracer, photon tracers, photon
+//!   differentials), a [`LightVisitor`] deciding what each vertex is for.
+//! * [`eye_walk`] — the one camera-side walker: a camera (or final-gather) ray followed through
+//!   mirrors and glass to its first non-delta vertex or out of the scene. Photon mapping's camera
+//!   pass and final gathering, and photon differential splatting's eye pass call it. The path
+//!   tracer keeps its own MIS loop over [`trace_segment`] and [`Vertex`].
+
+pub mod direct;
+pub mod eye_walk;
+pub mod light_walk;
+pub mod limits;
+pub mod medium;
+pub mod vertex;
+
+pub use direct::sample_direct;
+pub use eye_walk::{EyeEvent, Flow, walk_eye};
+pub use light_walk::{
+    LightEvent, LightScatter, LightStart, LightVertex, LightVisitor, walk_light_path,
+    walk_light_path_with,
+};
+pub use limits::{PathLimits, russian_roulette};
+pub use medium::{Segment, trace_segment};
+pub use vertex::{Vertex, emission_ray, offset_origin};
