@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# Image identity between two builds: renders every integrator on every built-in scene and on
+# every Mitsuba scene in scenes/mitsuba/ at small settings with both binaries and compares the
+# EXR bytes. Used to check that a refactoring changes no image.
+#
+#   bench/image_identity.sh [BASE_REV]            # builds BASE_REV (default HEAD~1) and the tree
+#   BASE_BIN=a NEW_BIN=b bench/image_identity.sh  # compares two binaries already built
+#
+# Output: docs/results/image-identity/report.md (one row per render: identical / differs /
+# both fail with the same message / one fails) and a non-zero exit if anything differs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+out=${OUT:-$root/docs/results/image-identity}
+work=${WORK:-$root/target/image-identity}
+mkdir -p "$out" "$work"
+
+if [ -z "${BASE_BIN:-}" ]; then
+    rev=${1:-HEAD~1}
+    wt=$work/base-tree
+    rm -rf "$wt"
+    git worktree add --detach "$wt" "$rev" >/dev/null
+    (cd "$wt" && cargo build --release --bin caustica -q)
+    BASE_BIN=$wt/target/release/caustica
+fi
+if [ -z "${NEW_BIN:-}" ]; then
+    cargo build --release --bin caustica -q
+    NEW_BIN=$root/target/release/caustica
+fi
+
+integrators=(path lighttrace pm dpm pdm pds)
+scenes=($("$NEW_BIN" scenes))
+for f in scenes/mitsuba/*.xml; do scenes+=("$f"); done
+
+# Small settings: a few samples per pixel, few photons, one thread count (the renders are
+# deterministic whatever the threads; the tests check that separately).
+common=(--spp 4 --seed 7 -q)
+mitsuba_defs=(-D spp=4 -D res=96 -D width=96 -D height=72)
+photon_opts() {
+    case $1 in
+        pm | dpm) echo "--photons 20000 --global-photons 20000" ;;
+        pdm) echo "--photons 5000 --global-photons 20000" ;;
+        pds) echo "--photons 5000 --global-photons 20000" ;;
+        *) echo "" ;;
+    esac
+}
+
+report=$out/report.md
+{
+    echo "# Image identity"
+    echo
+    echo "Base: \`$BASE_BIN\` ($("$BASE_BIN" --version 2>/dev/null || echo '?'))"
+    echo "New: \`$NEW_BIN\`"
+    echo "Settings: \`${common[*]}\`, Mitsuba scenes with \`${mitsuba_defs[*]}\`; photon counts per"
+    echo "integrator as in \`bench/image_identity.sh\`. Date: $(date -u +%F)."
+    echo
+    echo "| scene | integrator | result |"
+    echo "|---|---|---|"
+} >"$report"
+
+differ=0
+for s in "${scenes[@]}"; do
+    name=$(basename "$s" .xml)
+    defs=()
+    case $s in *.xml) defs=("${mitsuba_defs[@]}") ;; esac
+    for i in "${integrators[@]}"; do
+        tag="$name-$i"
+        args=(render "$s" --integrator "$i" "${common[@]}" "${defs[@]}" $(photon_opts "$i"))
+        set +e
+        "$BASE_BIN" "${args[@]}" -o "$work/$tag-base.exr" >"$work/$tag-base.log" 2>&1
+        rb=$?
+        "$NEW_BIN" "${args[@]}" -o "$work/$tag-new.exr" >"$work/$tag-new.log" 2>&1
+        rn=$?
+        set -e
+        if [ $rb -ne 0 ] && [ $rn -ne 0 ]; then
+            if [ "$(tail -1 "$work/$tag-base.log")" = "$(tail -1 "$work/$tag-new.log")" ]; then
+                result="both refuse: $(tail -1 "$work/$tag-new.log" | cut -c1-90)"
+            else
+                result="both refuse, messages differ: new: $(tail -1 "$work/$tag-new.log" | cut -c1-90)"
+            fi
+        elif [ $rb -ne 0 ] || [ $rn -ne 0 ]; then
+            result="**one fails** (base $rb, new $rn)"
+            differ=1
+        elif cmp -s "$work/$tag-base.exr" "$work/$tag-new.exr"; then
+            result="identical"
+        else
+            result="**differs**"
+            differ=1
+        fi
+        echo "| $name | $i | $result |" >>"$report"
+        echo "$name $i: $result"
+    done
+done
+echo >>"$report"
+if [ $differ -eq 0 ]; then
+    echo "All renders identical (or refused identically) to the byte." >>"$report"
+fi
+echo "report: $report"
+exit $differ
