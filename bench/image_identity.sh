@@ -54,17 +54,17 @@ report=$out/report.md
     echo "Settings: \`${common[*]}\`, Mitsuba scenes with \`${mitsuba_defs[*]}\`; photon counts per"
     echo "integrator as in \`bench/image_identity.sh\`. Date: $(date -u +%F)."
     echo
-    echo "| scene | integrator | result |"
+    echo "| scene | integrator | result (the mean tells a real image from a black one) |"
     echo "|---|---|---|"
 } >"$report"
 
 differ=0
 for s in "${scenes[@]}"; do
-    name=$(basename "$s" .xml)
+    name=$s
     defs=()
-    case $s in *.xml) defs=("${mitsuba_defs[@]}") ;; esac
+    case $s in *.xml) name=mitsuba/$(basename "$s" .xml) defs=("${mitsuba_defs[@]}") ;; esac
     for i in "${integrators[@]}"; do
-        tag="$name-$i"
+        tag="${name//\//-}-$i"
         args=(render "$s" --integrator "$i" "${common[@]}" "${defs[@]}" $(photon_opts "$i"))
         set +e
         "$BASE_BIN" "${args[@]}" -o "$work/$tag-base.exr" >"$work/$tag-base.log" 2>&1
@@ -82,7 +82,10 @@ for s in "${scenes[@]}"; do
             result="**one fails** (base $rb, new $rn)"
             differ=1
         elif cmp -s "$work/$tag-base.exr" "$work/$tag-new.exr"; then
-            result="identical"
+            # The mean shows the render is not trivially black.
+            mean=$("$NEW_BIN" compare "$work/$tag-new.exr" "$work/$tag-base.exr" |
+                awk '/^mean image/ {print $4}')
+            result="identical (mean R $mean W/m²/sr)"
         else
             result="**differs**"
             differ=1

@@ -12,20 +12,30 @@ use clap::Args;
 pub struct PhotonArgs {
     /// Caustic photons: stored in the caustic map (pm, dpm, pdm) or splatted (pds): light paths
     /// are emitted until this many land (default 200000; at least 1).
-    #[arg(long, help_heading = "Photon mapping", conflicts_with = "light_paths")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Photon mapping",
+        conflicts_with = "light_paths"
+    )]
     pub photons: Option<usize>,
     /// Emit exactly N light paths for the caustic photons instead of --photons (seed 002's N_e;
     /// at least 1). pds then needs no counting pass.
-    #[arg(long, value_name = "N", help_heading = "Photon mapping")]
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        help_heading = "Photon mapping"
+    )]
     pub light_paths: Option<u64>,
     /// Photons stored in the global map (pm; default 100000; 0 = no indirect light).
-    #[arg(long, help_heading = "Photon mapping")]
+    #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub global_photons: Option<usize>,
     /// Photons per radiance estimate, k nearest (default 50; at least 1).
-    #[arg(long, help_heading = "Photon mapping")]
+    #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub k: Option<usize>,
     /// Photons per estimate in the global map (default: the same as --k; at least 1).
-    #[arg(long, help_heading = "Photon mapping")]
+    #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub global_k: Option<usize>,
     /// Largest gather radius in scene units (default: unbounded; a positive finite length).
     #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
@@ -36,7 +46,7 @@ pub struct PhotonArgs {
     #[arg(long, help_heading = "Photon mapping")]
     pub kernel: Option<Kernel>,
     /// Final-gather rays per camera sample (default 16; 0 = show the global map directly).
-    #[arg(long, help_heading = "Photon mapping")]
+    #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub final_gather: Option<u32>,
     /// Project photons onto the tangent plane before measuring distances (seed 000 app. A).
     #[arg(long, help_heading = "Photon mapping")]

@@ -30,18 +30,21 @@ pub struct RenderSettings {
     /// Mitsuba scene parameter overriding a `<default>`: `-D name=value` (repeatable).
     #[arg(short = 'D', value_name = "NAME=VALUE")]
     pub define: Vec<String>,
-    /// Samples per pixel (path) or light paths per pixel (lighttrace). Default: the scene's
-    /// suggestion, else 16.
-    #[arg(long, conflicts_with = "time")]
+    /// Samples per pixel (path, the camera passes of pm, dpm, pdm, pds) or light paths per
+    /// pixel (lighttrace). Default: the scene's suggestion, else 16. Not with --time, except
+    /// for pds.
+    #[arg(long, allow_negative_numbers = true)]
     pub spp: Option<u32>,
-    /// Render for this many seconds instead of a fixed sample count.
-    #[arg(long)]
+    /// Render for this many seconds instead of a fixed sample count; the budget is shared by
+    /// every pass (photon passes included). pds's camera pass keeps its --spp and the time goes
+    /// to its light paths.
+    #[arg(long, allow_negative_numbers = true)]
     pub time: Option<f64>,
     /// Worker threads (default: all cores). The image does not depend on it.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// Random seed; the same seed gives the same image bytes.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub seed: u64,
     /// Sampler: sobol (Owen-scrambled) or independent.
     #[arg(long, default_value = "sobol")]
@@ -131,6 +134,15 @@ impl RenderSettings {
             (None, None) => IntegratorKind::Path,
         };
         kind.check_scene(scene)?;
+        if self.time.is_some()
+            && self.spp.is_some()
+            && kind != IntegratorKind::PhotonDifferentialSplatting
+        {
+            bail!(
+                "--spp and --time exclude each other for --integrator {} (only pds takes both: its camera samples and a budget for its light paths)",
+                kind.name()
+            );
+        }
         let spp = self.spp.or(scene.settings.spp).unwrap_or(16);
         if spp == 0 {
             bail!("--spp must be at least 1");

@@ -85,7 +85,7 @@ fn pm_bad_parameters_fail_with_a_message_naming_them() {
     let scene = ball_scene("bad.toml", DIFFUSE, true);
     assert_clean_failure(
         &pm(&scene, "bad.exr", &["--k", "0"]),
-        &["k (photons per estimate)"],
+        &["photons per estimate (--k)"],
     );
     assert_clean_failure(
         &pm(&scene, "bad.exr", &["--max-radius", "-1"]),
@@ -101,7 +101,7 @@ fn pm_bad_parameters_fail_with_a_message_naming_them() {
     );
     assert_clean_failure(
         &pm(&scene, "bad.exr", &["--global-k", "0"]),
-        &["global map's k"],
+        &["global map (--global-k)"],
     );
     assert_clean_failure(
         &pm(&scene, "bad.exr", &["--kernel", "box"]),

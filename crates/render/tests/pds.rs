@@ -237,3 +237,121 @@ fn the_recorded_landing_paths_are_exactly_the_paths_with_caustic_photons() {
         "metal ring: most paths miss the ring"
     );
 }
+
+#[test]
+fn pds_under_a_time_budget_stops_its_eye_pass_in_time_and_splats_what_it_can() {
+    // The time budget S is shared by every pass: the camera pass ends at its share (the eye map
+    // stops growing), counting and splatting at theirs; the render ends within S plus one
+    // wave of work. Far more photons than fit in S, so every pass is cut by the clock.
+    use caustica_render::control::Clock;
+    use caustica_render::filter::Filter;
+    use caustica_render::integrator::photon_splatting::render_report;
+    use std::time::Duration;
+    let (w, h) = (64, 48);
+    let scene = small_builtin("water-wave", w, h);
+    let budget = 3.0;
+    let opts = RenderOptions {
+        time_limit: Some(Duration::from_secs_f64(budget)),
+        ..caustics_only(50_000_000, 4.0, 1)
+    };
+    let ctl = RenderControl::silent();
+    let clock = Clock::start(&opts);
+    let mut film = caustica_render::Film::new(w as usize, h as usize);
+    let filter = Filter::new(scene.settings.filter);
+    let (_, report, _) = render_report(&scene, &opts, &clock.stage(&ctl), &mut film, &filter);
+    let wall = clock.elapsed().as_secs_f64();
+    eprintln!(
+        "wall {wall:.2} s: eye {:.2} s ({} vertices), count {:.2} s, splat {:.2} s ({} of {} paths)",
+        report.eye_secs,
+        report.eye_vertices,
+        report.count_secs,
+        report.splat_secs,
+        report.paths_splatted,
+        report.paths
+    );
+    // The eye map stops growing at `spp` samples per pixel (at most one vertex each) whatever
+    // the budget, so the camera pass takes milliseconds, far inside its 40 % of the budget;
+    // the rest is left for the light paths.
+    assert!(
+        report.eye_vertices <= (w * h) as usize * opts.spp as usize,
+        "{} eye vertices for {} camera samples",
+        report.eye_vertices,
+        w * h * opts.spp
+    );
+    assert!(report.eye_vertices > 0);
+    assert!(
+        report.eye_secs < 0.4 * budget + 0.5,
+        "the camera pass ran {:.2} s of a {budget} s budget",
+        report.eye_secs
+    );
+    // Within budget plus a bounded overrun: one wave of counting (≤ 2^20 paths) or one batch of
+    // splats, each well under a second on this scene.
+    assert!(wall < budget + 1.5, "{wall:.2} s for a {budget} s budget");
+    assert_eq!(report.stopped, Some("out of time"));
+    assert!(report.paths_splatted > 0 && report.paths_splatted < report.paths);
+    // What was splatted is in the image (scaled by N/M), not thrown away.
+    let img = film.to_image();
+    assert!(
+        img.data.iter().any(|p| p[0] > 0.0),
+        "no caustic in the image"
+    );
+}
+
+#[test]
+fn a_light_path_budget_gives_the_same_image_as_the_photon_count_it_yields() {
+    // `--light-paths N` (the seed's N_e) traces paths 0..N without counting; `--photons P`
+    // counts the paths that yield P caustic photons and traces those. With N the count P
+    // needed, both splat the same photons: the same bytes, for pds and for pdm.
+    let scene = small_builtin("metal-ring", 40, 30);
+    let by_photons = caustics_only(3000, 4.0, 2);
+    let (pds_p, notes) = run(
+        &scene,
+        IntegratorKind::PhotonDifferentialSplatting,
+        &by_photons,
+    );
+    // "... caustic photons from N light paths ..."
+    let n: u64 = notes[0]
+        .split(" light paths")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no path count in {notes:?}"));
+    assert!(
+        n > 3000,
+        "the metal ring needs more paths than photons: {n}"
+    );
+    let mut by_paths = by_photons.clone();
+    by_paths.photons.light_paths = Some(n);
+    let (pds_n, notes_n) = run(
+        &scene,
+        IntegratorKind::PhotonDifferentialSplatting,
+        &by_paths,
+    );
+    assert!(
+        notes_n[0].contains(&format!("from {n} light paths")),
+        "{notes_n:?}"
+    );
+    assert!(
+        pds_p.data == pds_n.data,
+        "pds: --light-paths {n} differs from --photons 3000"
+    );
+    // Fewer paths: fewer photons and another N, another image (the budget is really used).
+    by_paths.photons.light_paths = Some(n - 50);
+    let (pds_less, _) = run(
+        &scene,
+        IntegratorKind::PhotonDifferentialSplatting,
+        &by_paths,
+    );
+    assert!(pds_less.data != pds_p.data);
+    by_paths.photons.light_paths = Some(n);
+    let (pdm_p, _) = run(
+        &scene,
+        IntegratorKind::PhotonDifferentialMapping,
+        &by_photons,
+    );
+    let (pdm_n, _) = run(&scene, IntegratorKind::PhotonDifferentialMapping, &by_paths);
+    assert!(
+        pdm_p.data == pdm_n.data,
+        "pdm: --light-paths {n} differs from --photons 3000"
+    );
+}

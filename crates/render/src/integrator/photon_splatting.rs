@@ -24,8 +24,10 @@
 //!    its rule for footprints ([`FootprintSplat`]).
 //! 5. Each camera sample's pixel receives `β · Σ splats` of its vertex.
 //!
-//! Under a time budget `T` the camera pass ends by 0.4 T, the count by 0.5 T and the splatting
-//! by T; splatting stopped after `M < N` of the paths (time, Ctrl-C) scales the splats by
+//! Under a time budget `T` the camera pass still takes `spp` samples per pixel (it is not a
+//! pass that runs on: more camera samples would only grow the eye map, its memory and the
+//! splatting cost, not lower the caustic's noise), ending early if 0.4 T runs out first; the
+//! count ends by 0.5 T and the splatting by T; splatting stopped after `M < N` of the paths (time, Ctrl-C) scales the splats by
 //! `N / M`, the estimate of the `M` paths splatted (their footprints keep the size of `N`).
 
 use super::IntegratorKind;
@@ -123,10 +125,15 @@ pub fn render_report(
     // 2. Camera pass and eye map.
     let t = Instant::now();
     let cam = &scene.camera;
+    // The camera pass has a fixed size whatever the budget (see the module docs).
+    let eye_opts = RenderOptions {
+        time_limit: None,
+        ..opts.clone()
+    };
     let (eye, st) = eye_pass(
         film,
         filter,
-        opts,
+        &eye_opts,
         &stage.part(GLOBAL_END, EYE_END),
         |sampler, raster, pixel, out: &mut Vec<EyeVertex>, st| {
             let u_lens = sampler.next_2d();

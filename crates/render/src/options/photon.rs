@@ -87,19 +87,25 @@ impl PhotonOptions {
                 })
             }
         };
-        at_least_one("the number of caustic photons", self.caustic_photons as u64)?;
+        at_least_one(
+            "the number of caustic photons (--photons)",
+            self.caustic_photons as u64,
+        )?;
         if let Some(n) = self.light_paths {
-            at_least_one("the number of light paths", n)?;
+            at_least_one("the number of light paths (--light-paths)", n)?;
         }
-        at_least_one("k (photons per estimate)", self.estimate.k as u64)?;
+        at_least_one("the photons per estimate (--k)", self.estimate.k as u64)?;
         if let Some(k) = self.global_k {
-            at_least_one("the global map's k (photons per estimate)", k as u64)?;
+            at_least_one(
+                "the photons per estimate of the global map (--global-k)",
+                k as u64,
+            )?;
         }
         if let Some(r) = self.estimate.max_radius
             && !(r.is_finite() && r > 0.0)
         {
             return Err(OptionError::Invalid {
-                what: "the maximum radius",
+                what: "the maximum radius (--max-radius)",
                 rule: "a positive finite length",
                 got: r.to_string(),
             });

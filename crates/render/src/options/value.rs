@@ -63,7 +63,7 @@ checked_f32!(
     /// The smoothing parameter s of photon differentials (seed 002 eq. 5–6): the emitted
     /// footprints tile the light's area and solid angle s² times. Unitless.
     Smoothing,
-    "the smoothing parameter s",
+    "the smoothing parameter s (--smoothing)",
     "a positive finite number",
     |v| v.is_finite() && v > 0.0
 );
@@ -71,7 +71,7 @@ checked_f32!(
 checked_f32!(
     /// The fixed bandwidth h (m) of the `fixed` and diffusion estimators (eq. 2.15, 4.19).
     Bandwidth,
-    "the bandwidth",
+    "the bandwidth (--bandwidth)",
     "a positive finite length",
     |v| v.is_finite() && v > 0.0
 );
@@ -79,7 +79,7 @@ checked_f32!(
 checked_f32!(
     /// The noise scale σ (m) of the diffusion estimator's gradient pre-pass (sec. 4.3.1).
     NoiseScale,
-    "the noise scale",
+    "the noise scale (--noise-scale)",
     "a positive finite length",
     |v| v.is_finite() && v > 0.0
 );
@@ -87,7 +87,7 @@ checked_f32!(
 checked_f32!(
     /// The diffusivity coefficient q of eq. 4.15 (unitless; large = no adaptation).
     Diffusivity,
-    "the diffusivity coefficient q",
+    "the diffusivity coefficient q (--q)",
     "a positive finite number",
     |v| v.is_finite() && v > 0.0
 );
@@ -95,7 +95,7 @@ checked_f32!(
 checked_f32!(
     /// The steepness α of eq. 4.15 (unitless).
     Steepness,
-    "alpha",
+    "the steepness (--alpha)",
     "a positive finite number",
     |v| v.is_finite() && v > 0.0
 );
@@ -104,7 +104,7 @@ checked_f32!(
     /// The normal-distance threshold against topological bias (seed 002 sec. 3.3), as a
     /// fraction of a footprint's gather radius; `inf` disables the test.
     NormalDistance,
-    "the normal-distance threshold",
+    "the normal-distance threshold (--normal-distance)",
     "≥ 0 (a fraction of the footprint's gather radius; inf disables it)",
     |v| v >= 0.0
 );
