@@ -1,5 +1,7 @@
 //! `caustica`: the command-line renderer.
 
+#![forbid(unsafe_code)]
+
 mod compare_cmd;
 mod photon_args;
 mod photons_cmd;

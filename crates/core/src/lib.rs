@@ -7,6 +7,8 @@
 //! * [`image_io`] — reading and writing EXR, PFM and PNG.
 //! * [`chi2`] — chi-square goodness-of-fit tests used by every sampler's tests.
 
+#![forbid(unsafe_code)]
+
 pub mod chi2;
 pub mod frame;
 pub mod image_io;

@@ -49,6 +49,8 @@
 //! assert!(density > 0.0);
 //! ```
 
+#![forbid(unsafe_code)]
+
 pub mod diffusion;
 pub mod estimate;
 pub mod estimator;

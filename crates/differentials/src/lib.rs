@@ -81,6 +81,7 @@
 //! assert!(out.v.dot(out.dv[1]).abs() < 1e-6);
 //! ```
 
+#![forbid(unsafe_code)]
 // Comparisons are written `!(x > bound)` on purpose: they are also true for NaN, which is how
 // every guard here turns garbage input into an error instead of propagating it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

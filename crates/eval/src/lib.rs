@@ -9,6 +9,8 @@
 //! draws a parameter sweep (RMSE and SSIM against the parameter) as SVG and PNG.
 //! [`testbed`] is a 2-D density-estimation testbed with exact ground truth (seed 000 fig. 4.4).
 
+#![forbid(unsafe_code)]
+
 pub mod colormap;
 pub mod density_study;
 pub mod display;
