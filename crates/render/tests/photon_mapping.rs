@@ -325,3 +325,48 @@ fn global_k_sets_the_global_maps_bandwidth_alone() {
     assert_eq!(a.data, b.data, "the caustic k changed the global estimate");
     assert_ne!(a.data, c.data, "global_k had no effect");
 }
+
+#[test]
+fn the_photon_pass_moves_the_progress_bar_of_pm_dpm_and_pdm() {
+    // The photon pass owns the first fifth of the bar and reports after every wave of light
+    // paths; it used to sit at 0 % until the camera pass began.
+    use std::sync::Mutex;
+    use std::sync::atomic::AtomicBool;
+    let scene = floor_scene(true);
+    for kind in [
+        IntegratorKind::PhotonMapping,
+        IntegratorKind::DiffusionPhotonMapping,
+        IntegratorKind::PhotonDifferentialMapping,
+    ] {
+        let seen = Mutex::new(Vec::new());
+        let record = |p: caustica_render::Progress| seen.lock().unwrap().push(p.fraction);
+        let stop = AtomicBool::new(false);
+        let ctl = RenderControl {
+            stop: &stop,
+            on_progress: &record,
+            on_checkpoint: &|_| {},
+        };
+        let opts = RenderOptions {
+            spp: 1,
+            photons: PhotonOptions {
+                caustic_photons: 20_000,
+                global_photons: 20_000,
+                final_gather: 0,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        render(&scene, kind, &opts, &ctl).expect("valid options");
+        let seen = seen.into_inner().unwrap();
+        // Reports before the camera pass: strictly inside the photon share, several of them,
+        // and rising to the share's end.
+        let photon_pass: Vec<f64> = seen.iter().copied().take_while(|&f| f <= 0.2).collect();
+        let inside = photon_pass.iter().filter(|&&f| f > 0.0 && f < 0.2).count();
+        assert!(inside >= 2, "{kind:?}: photon pass reported {photon_pass:?}");
+        assert!(
+            photon_pass.windows(2).all(|w| w[0] <= w[1]),
+            "{kind:?}: {photon_pass:?}"
+        );
+        assert!(*seen.last().unwrap() > 0.99, "{kind:?}: ends at {seen:?}");
+    }
+}
