@@ -50,7 +50,7 @@ pub struct MetricArgs {
     #[arg(long)]
     pub mask_black: bool,
     /// Exposure (stops) of the display transform used by MISE and SSIM.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = crate::values::finite_f32)]
     pub exposure: f32,
 }
 

@@ -3,11 +3,13 @@
 #![forbid(unsafe_code)]
 
 mod compare_cmd;
+mod convert_cmd;
 mod photon_args;
 mod photons_cmd;
 mod render_cmd;
 mod sweep_cmd;
 mod testbed_cmd;
+mod values;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -30,6 +32,8 @@ enum Command {
     /// Compare an image with a reference: relative mean difference, RMSE, relative MSE, MISE,
     /// SSIM, and z-score tests for noise versus bias.
     Compare(compare_cmd::CompareArgs),
+    /// Convert an image between EXR, PFM and PNG (PNG tone-mapped like `render --png`).
+    Convert(convert_cmd::ConvertArgs),
     /// Render a scene once per value of one option (--param NAME --values A,B,C) and compare
     /// each image with a reference: a CSV of RMSE, relative MSE, MISE, SSIM and render time, the
     /// images, and a plot of RMSE and SSIM against the value.
@@ -52,6 +56,7 @@ fn main() {
             Ok(code) => std::process::exit(code),
             Err(e) => Err(e),
         },
+        Command::Convert(args) => convert_cmd::run(args),
         Command::Sweep(args) => sweep_cmd::run(*args),
         Command::Photons(args) => photons_cmd::run(args),
         Command::Testbed(args) => testbed_cmd::run(args),

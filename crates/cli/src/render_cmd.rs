@@ -71,7 +71,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// Exposure (stops) applied to PNG output.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = crate::values::finite_f32)]
     pub exposure: f32,
     /// Write the image accumulated so far every S seconds.
     #[arg(long)]

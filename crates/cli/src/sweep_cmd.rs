@@ -38,9 +38,12 @@ pub struct SweepArgs {
     #[command(flatten)]
     pub metric: MetricArgs,
     /// Output directory, created if missing (default: sweep-NAME). Receives sweep.csv,
-    /// NAME-VALUE.exr per value, sweep.svg and sweep.png.
+    /// NAME-VALUE.exr per value (and .png with --png), sweep.svg and sweep.png.
     #[arg(short, long, value_name = "OUTDIR")]
     pub output: Option<PathBuf>,
+    /// Also write NAME-VALUE.png beside each EXR (sRGB, at the metrics' --exposure).
+    #[arg(long)]
+    pub png: bool,
     /// No progress bar and no per-render notes.
     #[arg(long, short)]
     pub quiet: bool,
@@ -342,6 +345,11 @@ pub fn run(args: SweepArgs) -> Result<()> {
         let path = outdir.join(format!("{stem}.exr"));
         img.write(&path)
             .with_context(|| format!("cannot write {}", path.display()))?;
+        if args.png {
+            let png = path.with_extension("png");
+            img.write_png(&png, args.metric.exposure)
+                .with_context(|| format!("cannot write {}", png.display()))?;
+        }
         let pixels = args.metric.region_for(&region, &img, &reference);
         let c = compare(&img, &reference, &pixels, options).with_context(|| {
             format!(

@@ -3,6 +3,7 @@
 
 mod common;
 
+use caustica_core::image_io::Image;
 use common::{assert_clean_failure, caustica, stderr};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -334,4 +335,99 @@ fn compare_bad_input_fails_cleanly() {
         &["cannot read reference", "/nonexistent/ref.exr"],
     );
     assert_clean_failure(&caustica(&["compare", a, a, "--mask", small]), &["mask"]);
+}
+
+#[test]
+fn convert_writes_every_format_and_applies_the_exposure() {
+    let mut img = Image::new(3, 2);
+    img.set(0, 0, [0.25, 0.5, 1.0]);
+    img.set(2, 1, [4.0, 0.0, 0.125]);
+    let exr = tmp("conv-in.exr");
+    img.write(&exr).unwrap();
+    let pfm = tmp("conv-out.pfm");
+    let o = caustica(&["convert", exr.to_str().unwrap(), pfm.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        Image::read(&pfm).unwrap().data,
+        img.data,
+        "EXR -> PFM is lossless"
+    );
+    // Two stops brighter: every value times 4, exactly (a power of two).
+    let o = caustica(&[
+        "convert",
+        exr.to_str().unwrap(),
+        pfm.to_str().unwrap(),
+        "--exposure",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bright = Image::read(&pfm).unwrap();
+    for (b, a) in bright.data.iter().zip(&img.data) {
+        assert_eq!(*b, a.map(|v| v * 4.0));
+    }
+    // PNG: sRGB of the scaled value, clamped; 0.25 · 4 = 1 is white.
+    let png = tmp("conv-out.png");
+    let o = caustica(&[
+        "convert",
+        exr.to_str().unwrap(),
+        png.to_str().unwrap(),
+        "--exposure",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let back = Image::read(&png).unwrap();
+    assert_eq!(back.get(0, 0)[0], 1.0);
+    assert_eq!(back.get(1, 0), [0.0; 3]);
+    for (args, needle) in [
+        (
+            vec!["convert", exr.to_str().unwrap(), "x.txt"],
+            ".exr, .pfm or .png",
+        ),
+        (
+            vec!["convert", "/nonexistent/in.exr", "x.png"],
+            "/nonexistent/in.exr",
+        ),
+        (
+            vec![
+                "convert",
+                exr.to_str().unwrap(),
+                "x.png",
+                "--exposure",
+                "nan",
+            ],
+            "--exposure",
+        ),
+    ] {
+        assert_clean_failure(&caustica(&args), &[needle]);
+    }
+}
+
+#[test]
+fn a_non_finite_exposure_is_refused() {
+    let out = tmp("exposure.exr");
+    let png = tmp("exposure.png");
+    for v in ["nan", "inf"] {
+        assert_clean_failure(
+            &caustica(&[
+                "render",
+                "-q",
+                "--spp",
+                "1",
+                "-o",
+                out.to_str().unwrap(),
+                "--png",
+                png.to_str().unwrap(),
+                "--exposure",
+                v,
+            ]),
+            &["--exposure"],
+        );
+    }
+    let img = tmp("exposure-ref.pfm");
+    Image::new(2, 2).write(&img).unwrap();
+    let i = img.to_str().unwrap();
+    assert_clean_failure(
+        &caustica(&["compare", i, i, "--exposure", "nan"]),
+        &["--exposure"],
+    );
 }

@@ -170,15 +170,21 @@ fn categorical_sweep_with_crop_and_explicit_output() {
             "4,4,16,16",
             "-o",
             "samplers",
+            "--png",
         ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = read_csv(&dir.join("samplers/sweep.csv"));
     assert_eq!(rows.len(), 2);
     assert_eq!(rows[0].0, "sobol");
+    // --png: a PNG beside each EXR, the same picture.
+    let exr = Image::read(&dir.join("samplers/sampler-sobol.exr")).unwrap();
+    let png = Image::read(&dir.join("samplers/sampler-sobol.png")).unwrap();
+    assert_eq!((png.width, png.height), (exr.width, exr.height));
     for f in [
         "sampler-sobol.exr",
         "sampler-independent.exr",
+        "sampler-independent.png",
         "sweep.svg",
         "sweep.png",
     ] {

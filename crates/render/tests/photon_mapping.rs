@@ -362,7 +362,10 @@ fn the_photon_pass_moves_the_progress_bar_of_pm_dpm_and_pdm() {
         // and rising to the share's end.
         let photon_pass: Vec<f64> = seen.iter().copied().take_while(|&f| f <= 0.2).collect();
         let inside = photon_pass.iter().filter(|&&f| f > 0.0 && f < 0.2).count();
-        assert!(inside >= 2, "{kind:?}: photon pass reported {photon_pass:?}");
+        assert!(
+            inside >= 2,
+            "{kind:?}: photon pass reported {photon_pass:?}"
+        );
         assert!(
             photon_pass.windows(2).all(|w| w[0] <= w[1]),
             "{kind:?}: {photon_pass:?}"
