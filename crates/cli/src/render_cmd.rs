@@ -226,17 +226,52 @@ fn write_outputs(img: &Image, args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// The temporary file an image is written to before it is renamed to `path`.
+fn partial_path(path: &Path) -> PathBuf {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    path.with_extension(format!("partial.{ext}"))
+}
+
+/// Checks, before any work, that an image can be written to `path`: creates its directory if
+/// missing and creates (then removes) the temporary file [`write_atomically`] will use.
+pub fn check_writable(path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            anyhow::anyhow!(
+                "cannot write {}: cannot create the directory {}: {e}",
+                path.display(),
+                dir.display()
+            )
+        })?;
+    }
+    let tmp = partial_path(path);
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .open(&tmp)
+        .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+    let _ = std::fs::remove_file(&tmp);
+    Ok(())
+}
+
 /// Writes through a temporary file and renames, so an interrupted write never leaves a
-/// truncated image where a good one was.
+/// truncated image where a good one was. The error names `path` (not the temporary file) once.
 fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
     path: &Path,
     write: impl Fn(&Path) -> Result<(), E>,
 ) -> Result<()> {
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    let tmp = path.with_extension(format!("partial.{ext}"));
-    write(&tmp).with_context(|| format!("cannot write {}", path.display()))?;
-    std::fs::rename(&tmp, path)
-        .with_context(|| format!("cannot move {} to {}", tmp.display(), path.display()))?;
+    let tmp = partial_path(path);
+    write(&tmp).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        // The image writer names the file it wrote, the temporary one: say `path` instead.
+        let why = e.to_string().replace(&format!("{}: ", tmp.display()), "");
+        anyhow::anyhow!("cannot write {}: {why}", path.display())
+    })?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        anyhow::anyhow!("cannot write {}: {e}", path.display())
+    })?;
     Ok(())
 }
 
@@ -258,6 +293,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
             "output {} must end in .exr, .pfm or .png",
             args.output.display()
         );
+    }
+    // Nothing rendered may be lost to an unwritable path: check them before any work.
+    check_writable(&args.output)?;
+    if let Some(png) = &args.png {
+        check_writable(png)?;
     }
     let scene = args.settings.load_scene()?;
     let Resolved {
@@ -294,12 +334,17 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let progress = |p: Progress| {
         bar.set_position((p.fraction * 1000.0) as u64);
     };
+    // A failing checkpoint is reported at once (each distinct failure once); the render goes on.
     let checkpoint_err = std::sync::Mutex::new(None::<String>);
     let checkpoint = |film: &Film| {
         if let Err(e) = write_outputs(&film.to_image(), &args)
             && let Ok(mut slot) = checkpoint_err.lock()
         {
-            *slot = Some(format!("{e:#}"));
+            let msg = format!("{e:#}");
+            if slot.as_deref() != Some(msg.as_str()) {
+                bar.suspend(|| eprintln!("warning: checkpoint not written, rendering on: {msg}"));
+                *slot = Some(msg);
+            }
         }
     };
     let ctl = RenderControl {
@@ -311,9 +356,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
     bar.finish_and_clear();
     for note in &out.notes {
         eprintln!("{note}");
-    }
-    if let Ok(Some(e)) = checkpoint_err.lock().map(|s| s.clone()) {
-        eprintln!("warning: a checkpoint failed: {e}");
     }
     let img = out.film.to_image();
     write_outputs(&img, &args)?;

@@ -431,3 +431,38 @@ fn a_non_finite_exposure_is_refused() {
         &["--exposure"],
     );
 }
+
+#[test]
+fn unwritable_outputs_fail_before_rendering_naming_the_path_once() {
+    // A path under a regular file cannot be created, even by root.
+    let file = tmp("not-a-dir");
+    std::fs::write(&file, "x").unwrap();
+    let bad = file.join("o.exr");
+    let bad = bad.to_str().unwrap();
+    let good = tmp("writable.exr");
+    let good = good.to_str().unwrap();
+    for args in [
+        vec!["render", "--spp", "64", "-q", "-o", bad],
+        vec!["render", "--spp", "64", "-q", "-o", good, "--png", bad],
+        vec!["photons", "-o", bad],
+    ] {
+        let o = caustica(&args);
+        let err = stderr(&o);
+        assert_clean_failure(&o, &[bad]);
+        assert_eq!(err.matches(bad).count(), 1, "{args:?}: {err}");
+        assert!(!err.contains("partial"), "{args:?}: {err}");
+        // Refused before any work: no render summary, no photon pass.
+        assert!(
+            String::from_utf8_lossy(&o.stdout).is_empty(),
+            "{args:?} rendered"
+        );
+    }
+    // A missing directory is created.
+    let dir = tmp("new-dir");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.join("deep/o.exr");
+    let o = caustica(&["render", "--spp", "1", "-q", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.is_file());
+    assert!(!dir.join("deep/o.partial.exr").exists());
+}
