@@ -106,6 +106,35 @@ impl Dim {
             Dim::Three => h * h * h,
         }
     }
+
+    /// `h^d` (m^d) from `h` and its square `h2` as the caller already has them, with `h2`
+    /// itself for `d = 2` so that the 2-D estimate divides by exactly the `h²` it always did
+    /// (the k-NN bandwidth is the k-th squared distance, not `√(d²)²`): `h`, `h2`, `h2 · h`.
+    #[inline]
+    pub fn bandwidth_volume_from(self, h: f32, h2: f32) -> f32 {
+        match self {
+            Dim::One => h,
+            Dim::Two => h2,
+            Dim::Three => h2 * h,
+        }
+    }
+
+    /// Volume `V_d = π^{d/2} / Γ(d/2 + 1)` of the unit ball of `R^d`: 2, π, 4π/3 (length m,
+    /// area m², volume m³ once multiplied by `r^d`).
+    pub fn unit_ball_volume(self) -> f64 {
+        match self {
+            Dim::One => 2.0,
+            Dim::Two => PI,
+            Dim::Three => 4.0 / 3.0 * PI,
+        }
+    }
+
+    /// Volume `V_d r^d` of the ball of radius `r` (m): `2r`, `πr²`, `4/3 π r³` (m^d). The k-NN
+    /// density estimate with the uniform kernel is `k / V_d(h)` (eq. 2.12: `c_d = 1/V_d`), e.g.
+    /// `k / (4/3 π r³)` photons per m³ in a volume (seed 000 eq. 8.3).
+    pub fn ball_volume(self, r: f64) -> f64 {
+        self.unit_ball_volume() * r.powi(self.get() as i32)
+    }
 }
 
 /// Default slope parameter of the cone kernel when none is given (`"cone"`).

@@ -78,7 +78,7 @@ impl PointSet for Sheet {
     }
     fn offset(&self, q: &Query, i: u32, h: f32) -> Option<Vec3> {
         let i = i as usize;
-        let n = q.n();
+        let n = q.n()?;
         if self.wi[i].dot(n) <= 0.0 {
             return None;
         }

@@ -150,7 +150,8 @@ impl PointSet for PhotonPoints<'_> {
     }
     fn offset(&self, q: &Query, i: u32, h: f32) -> Option<Vec3> {
         let ph = &self.map.photons[i as usize];
-        let n = q.n();
+        // Surface photons never count for a volume query (which has no normal).
+        let n = q.n()?;
         // Photons from the other side of the surface do not light this side.
         if ph.wi.dot(n) <= 0.0 {
             return None;
