@@ -760,6 +760,313 @@ mod tests {
         }
     }
 
+    /// Points at dyadic positions (exact squared distances) around the origin of the plane
+    /// z = 0: the k-NN and fixed-bandwidth weights of a surface query are, bit for bit, the
+    /// closed forms `c₂ p(d²/h²) / h²` written out here (c₂ = 2/π for Epanechnikov, 4/π for
+    /// the cubic kernel), in the order of operations eq. 3.2 has always used.
+    #[test]
+    fn surface_weights_match_the_closed_form_bit_for_bit() {
+        let xy = [
+            (0.125, 0.0),
+            (0.0, 0.25),
+            (-0.375, 0.0),
+            (0.25, 0.25),
+            (0.0, -0.5),
+            (0.5, 0.5),
+            (0.75, 0.0),
+        ];
+        let d2s: Vec<f32> = xy.iter().map(|&(x, y)| x * x + y * y).collect();
+        let pts: Vec<[f64; 2]> = xy.iter().map(|&(x, y)| [x as f64, y as f64]).collect();
+        let pts = WeightedPoints::planar(&pts);
+        let q = Query::new(Vec3::ZERO, Vec3::Z);
+        assert_eq!(q.dim(), Dim::Two);
+        let pi = std::f64::consts::PI;
+        let mut scratch = Scratch::default();
+        // k = 5: the 5th smallest of 1/64, 1/16, 9/64, 1/8, 1/4, 1/2, 9/16 is h² = 1/4.
+        let knn = Estimator::Knn {
+            k: 5,
+            max_radius: None,
+            kernel: Kernel::Epanechnikov,
+        };
+        let c2 = (2.0 / pi) as f32;
+        let h2 = 0.25f32;
+        let mut seen = 0;
+        knn.weights(&pts, &q, &mut scratch, |i, w| {
+            let u2 = d2s[i as usize] / h2;
+            let want = c2 * (1.0 - u2) / h2;
+            assert_eq!(w.to_bits(), want.to_bits(), "point {i}: {w} vs {want}");
+            seen += 1;
+        });
+        assert_eq!(seen, 4, "the 5th point is on the boundary (weight 0)");
+        // Density of the masses 1/7 against eq. 3.2 in f64: 1/(πh²) Σ 2(1 − dᵢ²/h²) mᵢ.
+        let want: f64 = d2s
+            .iter()
+            .filter(|&&d2| d2 < 0.25)
+            .map(|&d2| 2.0 * (1.0 - 4.0 * f64::from(d2)) / (pi * 0.25) / 7.0)
+            .sum();
+        let got = f64::from(knn.density(&pts, &q, &mut scratch));
+        assert!((got - want).abs() <= 1e-6 * want, "{got} vs {want}");
+        // Fixed h = 0.6 with the cubic kernel: c₂ (1 − u²)³ / h², h² = 0.6·0.6 in f32.
+        let fixed = Estimator::Fixed {
+            h: 0.6,
+            kernel: Kernel::Cubic,
+        };
+        let c2 = (4.0 / pi) as f32;
+        let h2 = 0.6f32 * 0.6f32;
+        seen = 0;
+        fixed.weights(&pts, &q, &mut scratch, |i, w| {
+            let a = 1.0 - d2s[i as usize] / h2;
+            let want = c2 * (a * a * a) / h2;
+            assert_eq!(w.to_bits(), want.to_bits(), "point {i}: {w} vs {want}");
+            seen += 1;
+        });
+        assert_eq!(seen, 5, "d² < 0.36: all but 1/2 and 9/16");
+    }
+
+    /// The same in a volume: points at dyadic positions in 3-D, weights `c₃ p(d²/h²) / h³` with
+    /// c₃ = 15/(8π) (Epanechnikov) and 3/(4π) (uniform), and the uniform k-NN density
+    /// `k m / (4/3 π h³)` of eq. 8.3.
+    #[test]
+    fn volume_weights_match_the_closed_form() {
+        let xyz = [
+            Vec3::new(0.125, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, -0.25),
+            Vec3::new(0.25, 0.25, 0.25),
+            Vec3::new(0.0, 0.375, 0.0),
+            Vec3::new(0.0, 0.0, 0.5),
+            Vec3::new(0.5, 0.5, 0.0),
+        ];
+        let d2s: Vec<f32> = xyz.iter().map(|p| p.length_squared()).collect();
+        let pts = WeightedPoints::volume(xyz.to_vec(), vec![0.5; xyz.len()]);
+        let q = Query::volume(Vec3::ZERO);
+        assert_eq!(q.dim(), Dim::Three);
+        assert!(q.n().is_none() && q.frame().is_none() && q.tangent(Vec3::X).is_none());
+        let pi = std::f64::consts::PI;
+        let mut scratch = Scratch::default();
+        // d² = 1/64, 1/16, 3/16, 9/64, 1/4, 1/2: the 5th nearest is at h = 0.5, h³ = 1/8.
+        let knn = |kernel| Estimator::Knn {
+            k: 5,
+            max_radius: None,
+            kernel,
+        };
+        let c3 = (15.0 / (8.0 * pi)) as f32;
+        let mut seen = 0;
+        knn(Kernel::Epanechnikov).weights(&pts, &q, &mut scratch, |i, w| {
+            let u2 = d2s[i as usize] / 0.25;
+            let want = c3 * (1.0 - u2) / 0.125;
+            assert_eq!(w.to_bits(), want.to_bits(), "point {i}: {w} vs {want}");
+            seen += 1;
+        });
+        assert_eq!(seen, 4);
+        // Uniform: 4 points strictly inside (the 5th is on the boundary) of mass 1/2.
+        let got = f64::from(knn(Kernel::Uniform).density(&pts, &q, &mut scratch));
+        let want = 4.0 * 0.5 / (4.0 / 3.0 * pi * 0.125);
+        assert!((got - want).abs() <= 1e-6 * want, "{got} vs {want}");
+        // Fixed h = 0.4: h³ = 0.064; points within 0.4 (d² < 0.16): 1/64, 1/16, 9/64.
+        let fixed = Estimator::Fixed {
+            h: 0.4,
+            kernel: Kernel::Uniform,
+        };
+        let got = f64::from(fixed.density(&pts, &q, &mut scratch));
+        let want = 3.0 * 0.5 / (4.0 / 3.0 * pi * 0.4f64.powi(3));
+        assert!((got - want).abs() <= 1e-6 * want, "{got} vs {want}");
+    }
+
+    /// `n` points uniform in the cube [0, side]³, each of mass `mass`.
+    fn uniform_cube(n: usize, side: f32, mass: f32, seed: u64) -> WeightedPoints {
+        let mut rng = Pcg32::new(seed, 2);
+        let pts: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * side)
+            .collect();
+        WeightedPoints::volume(pts, vec![mass; n])
+    }
+
+    /// ∫ K₃² over the unit ball (the kernel's roughness R(K), 1/m³ for h = 1), by the
+    /// midpoint rule in r: 4π ∫₀¹ K(r²)² r² dr.
+    fn roughness_3d(k: Kernel) -> f64 {
+        let n = 20_000;
+        (0..n)
+            .map(|i| {
+                let r = (i as f64 + 0.5) / n as f64;
+                let v = f64::from(k.eval((r * r) as f32, Dim::Three));
+                4.0 * std::f64::consts::PI * v * v * r * r / n as f64
+            })
+            .sum()
+    }
+
+    /// Volume queries over points uniform in a 2 m cube recover its density (the points' total
+    /// mass over 8 m³). The k-NN estimate averages about k points, so its relative standard
+    /// deviation is `√(R(K) V₃ / k)` (R(K) = ∫K₃², V₃ = 4π/3), which is `1/√k` for the uniform
+    /// kernel; a fixed-bandwidth estimate's is `√(R(K) / (N h³))` with N the points per m³.
+    /// The 27 queries are 0.5 m apart, more than twice the gather radius, so independent: each
+    /// must lie within 4σ, their mean within 4σ/√27 plus the k-NN bias 1/(k − 1). A 2-D
+    /// normalisation (K₂/h²) is off by a factor ≈ 13 here, a 2-D constant with h³ by 16/15.
+    #[test]
+    fn volume_queries_recover_a_uniform_density_in_a_cube() {
+        let n = 400_000;
+        let side = 2.0f32;
+        let total = 3.0f32;
+        let density = f64::from(total) / f64::from(side).powi(3);
+        let count_per_m3 = n as f64 / f64::from(side).powi(3);
+        let pts = uniform_cube(n, side, total / n as f32, 31);
+        let v3 = 4.0 / 3.0 * std::f64::consts::PI;
+        let k = 400;
+        let h = 0.12f32;
+        let cases: Vec<(EstimatorSpec, f64, f64)> = vec![
+            (
+                EstimatorSpec::Knn {
+                    k,
+                    max_radius: None,
+                    kernel: Kernel::Uniform,
+                },
+                (1.0 / k as f64).sqrt(),
+                1.0 / (k as f64 - 1.0),
+            ),
+            (
+                EstimatorSpec::Knn {
+                    k,
+                    max_radius: None,
+                    kernel: Kernel::Epanechnikov,
+                },
+                (roughness_3d(Kernel::Epanechnikov) * v3 / k as f64).sqrt(),
+                1.0 / (k as f64 - 1.0),
+            ),
+            (
+                EstimatorSpec::Fixed {
+                    h,
+                    kernel: Kernel::Biweight,
+                },
+                (roughness_3d(Kernel::Biweight) / (count_per_m3 * f64::from(h).powi(3))).sqrt(),
+                0.0,
+            ),
+        ];
+        let m = 3;
+        let mut scratch = Scratch::default();
+        for (spec, sigma, bias) in cases {
+            assert!(spec.supports(Dim::Three));
+            let est = Estimator::prepare(&spec, &pts);
+            let mut mean = 0.0f64;
+            for a in 0..m {
+                for b in 0..m {
+                    for c in 0..m {
+                        let p = Vec3::new(0.5 + 0.5 * a as f32, 0.5 + 0.5 * b as f32, 0.5)
+                            + Vec3::Z * (0.5 * c as f32);
+                        let q = Query::volume(p);
+                        let d = f64::from(est.density(&pts, &q, &mut scratch)) / density;
+                        assert!(
+                            (d - 1.0).abs() < 4.0 * sigma + bias,
+                            "{spec:?}: {d} of the density at {p} (σ = {sigma})"
+                        );
+                        mean += d / (m * m * m) as f64;
+                    }
+                }
+            }
+            let tol = 4.0 * sigma / ((m * m * m) as f64).sqrt() + bias;
+            assert!(
+                (mean - 1.0).abs() < tol,
+                "{spec:?}: mean {mean}, tolerance {tol}"
+            );
+            // With the uniform kernel the estimate is k m / (4/3 π r³) exactly, r the k-th
+            // distance found by brute force (Dim::ball_volume is not used here).
+            if let EstimatorSpec::Knn {
+                kernel: Kernel::Uniform,
+                ..
+            } = spec
+            {
+                let p = Vec3::new(1.0, 0.9, 1.1);
+                let mut d2: Vec<f32> = (0..n as u32)
+                    .map(|i| (pts.position(i) - p).length_squared())
+                    .collect();
+                d2.select_nth_unstable_by(k - 1, f32::total_cmp);
+                let r3 = f64::from(d2[k - 1]).powf(1.5);
+                // The k-th point itself sits on the boundary (weight 0): k − 1 count.
+                let want = (k - 1) as f64 * f64::from(total / n as f32) / (v3 * r3);
+                let got = f64::from(est.density(&pts, &Query::volume(p), &mut scratch));
+                assert!((got - want).abs() < 1e-4 * want, "{got} vs {want}");
+            }
+        }
+    }
+
+    /// The variable-bandwidth estimate in a volume: each point spreads its mass with
+    /// `K₃(d²/hᵢ²)/hᵢ³` over its own ball, so the mean over interior queries is the density; a
+    /// single estimate averages about k points (tolerance as for k-NN).
+    #[test]
+    fn variable_bandwidth_recovers_a_uniform_density_in_a_volume() {
+        let n = 60_000;
+        let pts = uniform_cube(n, 1.0, 1.0 / n as f32, 5);
+        let k = 60;
+        let spec = EstimatorSpec::Variable {
+            k,
+            max_radius: None,
+            kernel: Kernel::Epanechnikov,
+        };
+        let est = Estimator::prepare(&spec, &pts);
+        let sigma = (roughness_3d(Kernel::Epanechnikov) * 4.0 / 3.0 * std::f64::consts::PI
+            / k as f64)
+            .sqrt();
+        let mut scratch = Scratch::default();
+        let mut mean = 0.0f64;
+        let m = 4;
+        for a in 0..m {
+            for b in 0..m {
+                for c in 0..m {
+                    let p = Vec3::new(a as f32, b as f32, c as f32) * (0.4 / (m - 1) as f32)
+                        + Vec3::splat(0.3);
+                    let d = f64::from(est.density(&pts, &Query::volume(p), &mut scratch));
+                    assert!((d - 1.0).abs() < 4.0 * sigma, "{d} at {p} (σ = {sigma})");
+                    mean += d / (m * m * m) as f64;
+                }
+            }
+        }
+        // The queries are ~2 bandwidths apart (hᵢ ≈ (k/(n V₃))^⅓ ≈ 0.063 m): not quite
+        // independent, so the mean is held to 4σ/√(m³/2).
+        let tol = 4.0 * sigma / ((m * m * m) as f64 / 2.0).sqrt();
+        assert!((mean - 1.0).abs() < tol, "mean {mean}, tolerance {tol}");
+    }
+
+    /// The diffusion estimator is surface-only: a volume query is a typed error (and a panic
+    /// through `weights`), with no point visited; every other estimator answers it.
+    #[test]
+    fn diffusion_refuses_volume_queries() {
+        let pts = uniform_cube(2000, 1.0, 1.0, 1);
+        let spec = EstimatorSpec::Diffusion(DiffusionParams::new(0.1));
+        assert!(spec.supports(Dim::Two) && !spec.supports(Dim::Three));
+        let est = Estimator::prepare(&spec, &pts);
+        assert!(!est.supports(Dim::Three));
+        let q = Query::volume(Vec3::splat(0.5));
+        let mut visited = 0;
+        let r = est.try_weights(&pts, &q, &mut Scratch::default(), |_, _| visited += 1);
+        assert_eq!(r, Err(crate::DensityError::SurfaceOnly("diffusion")));
+        assert_eq!(visited, 0);
+        assert!(est.try_density(&pts, &q, &mut Scratch::default()).is_err());
+        assert!(r.unwrap_err().to_string().contains("volume"));
+        let panicked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            est.density(&pts, &q, &mut Scratch::default())
+        }));
+        assert!(panicked.is_err());
+        for spec in [
+            EstimatorSpec::Fixed {
+                h: 0.1,
+                kernel: Kernel::Uniform,
+            },
+            EstimatorSpec::Knn {
+                k: 10,
+                max_radius: None,
+                kernel: Kernel::Uniform,
+            },
+            EstimatorSpec::Variable {
+                k: 10,
+                max_radius: None,
+                kernel: Kernel::Uniform,
+            },
+        ] {
+            let est = Estimator::prepare(&spec, &pts);
+            assert!(est.supports(Dim::Three) && est.supports(Dim::Two));
+            let d = est.try_density(&pts, &q, &mut Scratch::default()).unwrap();
+            assert!(d > 0.0, "{spec:?}");
+        }
+    }
+
     #[test]
     fn validation_names_the_parameter() {
         let kernel = Kernel::Epanechnikov;

@@ -386,6 +386,31 @@ mod tests {
         }
     }
 
+    /// The uniform kernel is one over the unit ball's volume, so the uniform k-NN estimate is
+    /// `k / V_d(h)`: 2, π and 4π/3 written out here, not taken from [`Dim::unit_ball_volume`].
+    #[test]
+    fn uniform_is_one_over_the_ball_volume() {
+        let pi = std::f64::consts::PI;
+        for (dim, v) in [
+            (Dim::One, 2.0),
+            (Dim::Two, pi),
+            (Dim::Three, 4.0 * pi / 3.0),
+        ] {
+            assert!((dim.unit_ball_volume() - v).abs() < 1e-15 * v);
+            let c = f64::from(Kernel::Uniform.normalization(dim));
+            assert!((c * v - 1.0).abs() < 1e-7, "{dim:?}: c = {c}");
+            assert!((dim.ball_volume(0.5) - v * 0.5f64.powi(dim.get() as i32)).abs() < 1e-15);
+        }
+        // h^d from (h, h²): h² itself in 2-D (the k-NN bandwidth is a squared distance).
+        let (h, h2) = (0.3f32, 0.09f32);
+        assert_eq!(
+            Dim::Two.bandwidth_volume_from(h, h2).to_bits(),
+            h2.to_bits()
+        );
+        assert_eq!(Dim::Three.bandwidth_volume_from(h, h2), h2 * h);
+        assert_eq!(Dim::One.bandwidth_volume_from(h, h2), h);
+    }
+
     #[test]
     fn matches_table_2_1_in_one_dimension() {
         // Table 2.1, in its own variable x (univariate, |x| < 1).
