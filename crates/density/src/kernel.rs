@@ -401,8 +401,9 @@ mod tests {
             assert!((c * v - 1.0).abs() < 1e-7, "{dim:?}: c = {c}");
             assert!((dim.ball_volume(0.5) - v * 0.5f64.powi(dim.get() as i32)).abs() < 1e-15);
         }
-        // h^d from (h, h²): h² itself in 2-D (the k-NN bandwidth is a squared distance).
-        let (h, h2) = (0.3f32, 0.09f32);
+        // h^d from (h, h²): h² itself in 2-D (the k-NN bandwidth is a squared distance), told
+        // apart from h·h by a deliberately inconsistent pair.
+        let (h, h2) = (0.3f32, 0.1f32);
         assert_eq!(
             Dim::Two.bandwidth_volume_from(h, h2).to_bits(),
             h2.to_bits()
