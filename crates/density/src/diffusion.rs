@@ -29,10 +29,21 @@
 //! hence μ₂ = 1 and D = I: the fixed-bandwidth isotropic kernel. With q > 0 and α > 0, μ₂ ≥
 //! 1/(1 + q^−(1+α)) > 0, so D is never singular and no weight is NaN. Non-finite gradients
 //! (from non-finite masses) are stored as zero.
+//!
+//! **Surface only.** Every step lives in a tangent plane: the gradients are tangent vectors of
+//! a 2-D density (per m², gradient per m³), the structure and diffusion tensors are 2×2 and the
+//! kernel is normalised in 2-D. A volume query ([`Query::volume`]) is refused with
+//! [`DensityError::SurfaceOnly`] rather than answered by some other estimate: a 3-D version
+//! would need 3-D gradients (eq. 4.12 over a ball), a 3×3 structure tensor with three
+//! diffusivities and its own validation, and silently falling back to the fixed-bandwidth
+//! estimate (what D = I would give) would hide that the anisotropy the user asked for is
+//! missing. Use the fixed, k-NN or variable estimator for volume photons. The pre-passes treat
+//! every point as a surface point (its [`PointSet::normal`] gives its tangent plane).
 
-use crate::estimator::{PointSet, Query, Scratch};
+use crate::DensityError;
+use crate::estimator::{PointSet, Query, Scratch, tangent_coords};
 use crate::kernel::{Dim, Kernel};
-use caustica_core::{Vec2, Vec3};
+use caustica_core::{Frame, Vec2, Vec3};
 use rayon::prelude::*;
 
 /// Parameters of the diffusion estimate.
@@ -199,9 +210,10 @@ impl DiffusionEstimator {
         let gradients: Vec<Vec3> = (0..points.len() as u32)
             .into_par_iter()
             .map(|i| {
-                let q = Query::new(points.position(i), points.normal(i));
-                let g = gradient(points, &q, sigma);
-                let w = q.frame.s * g.x + q.frame.t * g.y;
+                let frame = Frame::from_normal(points.normal(i));
+                let q = Query::with_frame(points.position(i), frame);
+                let g = gradient_in(points, &q, &frame, sigma);
+                let w = frame.s * g.x + frame.t * g.y;
                 if w.is_finite() { w } else { Vec3::ZERO }
             })
             .collect();
@@ -213,9 +225,10 @@ impl DiffusionEstimator {
         let lambda_max = (0..points.len() as u32)
             .into_par_iter()
             .map_init(Scratch::default, |scratch, i| {
-                let q = Query::new(points.position(i), points.normal(i));
-                est.gather(points, &q, scratch);
-                let (l1, _, _) = est.structure_tensor(&q, scratch).eigen();
+                let frame = Frame::from_normal(points.normal(i));
+                let q = Query::with_frame(points.position(i), frame);
+                est.gather(points, &q, &frame, scratch);
+                let (l1, _, _) = est.structure_tensor(&frame, scratch).eigen();
                 if l1.is_finite() { l1 } else { 0.0 }
             })
             .reduce(|| 0.0, f32::max);
@@ -242,24 +255,25 @@ impl DiffusionEstimator {
         self.gradients.capacity() * std::mem::size_of::<Vec3>()
     }
 
-    /// Collects the points within the bandwidth of `q` into `scratch.offsets` with their
-    /// tangent-plane offsets.
-    fn gather<P: PointSet>(&self, points: &P, q: &Query, scratch: &mut Scratch) {
+    /// Collects the points within the bandwidth of the surface query `q` (tangent frame
+    /// `frame`) into `scratch.offsets` with their tangent-plane offsets.
+    fn gather<P: PointSet>(&self, points: &P, q: &Query, frame: &Frame, scratch: &mut Scratch) {
         let h = self.params.bandwidth;
         let offsets = &mut scratch.offsets;
         offsets.clear();
         points.tree().range(q.p, h * h, |i, _| {
             if let Some(d) = points.offset(q, i, h) {
-                offsets.push((i, q.tangent(d)));
+                offsets.push((i, tangent_coords(frame, d)));
             }
         });
         // Range queries visit in tree order, a function of the points alone (the build is
         // deterministic), so the floating-point sums are too; no per-query sort is needed.
     }
 
-    /// The structure tensor at `q` from the gathered points (Epanechnikov-weighted mean of
-    /// gⱼgⱼᵀ at the integration scale h); zero when no point has weight.
-    fn structure_tensor(&self, q: &Query, scratch: &Scratch) -> Sym2 {
+    /// The structure tensor in the tangent plane `frame` from the gathered points
+    /// (Epanechnikov-weighted mean of gⱼgⱼᵀ at the integration scale h); zero when no point
+    /// has weight.
+    fn structure_tensor(&self, frame: &Frame, scratch: &Scratch) -> Sym2 {
         let h2 = self.params.bandwidth * self.params.bandwidth;
         let mut s = Sym2::default();
         let mut wsum = 0.0f32;
@@ -268,7 +282,7 @@ impl DiffusionEstimator {
             if w <= 0.0 {
                 continue;
             }
-            let g = q.tangent(self.gradients[j as usize]);
+            let g = tangent_coords(frame, self.gradients[j as usize]);
             s.add_scaled(Sym2::outer(g), w);
             wsum += w;
         }
@@ -280,21 +294,23 @@ impl DiffusionEstimator {
         s
     }
 
-    /// The diffusion tensor at `q` (eq. 4.13–4.15); gathers into `scratch`.
+    /// The diffusion tensor at the surface query `q` (eq. 4.13–4.15), in its tangent plane;
+    /// gathers into `scratch`. [`DensityError::SurfaceOnly`] for a volume query.
     pub fn diffusion_tensor<P: PointSet>(
         &self,
         points: &P,
         q: &Query,
         scratch: &mut Scratch,
-    ) -> DiffusionTensor {
-        self.gather(points, q, scratch);
-        self.tensor_from_gathered(q, scratch)
+    ) -> Result<DiffusionTensor, DensityError> {
+        let frame = surface_frame(q)?;
+        self.gather(points, q, frame, scratch);
+        Ok(self.tensor_from_gathered(frame, scratch))
     }
 
-    fn tensor_from_gathered(&self, q: &Query, scratch: &Scratch) -> DiffusionTensor {
+    fn tensor_from_gathered(&self, frame: &Frame, scratch: &Scratch) -> DiffusionTensor {
         let p = &self.params;
         DiffusionTensor::new(
-            &self.structure_tensor(q, scratch),
+            &self.structure_tensor(frame, scratch),
             self.lambda_max,
             p.q,
             p.alpha,
@@ -302,16 +318,18 @@ impl DiffusionEstimator {
         )
     }
 
-    /// Eq. 4.19's weights at `q`.
+    /// Eq. 4.19's weights (1/m²) at the surface query `q`; [`DensityError::SurfaceOnly`] for
+    /// a volume query (see the [module docs](self)).
     pub(crate) fn weights<P: PointSet>(
         &self,
         points: &P,
         q: &Query,
         scratch: &mut Scratch,
         mut visit: impl FnMut(u32, f32),
-    ) {
-        self.gather(points, q, scratch);
-        let d = self.tensor_from_gathered(q, scratch);
+    ) -> Result<(), DensityError> {
+        let frame = surface_frame(q)?;
+        self.gather(points, q, frame, scratch);
+        let d = self.tensor_from_gathered(frame, scratch);
         let h2 = self.params.bandwidth * self.params.bandwidth;
         let norm = 1.0 / (h2 * d.sqrt_det());
         for &(j, off) in &scratch.offsets {
@@ -320,17 +338,29 @@ impl DiffusionEstimator {
                 visit(j, w);
             }
         }
+        Ok(())
     }
 }
 
-/// Eq. 4.12 at `q` with bandwidth σ: the 2-D gradient (tangent coordinates; mass per m³) of the
-/// Epanechnikov estimate, from the points within σ.
-pub fn gradient<P: PointSet>(points: &P, q: &Query, sigma: f32) -> Vec2 {
+/// The tangent frame of a surface query, or the diffusion estimator's refusal of a volume one.
+fn surface_frame(q: &Query) -> Result<&Frame, DensityError> {
+    q.frame().ok_or(DensityError::SurfaceOnly("diffusion"))
+}
+
+/// Eq. 4.12 at the surface query `q` with bandwidth σ: the 2-D gradient (tangent coordinates;
+/// mass per m³, i.e. per m² of density per m) of the Epanechnikov estimate, from the points
+/// within σ. [`DensityError::SurfaceOnly`] for a volume query.
+pub fn gradient<P: PointSet>(points: &P, q: &Query, sigma: f32) -> Result<Vec2, DensityError> {
+    Ok(gradient_in(points, q, surface_frame(q)?, sigma))
+}
+
+/// [`gradient`] in the tangent plane `frame` of the surface query `q`.
+fn gradient_in<P: PointSet>(points: &P, q: &Query, frame: &Frame, sigma: f32) -> Vec2 {
     let s2 = sigma * sigma;
     let mut acc = Vec2::ZERO;
     points.tree().range(q.p, s2, |j, _| {
         if let Some(d) = points.offset(q, j, sigma) {
-            let d2 = q.tangent(d);
+            let d2 = tangent_coords(frame, d);
             if d2.length_squared() < s2 {
                 acc += d2 * points.mass(j);
             }
@@ -373,7 +403,7 @@ mod tests {
         for a in 0..5 {
             for b in 0..5 {
                 let p = Vec3::new(0.3 + 0.1 * a as f32, 0.3 + 0.1 * b as f32, 0.0);
-                let g = gradient(&pts, &Query::new(p, Vec3::Z), sigma);
+                let g = gradient(&pts, &Query::new(p, Vec3::Z), sigma).unwrap();
                 assert!(
                     (g.x - 2.0 / 3.0).abs() < 0.75 && g.y.abs() < 0.75,
                     "{g} at {p}"
@@ -393,7 +423,7 @@ mod tests {
             .map(|_| [rng.next_f32() as f64, rng.next_f32() as f64])
             .collect();
         let pts = WeightedPoints::planar(&pts);
-        let g = gradient(&pts, &Query::new(Vec3::new(0.5, 0.5, 0.0), Vec3::Z), 0.15);
+        let g = gradient(&pts, &Query::new(Vec3::new(0.5, 0.5, 0.0), Vec3::Z), 0.15).unwrap();
         // σ per component = √(4/(π n σ⁴)) ≈ 0.11; about 4σ for the length.
         assert!(g.length() < 0.5, "{g}");
     }
@@ -411,14 +441,14 @@ mod tests {
         let mut scratch = Scratch::default();
         for y in [0.3f32, 0.5, 0.7] {
             let q = Query::new(Vec3::new(0.49, y, 0.0), Vec3::Z);
-            let d = est.diffusion_tensor(&pts, &q, &mut scratch);
+            let d = est.diffusion_tensor(&pts, &q, &mut scratch).unwrap();
             assert!(d.across.x.abs() > 0.95, "across {} at y = {y}", d.across);
             assert!(d.mu_across < 0.5 * d.mu_along, "{d:?}");
             assert_eq!(d.mu_along, 1.0);
         }
         // Deep inside the uniform region the tensor is (nearly) isotropic.
         let q = Query::new(Vec3::new(0.25, 0.5, 0.0), Vec3::Z);
-        let d = est.diffusion_tensor(&pts, &q, &mut scratch);
+        let d = est.diffusion_tensor(&pts, &q, &mut scratch).unwrap();
         assert!(d.mu_across > 0.9, "{d:?}");
     }
 

@@ -106,6 +106,35 @@ impl Dim {
             Dim::Three => h * h * h,
         }
     }
+
+    /// `h^d` (m^d) from `h` and its square `h2` as the caller already has them, with `h2`
+    /// itself for `d = 2` so that the 2-D estimate divides by exactly the `h²` it always did
+    /// (the k-NN bandwidth is the k-th squared distance, not `√(d²)²`): `h`, `h2`, `h2 · h`.
+    #[inline]
+    pub fn bandwidth_volume_from(self, h: f32, h2: f32) -> f32 {
+        match self {
+            Dim::One => h,
+            Dim::Two => h2,
+            Dim::Three => h2 * h,
+        }
+    }
+
+    /// Volume `V_d = π^{d/2} / Γ(d/2 + 1)` of the unit ball of `R^d`: 2, π, 4π/3 (length m,
+    /// area m², volume m³ once multiplied by `r^d`).
+    pub fn unit_ball_volume(self) -> f64 {
+        match self {
+            Dim::One => 2.0,
+            Dim::Two => PI,
+            Dim::Three => 4.0 / 3.0 * PI,
+        }
+    }
+
+    /// Volume `V_d r^d` of the ball of radius `r` (m): `2r`, `πr²`, `4/3 π r³` (m^d). The k-NN
+    /// density estimate with the uniform kernel is `k / V_d(h)` (eq. 2.12: `c_d = 1/V_d`), e.g.
+    /// `k / (4/3 π r³)` photons per m³ in a volume (seed 000 eq. 8.3).
+    pub fn ball_volume(self, r: f64) -> f64 {
+        self.unit_ball_volume() * r.powi(self.get() as i32)
+    }
 }
 
 /// Default slope parameter of the cone kernel when none is given (`"cone"`).
@@ -355,6 +384,32 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The uniform kernel is one over the unit ball's volume, so the uniform k-NN estimate is
+    /// `k / V_d(h)`: 2, π and 4π/3 written out here, not taken from [`Dim::unit_ball_volume`].
+    #[test]
+    fn uniform_is_one_over_the_ball_volume() {
+        let pi = std::f64::consts::PI;
+        for (dim, v) in [
+            (Dim::One, 2.0),
+            (Dim::Two, pi),
+            (Dim::Three, 4.0 * pi / 3.0),
+        ] {
+            assert!((dim.unit_ball_volume() - v).abs() < 1e-15 * v);
+            let c = f64::from(Kernel::Uniform.normalization(dim));
+            assert!((c * v - 1.0).abs() < 1e-7, "{dim:?}: c = {c}");
+            assert!((dim.ball_volume(0.5) - v * 0.5f64.powi(dim.get() as i32)).abs() < 1e-15);
+        }
+        // h^d from (h, h²): h² itself in 2-D (the k-NN bandwidth is a squared distance), told
+        // apart from h·h by a deliberately inconsistent pair.
+        let (h, h2) = (0.3f32, 0.1f32);
+        assert_eq!(
+            Dim::Two.bandwidth_volume_from(h, h2).to_bits(),
+            h2.to_bits()
+        );
+        assert_eq!(Dim::Three.bandwidth_volume_from(h, h2), h2 * h);
+        assert_eq!(Dim::One.bandwidth_volume_from(h, h2), h);
     }
 
     #[test]

@@ -32,6 +32,13 @@
 //!
 //! since `eval(u², Dim::Two) = K₅.₁(u²)/π` for the kernels of Table 5.1 (see [`kernel`]).
 //!
+//! A [`Query`] knows its [`Domain`]: a surface query (`Query::new(p, n)`, with a tangent frame)
+//! estimates densities per m² with kernels normalised in 2-D, a volume query
+//! (`Query::volume(p)`, participating media) densities per m³ with kernels normalised in 3-D:
+//! with photon flux `Φᵢ` (W) and `d = 3` the estimate is W/m³, and with a phase function
+//! (sr⁻¹) in the sum it is the in-scattered radiance of seed 000 eq. 8.3 (W/m³/sr; times the
+//! scattering coefficient σ_s (1/m) it becomes the W/m²/sr/m source term along a ray).
+//!
 //! # Example
 //!
 //! ```
@@ -61,7 +68,7 @@ pub mod radius_buckets;
 pub use diffusion::{DiffusionEstimator, DiffusionParams, DiffusionTensor};
 pub use estimate::{disc_test, project_to_tangent_plane};
 pub use estimator::{
-    Estimator, EstimatorSpec, PointSet, Query, Scratch, WeightedPoints, median_knn_radius,
+    Domain, Estimator, EstimatorSpec, PointSet, Query, Scratch, WeightedPoints, median_knn_radius,
 };
 pub use kdtree::{KdTree, Neighbor};
 pub use kernel::{Dim, Kernel};
@@ -78,4 +85,10 @@ pub enum DensityError {
     /// The cone kernel's slope parameter `g` must be a finite number >= 1 (Table 5.1).
     #[error("invalid cone kernel parameter '{0}': g must be a finite number >= 1, e.g. 'cone:1.1'")]
     InvalidConeParameter(String),
+    /// An estimator (or helper) defined only in a surface's tangent plane was given a volume
+    /// query ([`estimator::Domain::Volume`]); the diffusion estimator is the one such estimator.
+    #[error(
+        "the {0} estimator is defined in a surface's tangent plane (seed 000 ch. 4) and cannot answer a volume query; use fixed, knn or variable for volume photons"
+    )]
+    SurfaceOnly(&'static str),
 }

@@ -150,7 +150,8 @@ impl PointSet for PhotonPoints<'_> {
     }
     fn offset(&self, q: &Query, i: u32, h: f32) -> Option<Vec3> {
         let ph = &self.map.photons[i as usize];
-        let n = q.n();
+        // Surface photons never count for a volume query (which has no normal).
+        let n = q.n()?;
         // Photons from the other side of the surface do not light this side.
         if ph.wi.dot(n) <= 0.0 {
             return None;
@@ -163,6 +164,46 @@ impl PointSet for PhotonPoints<'_> {
             project_to_tangent_plane(q.p, n, ph.p, ph.wi).map(|x| x - q.p)
         } else {
             Some(ph.p - q.p)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Surface photons are not in-scattering events: a volume query over a surface photon map
+    /// gets no weight, whatever the filters, while the surface query there sees the photons.
+    #[test]
+    fn surface_photons_do_not_count_for_volume_queries() {
+        let photons: Vec<Photon> = (0..100)
+            .map(|i| Photon {
+                p: Vec3::new((i % 10) as f32 * 0.01, (i / 10) as f32 * 0.01, 0.0),
+                wi: Vec3::Z,
+                n: Vec3::Z,
+                flux: Spectrum::ONE,
+                depth: 1,
+                caustic: true,
+            })
+            .collect();
+        let map = PhotonMap::new(photons, 1);
+        let mut scratch = Scratch::default();
+        for (disc, proj) in [(false, false), (true, true)] {
+            let opts = EstimateOptions {
+                k: 10,
+                disc_test: disc,
+                tangent_projection: proj,
+                ..EstimateOptions::default()
+            };
+            let est = PhotonMap::knn_estimator(&opts);
+            let points = map.points(&opts);
+            let p = Vec3::new(0.045, 0.045, 0.0);
+            assert!(est.density(&points, &Query::new(p, Vec3::Z), &mut scratch) > 0.0);
+            let mut visited = 0;
+            est.weights(&points, &Query::volume(p), &mut scratch, |_, _| {
+                visited += 1
+            });
+            assert_eq!(visited, 0);
         }
     }
 }
