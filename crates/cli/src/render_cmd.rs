@@ -333,6 +333,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     );
     let progress = |p: Progress| {
         bar.set_position((p.fraction * 1000.0) as u64);
+        if bar.message() != p.pass {
+            bar.set_message(p.pass);
+        }
     };
     // A failing checkpoint is reported at once (each distinct failure once); the render goes on.
     let checkpoint_err = std::sync::Mutex::new(None::<String>);

@@ -466,3 +466,92 @@ fn unwritable_outputs_fail_before_rendering_naming_the_path_once() {
     assert!(out.is_file());
     assert!(!dir.join("deep/o.partial.exr").exists());
 }
+
+#[test]
+fn interrupting_the_photon_pass_writes_an_image_of_the_photons_so_far() {
+    // The glass sphere's caustic yield is 0.4 %: 2·10⁷ caustic photons would take many minutes,
+    // so Ctrl-C lands in the photon pass. The pass stops after its current wave, the camera pass
+    // takes one sample per pixel, and the image (of the photons so far, flux over the paths
+    // actually traced) is written, labelled as interrupted.
+    for kind in ["pm", "dpm", "pdm", "pds"] {
+        let out = tmp(&format!("interrupted-{kind}.exr"));
+        let _ = std::fs::remove_file(&out);
+        let mut child = Command::new(env!("CARGO_BIN_EXE_caustica"))
+            .args([
+                "render",
+                "glass-sphere",
+                "--integrator",
+                kind,
+                "--photons",
+                "20000000",
+                "--global-photons",
+                "20000",
+                "--final-gather",
+                "4",
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        let killed_at = std::time::Instant::now();
+        let killed = Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        // One wave of light paths (≤ 2^20) and one sample per pixel: well under a second on
+        // an idle machine; 4 s leaves room for a loaded one. A pass that ignores Ctrl-C is
+        // killed and fails the test instead of hanging it.
+        while child.try_wait().unwrap().is_none() {
+            if killed_at.elapsed().as_secs_f64() > 4.0 {
+                let _ = child.kill();
+                panic!("{kind}: still running 4 s after Ctrl-C");
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let waited = killed_at.elapsed().as_secs_f64();
+        let o = child.wait_with_output().unwrap();
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(130), "{kind}: {err}");
+        let summary = String::from_utf8_lossy(&o.stdout);
+        assert!(summary.contains("(interrupted)"), "{kind}: {summary}");
+        assert!(err.contains("requested 20000000"), "{kind}: {err}");
+        let img = Image::read(&out).unwrap_or_else(|e| panic!("{kind}: {e}"));
+        assert!(img.data.iter().any(|p| p[0] > 0.0), "{kind}: black image");
+        eprintln!("{kind}: exited {waited:.2} s after Ctrl-C");
+    }
+}
+
+#[test]
+fn a_time_budget_is_kept_by_every_integrator() {
+    // --time S is one budget for every pass: the render ends within S plus a bounded overrun
+    // (10 % here, and at most one wave or batch of work). The glass sphere's photon pass
+    // would take minutes at 10⁷ photons; the budget cuts it.
+    let out = tmp("timed.exr");
+    for kind in ["path", "lighttrace", "pm", "dpm", "pdm", "pds"] {
+        let start = std::time::Instant::now();
+        let o = caustica(&[
+            "render",
+            "glass-sphere",
+            "--integrator",
+            kind,
+            "--photons",
+            "10000000",
+            "--time",
+            "3",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let secs = start.elapsed().as_secs_f64();
+        assert!(o.status.success(), "{kind}: {}", stderr(&o));
+        eprintln!("{kind}: {secs:.2} s for --time 3");
+        // Process start-up, scene build and the EXR write are outside the renderer's clock.
+        assert!(secs < 3.3 + 0.3, "{kind}: {secs:.2} s for --time 3");
+        let img = Image::read(&out).unwrap();
+        assert!(img.data.iter().any(|p| p[0] > 0.0), "{kind}: black image");
+    }
+}

@@ -46,7 +46,7 @@ fn bench(c: &mut Criterion) {
     ] {
         let s = scene(name);
         let probe = pool
-            .install(|| trace_photons(&s, PhotonBudget::Records(n), kind, 0, &opts, &mut |_| {}));
+            .install(|| trace_photons(&s, PhotonBudget::Records(n), kind, 0, &opts, &mut |_| true));
         println!(
             "{name}: {n} {kind:?} photons from {} light paths ({:.3} photons/path)",
             probe.paths,
@@ -62,7 +62,7 @@ fn bench(c: &mut Criterion) {
                         kind,
                         0,
                         &opts,
-                        &mut |_| {},
+                        &mut |_| true,
                     ))
                 })
             })
@@ -88,7 +88,7 @@ fn bench(c: &mut Criterion) {
                         MapKind::Caustic,
                         0,
                         &opts,
-                        &mut |_| {},
+                        &mut |_| true,
                     ))
                 })
             })
@@ -102,7 +102,7 @@ fn bench(c: &mut Criterion) {
                         Smoothing::ONE,
                         0,
                         &opts,
-                        &mut |_| {},
+                        &mut |_| true,
                     ))
                 })
             })
@@ -117,7 +117,7 @@ fn bench(c: &mut Criterion) {
         MapKind::Global,
         0,
         &opts,
-        &mut |_| {},
+        &mut |_| true,
     );
     let map = PhotonMap::new(traced.photons, traced.paths);
     println!(

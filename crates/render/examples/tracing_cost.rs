@@ -77,7 +77,7 @@ fn main() {
                         MapKind::Caustic,
                         0,
                         &opts,
-                        &mut |_| {},
+                        &mut |_| true,
                     )
                 });
                 plain = plain.min(t.elapsed());
@@ -92,7 +92,7 @@ fn main() {
                         Smoothing::ONE,
                         0,
                         &opts,
-                        &mut |_| {},
+                        &mut |_| true,
                     )
                 });
                 diff = diff.min(t.elapsed());

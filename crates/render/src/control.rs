@@ -19,6 +19,8 @@ pub struct Progress {
     pub fraction: f64,
     /// Samples (or light paths) done so far in the current pass.
     pub samples: u64,
+    /// What the render is doing ("tracing photons", "camera pass", "splatting", …).
+    pub pass: &'static str,
 }
 
 /// Callbacks and the stop flag of a render.
@@ -74,6 +76,7 @@ impl Clock {
             clock: self,
             lo: 0.0,
             hi: 1.0,
+            label: "rendering",
         }
     }
 }
@@ -86,9 +89,15 @@ pub struct Stage<'a> {
     clock: &'a Clock,
     lo: f64,
     hi: f64,
+    label: &'static str,
 }
 
 impl<'a> Stage<'a> {
+    /// This stage, reporting its progress as `label` (what the user sees the render doing).
+    pub fn labelled(self, label: &'static str) -> Stage<'a> {
+        Stage { label, ..self }
+    }
+
     /// The part `[a, b]` (fractions of this stage) of this stage.
     pub fn part(&self, a: f64, b: f64) -> Stage<'a> {
         let w = self.hi - self.lo;
@@ -114,12 +123,36 @@ impl<'a> Stage<'a> {
         (self.ctl.on_progress)(Progress {
             fraction: fraction.min(1.0),
             samples,
+            pass: self.label,
         });
+    }
+
+    /// [`Stage::report`] for a pass that reports after each wave of work (no sample count):
+    /// returns whether it may go on (neither interrupted nor out of its share of the time).
+    pub fn report_and_go_on(&self, done: f64) -> bool {
+        self.report(done, 0);
+        !(self.interrupted() || self.out_of_time())
     }
 
     /// True once the caller asked the render to stop (Ctrl-C).
     pub fn interrupted(&self) -> bool {
         self.ctl.stop.load(Ordering::Relaxed)
+    }
+
+    /// The fraction of this stage's share of the budget used so far, 0 at its start and 1 at
+    /// its end (`None` without a budget).
+    pub fn time_used(&self) -> Option<f64> {
+        self.clock.limit.map(|t| {
+            let f = self.clock.elapsed().as_secs_f64() / t.as_secs_f64();
+            ((f - self.lo) / (self.hi - self.lo).max(1e-12)).max(0.0)
+        })
+    }
+
+    /// Time left in this stage's share of the budget (`None` without a budget).
+    pub fn time_left(&self) -> Option<Duration> {
+        self.clock
+            .limit
+            .map(|t| t.mul_f64(self.hi).saturating_sub(self.clock.elapsed()))
     }
 
     /// True once this stage's share of the time budget is spent (never without a budget).

@@ -102,7 +102,7 @@ fn footprint_irradiance_matches_a_point_light_seen_in_a_mirror() {
         Smoothing::new(s).unwrap(),
         CAUSTIC_STREAM,
         &opts,
-        &mut |_| {},
+        &mut |_| true,
     );
     assert!(traced.warning.is_none(), "{:?}", traced.warning);
     assert_eq!(traced.landings, 300_000);

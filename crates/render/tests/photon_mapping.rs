@@ -49,7 +49,7 @@ fn radiance_estimate_matches_the_analytic_irradiance_of_a_point_light() {
         MapKind::Global,
         0,
         &opts,
-        &mut |_| {},
+        &mut |_| true,
     );
     assert!(traced.warning.is_none());
     // Every photon is a direct hit on the floor: depth 1, not caustic, on the floor plane.

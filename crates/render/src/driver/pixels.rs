@@ -60,15 +60,29 @@ where
     let mut done_spp = 0u32;
     let mut stats = RenderStats::default();
     let samples_done = AtomicU64::new(0);
+    // Under a time budget: seconds per sample per pixel, measured on the passes so far.
+    let mut secs_per_spp: Option<f64> = None;
     loop {
-        let pass_spp = match opts.time_limit {
-            Some(_) => per_pass,
-            None => per_pass.min(opts.spp - done_spp),
+        let mut pass_spp = match (opts.time_limit, stage.time_left()) {
+            // Passes that end inside the budget: one sample per pixel first, to measure, then
+            // as many as the time left allows at the measured rate (at most `per_pass`; none
+            // when not even one fits, so the render ends early rather than late).
+            (Some(_), Some(left)) => match secs_per_spp {
+                None => 1,
+                Some(rate) => ((left.as_secs_f64() / rate.max(1e-9)) as u32).min(per_pass),
+            },
+            _ => per_pass.min(opts.spp - done_spp),
         };
+        // Stopped (Ctrl-C, or the budget spent by an earlier pass) before the first pass: one
+        // sample per pixel, so the image written is never empty.
+        if done_spp == 0 && (stage.interrupted() || stage.out_of_time()) {
+            pass_spp = pass_spp.min(1);
+        }
         if pass_spp == 0 {
             break;
         }
         let first = done_spp;
+        let pass_start = std::time::Instant::now();
         let rows: Vec<(RenderStats, Vec<R>)> = film
             .sum
             .par_chunks_mut(w)
@@ -110,6 +124,7 @@ where
             records.extend(out);
         }
         done_spp += pass_spp;
+        secs_per_spp = Some(pass_start.elapsed().as_secs_f64() / pass_spp as f64);
         if stage.end_of_pass(film) {
             break;
         }

@@ -192,6 +192,7 @@ pub fn render(
     let mut notes = Vec::new();
     let stats: RenderStats = match kind {
         IntegratorKind::Path => {
+            let stage = stage.labelled("path tracing");
             render_pixels(&mut film, &filter, opts, &stage, |sampler, raster, st| {
                 let u_lens = sampler.next_2d();
                 let ray = cam.generate_ray(raster, u_lens).ray;
@@ -200,6 +201,7 @@ pub fn render(
         }
         IntegratorKind::LightTrace => {
             let total = opts.spp as u64 * cam.width as u64 * cam.height as u64;
+            let stage = stage.labelled("tracing light paths");
             render_paths(&mut film, total, opts, &stage, |sampler, out, st| {
                 light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
             })

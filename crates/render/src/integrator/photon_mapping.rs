@@ -53,9 +53,9 @@ impl PhotonMaps {
         scene: &Scene,
         kind: IntegratorKind,
         opts: &RenderOptions,
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(f64) -> bool,
     ) -> Self {
-        let density = |estimator, progress: &mut dyn FnMut(f64)| {
+        let density = |estimator, progress: &mut dyn FnMut(f64) -> bool| {
             let (caustic, traced) = CausticEstimate::density(scene, estimator, opts, progress);
             (caustic, traced.warning, traced.stats)
         };
@@ -75,7 +75,7 @@ impl PhotonMaps {
 
     /// The maps of `pm` ([`PhotonMaps::for_integrator`] without progress).
     pub fn build(scene: &Scene, opts: &RenderOptions) -> Self {
-        Self::for_integrator(scene, IntegratorKind::PhotonMapping, opts, &mut |_| {})
+        Self::for_integrator(scene, IntegratorKind::PhotonMapping, opts, &mut |_| true)
     }
 
     /// The maps of `pdm` ([`PhotonMaps::for_integrator`] without progress).
@@ -84,7 +84,7 @@ impl PhotonMaps {
             scene,
             IntegratorKind::PhotonDifferentialMapping,
             opts,
-            &mut |_| {},
+            &mut |_| true,
         )
     }
 
@@ -93,8 +93,10 @@ impl PhotonMaps {
     pub fn with_caustic(
         scene: &Scene,
         opts: &RenderOptions,
-        progress: &mut dyn FnMut(f64),
-        caustic: impl FnOnce(&mut dyn FnMut(f64)) -> (CausticEstimate, Option<String>, RenderStats),
+        progress: &mut dyn FnMut(f64) -> bool,
+        caustic: impl FnOnce(
+            &mut dyn FnMut(f64) -> bool,
+        ) -> (CausticEstimate, Option<String>, RenderStats),
     ) -> Self {
         let has_global = Self::wants_global(opts);
         let share = if has_global { 0.5 } else { 1.0 };
@@ -118,7 +120,7 @@ impl PhotonMaps {
     fn trace_global(
         scene: &Scene,
         opts: &RenderOptions,
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(f64) -> bool,
     ) -> TracedPhotons {
         if !Self::wants_global(opts) {
             return TracedPhotons {
@@ -299,11 +301,11 @@ pub(crate) fn render(
     film: &mut crate::film::Film,
     filter: &crate::filter::Filter,
     notes: &mut Vec<String>,
-    build: impl FnOnce(&mut dyn FnMut(f64)) -> PhotonMaps,
+    build: impl FnOnce(&mut dyn FnMut(f64) -> bool) -> PhotonMaps,
 ) -> RenderStats {
     let t = std::time::Instant::now();
-    let photon_stage = stage.part(0.0, PHOTON_SHARE);
-    let maps = build(&mut |f| photon_stage.report(f, 0));
+    let photon_stage = stage.part(0.0, PHOTON_SHARE).labelled("tracing photons");
+    let maps = build(&mut |f| photon_stage.report_and_go_on(f));
     notes.push(maps.summary(t.elapsed().as_secs_f64()));
     match &maps.caustic {
         CausticEstimate::Footprints(d) => notes.push(format!(
@@ -339,7 +341,7 @@ pub(crate) fn render(
         film,
         filter,
         opts,
-        &stage.part(PHOTON_SHARE, 1.0),
+        &stage.part(PHOTON_SHARE, 1.0).labelled("camera pass"),
         |sampler, raster, st| {
             let u_lens = sampler.next_2d();
             let ray = cam.generate_ray(raster, u_lens).ray;

@@ -27,7 +27,7 @@
 //! Under a time budget `T` the camera pass still takes `spp` samples per pixel (it is not a
 //! pass that runs on: more camera samples would only grow the eye map, its memory and the
 //! splatting cost, not lower the caustic's noise), ending early if 0.4 T runs out first; the
-//! count ends by 0.5 T and the splatting by T; splatting stopped after `M < N` of the paths (time, Ctrl-C) scales the splats by
+//! count may use half of the time left after it, and the splatting ends by T; splatting stopped after `M < N` of the paths (time, Ctrl-C) scales the splats by
 //! `N / M`, the estimate of the `M` paths splatted (their footprints keep the size of `N`).
 
 use super::IntegratorKind;
@@ -57,6 +57,8 @@ use std::time::Instant;
 const GLOBAL_END: f64 = 0.05;
 const EYE_END: f64 = 0.4;
 const COUNT_END: f64 = 0.5;
+/// Under a time budget: the share of the time left after the camera pass that counting may use.
+const COUNT_SHARE_OF_TIME_LEFT: f64 = 0.5;
 
 /// What a `pds` render did, for its notes and for tests.
 #[derive(Clone, Debug, Default)]
@@ -110,12 +112,14 @@ pub fn render_report(
 ) -> (RenderStats, PdsReport, Vec<String>) {
     let mut report = PdsReport::default();
     let t = Instant::now();
-    let global_stage = stage.part(0.0, GLOBAL_END);
+    let global_stage = stage
+        .part(0.0, GLOBAL_END)
+        .labelled("tracing global photons");
     let maps = PhotonMaps::for_integrator(
         scene,
         IntegratorKind::PhotonDifferentialSplatting,
         opts,
-        &mut |f| global_stage.report(f, 0),
+        &mut |f| global_stage.report_and_go_on(f),
     );
     report.global_secs = t.elapsed().as_secs_f64();
     report.global_photons = maps.global.len();
@@ -134,7 +138,7 @@ pub fn render_report(
         film,
         filter,
         &eye_opts,
-        &stage.part(GLOBAL_END, EYE_END),
+        &stage.part(GLOBAL_END, EYE_END).labelled("camera pass"),
         |sampler, raster, pixel, out: &mut Vec<EyeVertex>, st| {
             let u_lens = sampler.next_2d();
             let ray = cam.generate_ray(raster, u_lens).ray;
@@ -149,12 +153,17 @@ pub fn render_report(
     report.eye_bytes = eye.memory_bytes();
     report.eye_secs = t.elapsed().as_secs_f64();
     warnings.extend(maps.warnings.iter().cloned());
-    if stage.interrupted() {
-        report.stopped = Some("during the camera pass; no caustics splatted");
-        return (stats, report, warnings);
-    }
+    // Stopped (Ctrl-C) from here on, the count and the splatting each still do one wave, so the
+    // image written has a caustic, scaled by N/M like any stopped splatting.
 
     // 3. How many light paths: the budget N_e, or as many as make the requested photons.
+    // Under a time budget the camera pass took what its fixed size needed; the count may use
+    // half of what is left, the splatting the rest.
+    let (count_start, count_end) = match stage.time_used() {
+        Some(used) if used < 1.0 => (used, used + (1.0 - used) * COUNT_SHARE_OF_TIME_LEFT),
+        Some(_) => (1.0, 1.0),
+        None => (EYE_END, COUNT_END),
+    };
     let t = Instant::now();
     let stream = PathStream::new(opts, CAUSTIC_STREAM);
     let counted;
@@ -164,17 +173,16 @@ pub fn render_report(
             PathSet::Range { first: 0, n }
         }
         PhotonBudget::Records(target) => {
-            let count_stage = stage.part(EYE_END, COUNT_END);
+            let count_stage = stage
+                .part(count_start, count_end)
+                .labelled("counting light paths");
             counted = count_caustic_paths(
                 scene,
                 target,
                 &stream,
                 &opts.limits,
                 target <= RECORD_LANDING_PATHS,
-                &mut |f| {
-                    count_stage.report(f, 0);
-                    !(count_stage.interrupted() || count_stage.out_of_time())
-                },
+                &mut |f| count_stage.report_and_go_on(f),
             );
             stats.rays += counted.stats.rays;
             report.paths = counted.paths;
@@ -207,10 +215,6 @@ pub fn render_report(
         }
     };
     report.count_secs = t.elapsed().as_secs_f64();
-    if stage.interrupted() {
-        report.stopped = Some("while counting the light paths; no caustics splatted");
-        return (stats, report, warnings);
-    }
 
     // 4. Trace and splat; 5. into the pixels.
     let t = Instant::now();
@@ -221,7 +225,12 @@ pub fn render_report(
         filter: FootprintFilter::new(&opts.photons.footprints),
         tracer: LandingTracer::new(scene, &unit_budget(opts.photons.footprints.smoothing)),
     };
-    let done = splat_batches(film, &eye, &rule, &stage.part(COUNT_END, 1.0));
+    let done = splat_batches(
+        film,
+        &eye,
+        &rule,
+        &stage.part(count_end, 1.0).labelled("splatting"),
+    );
     resolve(film, &eye, &rule, &done.acc, done.chunks_done);
     stats.rays += done.stats.rays;
     stats.nonfinite += done.stats.nonfinite;

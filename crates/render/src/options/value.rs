@@ -147,11 +147,17 @@ mod tests {
         let e = "-1".parse::<Smoothing>().unwrap_err().to_string();
         assert_eq!(
             e,
-            "the smoothing parameter s must be a positive finite number, got -1"
+            "the smoothing parameter s (--smoothing) must be a positive finite number, got -1"
         );
         let e = "x".parse::<Smoothing>().unwrap_err().to_string();
-        assert_eq!(e, "the smoothing parameter s: 'x' is not a number");
+        assert_eq!(
+            e,
+            "the smoothing parameter s (--smoothing): 'x' is not a number"
+        );
         let e = Bandwidth::new(-2.0).unwrap_err().to_string();
-        assert_eq!(e, "the bandwidth must be a positive finite length, got -2");
+        assert_eq!(
+            e,
+            "the bandwidth (--bandwidth) must be a positive finite length, got -2"
+        );
     }
 }

@@ -41,7 +41,7 @@ impl CausticEstimate {
         scene: &Scene,
         estimator: CausticEstimator,
         opts: &RenderOptions,
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(f64) -> bool,
     ) -> (Self, TracedPhotons) {
         let p = &opts.photons;
         let mut traced = trace_photons(
@@ -67,7 +67,7 @@ impl CausticEstimate {
     pub fn footprints(
         scene: &Scene,
         opts: &RenderOptions,
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(f64) -> bool,
     ) -> (Self, Option<String>, crate::stats::RenderStats) {
         let p = &opts.photons;
         let mut d = trace_photon_differentials(

@@ -68,17 +68,14 @@ pub fn trace_photons(
     kind: MapKind,
     stream: u64,
     opts: &RenderOptions,
-    progress: &mut dyn FnMut(f64),
+    progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedPhotons {
     let limits = opts.limits;
     let (mut photons, paths, stats) = trace_budget(
         budget,
         &PathStream::new(opts, stream),
         0,
-        &mut |f| {
-            progress(f);
-            true
-        },
+        progress,
         |_, sampler, out, st| trace_one(scene, sampler, &limits, kind, out, st),
     );
     let inv_n = 1.0 / paths.max(1) as f32;

@@ -50,7 +50,7 @@ pub fn trace_photon_differentials(
     smoothing: Smoothing,
     stream: u64,
     opts: &RenderOptions,
-    progress: &mut dyn FnMut(f64),
+    progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedDiffPhotons {
     let tracer = LandingTracer::new(scene, &unit_budget(smoothing));
     let limits = opts.limits;
@@ -58,10 +58,7 @@ pub fn trace_photon_differentials(
         budget,
         &PathStream::new(opts, stream),
         0,
-        &mut |f| {
-            progress(f);
-            true
-        },
+        progress,
         |_, sampler, out, st| tracer.trace::<EMISSION_PARAMS>(sampler, &limits, out, st),
     );
     let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
