@@ -41,7 +41,7 @@ enum Command {
     /// Draw the stored photons as points over a dim image of the scene (debugging).
     Photons(photons_cmd::PhotonsArgs),
     /// Run every density estimator (k-NN, fixed, variable bandwidth, diffusion) on 2-D photon
-    /// distributions with a known density (seed 000 fig. 4.4–4.5): images, MISE, SSIM.
+    /// distributions with a known density (Schjøth 2009 fig. 4.4–4.5): images, MISE, SSIM.
     Testbed(testbed_cmd::TestbedArgs),
     /// List the built-in scenes.
     Scenes,

@@ -19,7 +19,7 @@ pub struct PhotonArgs {
         conflicts_with = "light_paths"
     )]
     pub photons: Option<usize>,
-    /// Emit exactly N light paths for the caustic photons instead of --photons (seed 002's N_e;
+    /// Emit exactly N light paths for the caustic photons instead of --photons (N_e of Frisvad et al. 2014;
     /// at least 1). pds then needs no counting pass.
     #[arg(
         long,
@@ -48,7 +48,7 @@ pub struct PhotonArgs {
     /// Final-gather rays per camera sample (default 16; 0 = show the global map directly).
     #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub final_gather: Option<u32>,
-    /// Project photons onto the tangent plane before measuring distances (seed 000 app. A).
+    /// Project photons onto the tangent plane before measuring distances (Schjøth 2009 app. A).
     #[arg(long, help_heading = "Photon mapping")]
     pub tangent_projection: bool,
     /// Reject photons whose normal or plane distance differs from the query's.
@@ -67,14 +67,14 @@ pub struct PhotonArgs {
         help_heading = "Diffusion photon mapping (dpm)"
     )]
     pub bandwidth: Option<Bandwidth>,
-    /// Diffusivity coefficient q of eq. 4.15 (default 0.2; large = no adaptation; > 0).
+    /// Diffusivity coefficient q of Schjøth 2009 eq. 4.15 (default 0.2; large = no adaptation; > 0).
     #[arg(
         long,
         allow_negative_numbers = true,
         help_heading = "Diffusion photon mapping (dpm)"
     )]
     pub q: Option<Diffusivity>,
-    /// Steepness alpha of eq. 4.15 (default 1; > 0).
+    /// Steepness alpha of Schjøth 2009 eq. 4.15 (default 1; > 0).
     #[arg(
         long,
         allow_negative_numbers = true,
@@ -89,10 +89,10 @@ pub struct PhotonArgs {
         help_heading = "Diffusion photon mapping (dpm)"
     )]
     pub noise_scale: Option<NoiseScale>,
-    /// Isotropic diffusion: a round kernel that shrinks near structure (seed 000 sec. 4.3.3).
+    /// Isotropic diffusion: a round kernel that shrinks near structure (Schjøth 2009 sec. 4.3.3).
     #[arg(long, help_heading = "Diffusion photon mapping (dpm)")]
     pub isotropic: bool,
-    /// Smoothing parameter s of photon differentials (pdm, pds; seed 002 eq. 5-6): the
+    /// Smoothing parameter s of photon differentials (pdm, pds; Frisvad et al. 2014 eq. 5-6): the
     /// emitted footprints overlap s^2 times (default 1; a positive finite number).
     #[arg(
         long,
@@ -100,7 +100,7 @@ pub struct PhotonArgs {
         help_heading = "Photon differentials (pdm, pds)"
     )]
     pub smoothing: Option<Smoothing>,
-    /// Normal-distance threshold against topological bias (seed 002 sec. 3.3): a footprint
+    /// Normal-distance threshold against topological bias (Frisvad et al. 2014 sec. 3.3): a footprint
     /// does not reach points farther from its tangent plane than this fraction of its gather
     /// radius (default 0.25; >= 0; inf disables the test).
     #[arg(
