@@ -56,6 +56,11 @@ pub struct RenderSettings {
     /// light tracer and photon mapping without the noise of other light (lighttrace, pm, dpm, pdm).
     #[arg(long)]
     pub caustics_only: bool,
+    /// Memory budget in GB (default: three quarters of the physical memory): a render whose
+    /// estimated allocations exceed it is refused before it starts, with the figure and the
+    /// option that lowers it (a positive finite number).
+    #[arg(long, value_name = "GB", allow_negative_numbers = true)]
+    pub memory: Option<f64>,
     #[command(flatten)]
     pub photon: crate::photon_args::PhotonArgs,
 }
@@ -162,6 +167,11 @@ impl RenderSettings {
                 rr_depth: 5,
             },
             checkpoint_interval: None,
+            memory_limit: match self.memory {
+                Some(gb) if gb.is_finite() && gb > 0.0 => Some((gb * 1e9) as u64),
+                Some(gb) => bail!("--memory must be a positive finite number of GB, got {gb}"),
+                None => physical_memory().map(|b| b / 4 * 3),
+            },
             photons: self.photon.options()?,
             caustics_only: self.caustics_only,
         };
@@ -186,6 +196,14 @@ impl RenderSettings {
             warnings,
         })
     }
+}
+
+/// The machine's physical memory (bytes), from `/proc/meminfo` where there is one.
+fn physical_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }
 
 /// Loads a scene given as a path or built-in name; `defines` override Mitsuba `<default>`s.
@@ -309,6 +327,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     opts.checkpoint_interval = args.checkpoint.map(Duration::from_secs_f64);
+    if kind.uses_photons() && !args.quiet {
+        eprintln!(
+            "memory: {}",
+            caustica_render::memory::estimate(kind, &scene, &opts)
+        );
+    }
 
     static STOP: AtomicBool = AtomicBool::new(false);
     ctrlc::set_handler(|| {

@@ -47,6 +47,19 @@ fn every_invalid_general_option_is_rejected_naming_it() {
         rejects(&["--max-depth", v], "--max-depth");
     }
     rejects(&["--integrator", "bdpt"], "bdpt");
+    for v in ["0", "-1", "nan", "inf", "lots"] {
+        rejects(&["--memory", v], "--memory");
+    }
+    // Counts too large for the machine: refused with the figure and the option, never an
+    // allocation abort.
+    rejects(
+        &["--integrator", "pm", "--photons", "100000000000"],
+        "memory budget",
+    );
+    rejects(
+        &["--integrator", "pds", "--spp", "100000", "--memory", "1"],
+        "eye map",
+    );
     rejects(&["-D", "spp"], "NAME=VALUE");
     rejects(&["--spp", "4", "--time", "1"], "--spp and --time");
     rejects(

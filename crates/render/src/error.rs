@@ -30,6 +30,15 @@ pub enum OptionError {
 pub enum RenderError {
     #[error(transparent)]
     Option(#[from] OptionError),
+    /// The render would allocate more than [`crate::RenderOptions::memory_limit`].
+    #[error(
+        "the render would need {estimate}, more than the memory budget of {limit} (--memory); {hint}"
+    )]
+    Memory {
+        estimate: String,
+        limit: String,
+        hint: &'static str,
+    },
     /// A photon method on a scene without lights.
     #[error("scene '{scene}' has no lights: photon mapping needs at least one to emit photons")]
     NoLights { scene: String },

@@ -21,6 +21,7 @@ pub mod error;
 pub mod film;
 pub mod filter;
 pub mod integrator;
+pub mod memory;
 pub mod options;
 pub mod photon;
 pub mod photon_view;

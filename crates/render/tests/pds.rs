@@ -355,3 +355,73 @@ fn a_light_path_budget_gives_the_same_image_as_the_photon_count_it_yields() {
         "pdm: --light-paths {n} differs from --photons 3000"
     );
 }
+
+#[test]
+fn pds_memory_is_estimated_before_allocating_and_bounds_the_eye_map() {
+    use caustica_render::RenderError;
+    use caustica_render::control::Clock;
+    use caustica_render::filter::Filter;
+    use caustica_render::integrator::photon_splatting::render_report;
+    use caustica_render::memory::estimate;
+    let pds = IntegratorKind::PhotonDifferentialSplatting;
+    // The estimate bounds what the eye map really takes, within a factor the records' copy
+    // explains (records and tiles alive together while the map is built).
+    let (w, h) = (48, 36);
+    let scene = small_builtin("water-wave", w, h);
+    let opts = caustics_only(2000, 4.0, 3);
+    let m = estimate(pds, &scene, &opts);
+    let eye = m
+        .parts
+        .iter()
+        .find(|p| p.what == "eye map")
+        .expect("an eye-map part");
+    assert_eq!(eye.count, (w * h * 3) as u64);
+    let ctl = RenderControl::silent();
+    let clock = Clock::start(&opts);
+    let mut film = caustica_render::Film::new(w as usize, h as usize);
+    let (_, report, _) = render_report(
+        &scene,
+        &opts,
+        &clock.stage(&ctl),
+        &mut film,
+        &Filter::new(scene.settings.filter),
+    );
+    assert!(report.eye_vertices > 0);
+    assert!(
+        (report.eye_bytes as u64) <= eye.bytes(),
+        "eye map {} B above its estimate {} B",
+        report.eye_bytes,
+        eye.bytes()
+    );
+    assert!(
+        (report.eye_bytes as u64) * 4 >= eye.bytes(),
+        "estimate {} B far above the eye map {} B",
+        eye.bytes(),
+        report.eye_bytes
+    );
+    // 1024² pixels at 64 spp: about 20 GB of eye map, refused under a 16 GB budget with the
+    // figure and the options that lower it.
+    let big = small_builtin("water-wave", 1024, 1024);
+    let opts_big = RenderOptions {
+        memory_limit: Some(16_000_000_000),
+        ..caustics_only(2000, 4.0, 64)
+    };
+    let total = estimate(pds, &big, &opts_big).total();
+    assert!(total > 16_000_000_000, "{total}");
+    let msg = caustica_render::integrator::check_memory(pds, &big, &opts_big)
+        .expect_err("a 20 GB render under a 16 GB budget")
+        .to_string();
+    assert!(msg.contains("eye map") && msg.contains("--spp"), "{msg}");
+    assert!(msg.contains("16.0 GB"), "{msg}");
+    // `render` itself refuses before allocating: the small render above under a budget below
+    // its estimate (were the check missing, it would just render).
+    let tight = RenderOptions {
+        memory_limit: Some(eye.bytes() / 2),
+        ..opts.clone()
+    };
+    match render(&scene, pds, &tight, &ctl) {
+        Err(RenderError::Memory { hint, .. }) => assert!(hint.contains("--spp"), "{hint}"),
+        Err(e) => panic!("another error: {e}"),
+        Ok(_) => panic!("rendered above its memory budget"),
+    }
+}

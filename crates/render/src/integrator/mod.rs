@@ -11,6 +11,7 @@ use crate::driver::pixels::render_pixels;
 use crate::error::{OptionError, RenderError};
 use crate::film::Film;
 use crate::filter::Filter;
+use crate::memory;
 use crate::options::{CausticEstimator, RenderOptions};
 use crate::stats::RenderStats;
 use caustica_scene::Scene;
@@ -184,6 +185,7 @@ pub fn render(
 ) -> Result<RenderOutput, RenderError> {
     kind.check(opts)?;
     kind.check_scene(scene)?;
+    check_memory(kind, scene, opts)?;
     let clock = Clock::start(opts);
     let stage = clock.stage(ctl);
     let cam = &scene.camera;
@@ -222,5 +224,34 @@ pub fn render(
         stats,
         elapsed: clock.elapsed(),
         notes,
+    })
+}
+
+/// Refuses a render whose estimated allocations ([`memory::estimate`]) exceed the budget, naming
+/// the largest part and the option that lowers it.
+pub fn check_memory(
+    kind: IntegratorKind,
+    scene: &Scene,
+    opts: &RenderOptions,
+) -> Result<(), RenderError> {
+    let Some(limit) = opts.memory_limit else {
+        return Ok(());
+    };
+    let m = memory::estimate(kind, scene, opts);
+    if m.total() <= limit {
+        return Ok(());
+    }
+    let hint = match m.largest().map(|p| p.what) {
+        Some("eye map") => {
+            "pds keeps one eye vertex per camera sample: lower --spp or --width/--height"
+        }
+        Some("global map") => "lower --global-photons",
+        Some("film") => "lower the resolution (--width/--height)",
+        _ => "lower --photons or --light-paths",
+    };
+    Err(RenderError::Memory {
+        estimate: m.to_string(),
+        limit: memory::human_bytes(limit),
+        hint,
     })
 }

@@ -28,6 +28,9 @@ pub struct RenderOptions {
     pub limits: PathLimits,
     /// Interval at which `RenderControl::on_checkpoint` receives the film.
     pub checkpoint_interval: Option<Duration>,
+    /// The most memory (bytes) the render may allocate by [`crate::memory::estimate`]; a render
+    /// above it is refused before allocating. `None`: no limit.
+    pub memory_limit: Option<u64>,
     /// Settings of the photon-mapping integrators.
     pub photons: PhotonOptions,
     /// Render only caustic light seen directly, paths L S+ D E: light that reached the first
@@ -49,6 +52,7 @@ impl Default for RenderOptions {
             sampler: SamplerKind::Sobol,
             limits: PathLimits::default(),
             checkpoint_interval: None,
+            memory_limit: None,
             photons: PhotonOptions::default(),
             caustics_only: false,
         }

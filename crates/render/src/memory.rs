@@ -1,0 +1,178 @@
+//! What a render will allocate, estimated before it allocates anything (bytes), so that a render
+//! too large for the machine is refused with the figure and the option that lowers it instead
+//! of aborting in the allocator.
+//!
+//! The estimate is an upper bound of the large allocations, each from its count and the size of
+//! its record: the film (per pixel), the photon maps (the photon pass reserves its target up
+//! front, [`crate::photon::plan::Cut`]), the footprints of `pdm` (landings and photons alive
+//! together while the map is built) and the eye map of `pds` (at most one vertex per camera
+//! sample; the records and the tiles built from them are alive together, plus one accumulator
+//! per vertex). Scene geometry is already allocated when a render starts, so it is not counted.
+
+use crate::integrator::IntegratorKind;
+use crate::options::RenderOptions;
+use crate::photon::differential::{DiffPhoton, Landing, RECORD_LANDING_PATHS};
+use crate::photon::eye_map::EyeVertex;
+use crate::photon::plan::PhotonBudget;
+use crate::photon::tracer::Photon;
+use caustica_scene::Scene;
+use std::fmt;
+use std::mem::size_of;
+
+/// k-d tree bytes per stored point (index and split data; measured: 17 for the photon map).
+const TREE_BYTES_PER_POINT: u64 = 24;
+/// Per-photon data of the diffusion estimator's pre-pass (gradient, tensors, bandwidths).
+const DIFFUSION_BYTES_PER_PHOTON: u64 = 64;
+
+/// The large allocations of a render: `(what, count, bytes)` each, and their sum.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MemoryEstimate {
+    pub parts: Vec<MemoryPart>,
+}
+
+/// One allocation: `count` records of `bytes_each` bytes, for `what`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MemoryPart {
+    pub what: &'static str,
+    pub count: u64,
+    pub bytes_each: u64,
+}
+
+impl MemoryPart {
+    /// Bytes of this part (saturating).
+    pub fn bytes(&self) -> u64 {
+        self.count.saturating_mul(self.bytes_each)
+    }
+}
+
+impl MemoryEstimate {
+    /// The sum of the parts (bytes, saturating).
+    pub fn total(&self) -> u64 {
+        self.parts
+            .iter()
+            .fold(0u64, |a, p| a.saturating_add(p.bytes()))
+    }
+
+    /// The largest part.
+    pub fn largest(&self) -> Option<&MemoryPart> {
+        self.parts.iter().max_by_key(|p| p.bytes())
+    }
+
+    fn add(&mut self, what: &'static str, count: u64, bytes_each: u64) {
+        self.parts.push(MemoryPart {
+            what,
+            count,
+            bytes_each,
+        });
+    }
+}
+
+/// `bytes` for people: "1.2 GB", "35.0 MB", "512 kB".
+pub fn human_bytes(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.1} MB", b / 1e6)
+    } else {
+        format!("{:.0} kB", b / 1e3)
+    }
+}
+
+impl fmt::Display for MemoryEstimate {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "about {}", human_bytes(self.total()))?;
+        let parts: Vec<String> = self
+            .parts
+            .iter()
+            .filter(|p| p.bytes() > 0)
+            .map(|p| {
+                format!(
+                    "{} {} ({} × {} B)",
+                    p.what,
+                    human_bytes(p.bytes()),
+                    p.count,
+                    p.bytes_each
+                )
+            })
+            .collect();
+        if !parts.is_empty() {
+            write!(f, ": {}", parts.join(", "))?;
+        }
+        Ok(())
+    }
+}
+
+/// Photons a pass may store under `budget`: its target, or for a fixed number of light paths
+/// `per_path` per path (a caustic path ends at its first non-delta vertex: one photon).
+fn photon_count(budget: PhotonBudget, per_path: u64) -> u64 {
+    match budget {
+        PhotonBudget::Records(n) => n as u64,
+        PhotonBudget::Paths(n) => n.saturating_mul(per_path),
+    }
+}
+
+/// The estimate for rendering `scene` with `kind` and `opts`.
+pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> MemoryEstimate {
+    let mut m = MemoryEstimate::default();
+    let pixels = scene.camera.width as u64 * scene.camera.height as u64;
+    // Film: sum, splat (3 × f64 each) and count (u32) per pixel.
+    m.add("film", pixels, 2 * size_of::<[f64; 3]>() as u64 + 4);
+    if !kind.uses_photons() {
+        return m;
+    }
+    let p = &opts.photons;
+    let photon = size_of::<Photon>() as u64 + TREE_BYTES_PER_POINT;
+    if p.global_photons > 0 && !opts.caustics_only {
+        m.add("global map", p.global_photons as u64, photon);
+    }
+    let caustic = photon_count(p.caustic_budget(), 1);
+    match kind {
+        IntegratorKind::PhotonMapping => m.add("caustic map", caustic, photon),
+        IntegratorKind::DiffusionPhotonMapping => m.add(
+            "caustic map with diffusion data",
+            caustic,
+            photon + DIFFUSION_BYTES_PER_PHOTON,
+        ),
+        IntegratorKind::PhotonDifferentialMapping => m.add(
+            "caustic footprints",
+            caustic,
+            (size_of::<Landing>() + size_of::<DiffPhoton>()) as u64 + TREE_BYTES_PER_POINT,
+        ),
+        IntegratorKind::PhotonDifferentialSplatting => {
+            let samples = pixels.saturating_mul(opts.spp as u64);
+            // Records and tiles alive together while the map is built, and an accumulator each.
+            m.add(
+                "eye map",
+                samples,
+                2 * size_of::<EyeVertex>() as u64 + size_of::<[f64; 3]>() as u64,
+            );
+            if let PhotonBudget::Records(n) = p.caustic_budget()
+                && n <= RECORD_LANDING_PATHS
+            {
+                // The landing paths noted by the count (8 bytes each, one per landing at most).
+                m.add("landing paths", n as u64, 8);
+            }
+        }
+        IntegratorKind::Path | IntegratorKind::LightTrace => {}
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parts_add_up_and_saturate() {
+        let mut m = MemoryEstimate::default();
+        m.add("a", 10, 3);
+        m.add("b", 2, 5);
+        assert_eq!(m.total(), 40);
+        assert_eq!(m.largest().map(|p| p.what), Some("a"));
+        m.add("huge", u64::MAX, 2);
+        assert_eq!(m.total(), u64::MAX);
+        assert_eq!(human_bytes(1_500_000_000), "1.5 GB");
+        assert_eq!(human_bytes(35_000_000), "35.0 MB");
+    }
+}
