@@ -139,6 +139,7 @@ impl RenderSettings {
             (None, None) => IntegratorKind::Path,
         };
         kind.check_scene(scene)?;
+        warnings.extend(kind.blind_spot(scene));
         if self.time.is_some()
             && self.spp.is_some()
             && kind != IntegratorKind::PhotonDifferentialSplatting

@@ -555,3 +555,29 @@ fn a_time_budget_is_kept_by_every_integrator() {
         assert!(img.data.iter().any(|p| p[0] > 0.0), "{kind}: black image");
     }
 }
+
+#[test]
+fn the_path_tracer_warns_once_where_it_cannot_see_the_caustic() {
+    let out = tmp("blind.exr");
+    let run = |scene: &str, kind: &str| {
+        let o = caustica(&[
+            "render",
+            scene,
+            "--integrator",
+            kind,
+            "--spp",
+            "1",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        stderr(&o).matches("cannot render their caustics").count()
+    };
+    // Directional light into water, point light into a glass ball: one warning each.
+    assert_eq!(run("water-wave", "path"), 1);
+    assert_eq!(run("glass-sphere", "path"), 1);
+    // An area light and diffuse walls, or a method that sees the caustic: none.
+    assert_eq!(run("cornell-box", "path"), 0);
+    assert_eq!(run("glass-sphere", "pm"), 0);
+}

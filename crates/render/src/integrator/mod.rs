@@ -15,6 +15,7 @@ use crate::memory;
 use crate::options::{CausticEstimator, RenderOptions};
 use crate::stats::RenderStats;
 use caustica_scene::Scene;
+use caustica_scene::material::Material;
 use photon_mapping::PhotonMaps;
 use std::time::Duration;
 
@@ -137,6 +138,36 @@ impl IntegratorKind {
             });
         }
         Ok(())
+    }
+
+    /// A warning when this integrator cannot render the scene's main light transport: the
+    /// path tracer cannot find caustics from delta lights (point, spot, directional, beam)
+    /// through mirrors, glass or smooth metal (paths L S+ D E: no NEE connection reaches a
+    /// delta light through a delta vertex, and no camera path hits the light itself).
+    pub fn blind_spot(self, scene: &Scene) -> Option<String> {
+        if self != IntegratorKind::Path {
+            return None;
+        }
+        let delta_lights = scene.lights.iter().filter(|l| l.is_delta()).count();
+        let specular = scene.materials.iter().any(|m| {
+            matches!(
+                m,
+                Material::Mirror { .. } | Material::Dielectric { .. } | Material::Conductor { .. }
+            )
+        });
+        (delta_lights > 0 && specular).then(|| {
+            let which = if delta_lights == scene.lights.len() {
+                "all its lights are"
+            } else {
+                "it has lights that are"
+            };
+            format!(
+                "scene '{}' has mirrors, glass or smooth metal and {which} point-like or \
+                 directional: the path tracer cannot render their caustics (paths L S+ D E); \
+                 use --integrator pds (or pm, pdm, dpm, lighttrace)",
+                scene.name
+            )
+        })
     }
 
     /// True for the integrators built on photon differentials (`--smoothing` applies).
