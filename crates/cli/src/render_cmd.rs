@@ -7,7 +7,7 @@ use caustica_render::{
     Film, IntegratorKind, PathLimits, Progress, RenderControl, RenderOptions, render,
 };
 use caustica_scene::Scene;
-use caustica_scene::loader;
+use caustica_loader as loader;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};

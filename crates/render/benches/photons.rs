@@ -22,7 +22,7 @@ use caustica_render::photon::tracer::{MapKind, Photon, trace_photons};
 use caustica_render::transport::Vertex;
 use caustica_render::{PhotonBudget, RenderOptions, Smoothing};
 use caustica_scene::Scene;
-use caustica_scene::loader::builtin_scene;
+use caustica_loader::builtin_scene;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 fn scene(name: &str) -> Scene {

@@ -18,7 +18,7 @@ use caustica_render::{
 };
 use caustica_scene::camera::PerspectiveCamera;
 use caustica_scene::light::{Light, PointLight};
-use caustica_scene::loader::builtin_scene;
+use caustica_loader::builtin_scene;
 use caustica_scene::material::Material;
 use caustica_scene::{Scene, SceneBuilder};
 use std::f32::consts::FRAC_PI_2;

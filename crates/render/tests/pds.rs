@@ -11,7 +11,7 @@ use caustica_render::{
     RenderOptions, Smoothing, render,
 };
 use caustica_scene::Scene;
-use caustica_scene::loader::builtin_scene;
+use caustica_loader::builtin_scene;
 
 /// A built-in scene at `w` × `h` pixels.
 fn small_builtin(name: &str, w: u32, h: u32) -> Scene {

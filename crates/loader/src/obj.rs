@@ -1,22 +1,22 @@
 //! Wavefront OBJ meshes (via `tobj`): triangulated, single-indexed, positions with optional
 //! normals and texture coordinates. All objects/groups of a file are merged into one mesh.
 
-use crate::error::SceneError;
-use crate::shape::TriangleMesh;
+use crate::error::LoadError;
+use caustica_scene::shape::TriangleMesh;
 use caustica_core::{Vec2, Vec3};
 use std::path::Path;
 
 /// Loads `path` as one [`TriangleMesh`]. Vertex normals (uvs) are kept only if every object of
-/// the file has them. Non-finite vertices are kept here; [`crate::SceneBuilder::add_shape`]
+/// the file has them. Non-finite vertices are kept here; [`caustica_scene::SceneBuilder::add_shape`]
 /// drops the affected triangles and counts them in the scene warnings.
-pub fn load_obj(path: &Path) -> Result<TriangleMesh, SceneError> {
+pub fn load_obj(path: &Path) -> Result<TriangleMesh, LoadError> {
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj(path, &opts).map_err(|e| SceneError::File {
+    let (models, _materials) = tobj::load_obj(path, &opts).map_err(|e| LoadError::File {
         path: path.to_path_buf(),
         message: match e {
             tobj::LoadError::OpenFileFailed => "cannot open OBJ file".to_string(),
@@ -64,7 +64,7 @@ pub fn load_obj(path: &Path) -> Result<TriangleMesh, SceneError> {
         }
     }
     if mesh.indices.is_empty() {
-        return Err(SceneError::File {
+        return Err(LoadError::File {
             path: path.to_path_buf(),
             message: "OBJ file contains no faces".into(),
         });
@@ -135,7 +135,7 @@ mod tests {
     #[test]
     fn missing_file_names_the_path() {
         let e = load_obj(Path::new("/nonexistent/dir/bunny.obj")).unwrap_err();
-        assert!(matches!(e, SceneError::File { .. }));
+        assert!(matches!(e, LoadError::File { .. }));
         assert!(e.to_string().contains("/nonexistent/dir/bunny.obj"), "{e}");
     }
 }

@@ -5,13 +5,13 @@
 //! camera, material, shape and light is converted and validated, and only then added to a
 //! [`SceneBuilder`].
 
-use crate::camera::{FovAxis, PerspectiveCamera};
-use crate::error::SceneError;
-use crate::light::{BeamLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
-use crate::material::{Material, conductor_preset};
-use crate::scene::{FilterKind, SceneBuilder, SceneSettings};
-use crate::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
-use crate::texture::{ImageTexture, Texture};
+use caustica_scene::camera::{FovAxis, PerspectiveCamera};
+use crate::error::LoadError;
+use caustica_scene::light::{BeamLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
+use caustica_scene::material::{Material, conductor_preset};
+use caustica_scene::scene::{FilterKind, SceneBuilder, SceneSettings};
+use caustica_scene::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
+use caustica_scene::texture::{ImageTexture, Texture};
 use caustica_core::{Affine3A, Mat3, Mat4, Spectrum, Vec2, Vec3};
 use serde::Deserialize;
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
@@ -473,9 +473,9 @@ fn key_before(text: &str, offset: usize) -> Option<&str> {
 }
 
 impl Ctx<'_> {
-    fn err(&self, span: Range<usize>, message: impl Into<String>) -> SceneError {
+    fn err(&self, span: Range<usize>, message: impl Into<String>) -> LoadError {
         let (line, column) = line_column(self.text, span.start);
-        SceneError::Parse {
+        LoadError::Parse {
             path: self.path.to_path_buf(),
             line,
             column,
@@ -483,7 +483,7 @@ impl Ctx<'_> {
         }
     }
 
-    fn toml_err(&self, e: toml::de::Error) -> SceneError {
+    fn toml_err(&self, e: toml::de::Error) -> LoadError {
         let span = e.span().unwrap_or(0..0);
         let mut message = e.message().trim().to_string();
         if !message.contains("field")
@@ -503,7 +503,7 @@ impl Ctx<'_> {
         }
     }
 
-    fn texture(&self, t: &TexDesc) -> Result<Texture, SceneError> {
+    fn texture(&self, t: &TexDesc) -> Result<Texture, LoadError> {
         Ok(match t {
             TexDesc::Constant(c) => Texture::Constant(*c),
             TexDesc::Checker(a, b, scale) => Texture::Checkerboard {
@@ -516,7 +516,7 @@ impl Ctx<'_> {
                 if let Some(t) = self.textures.borrow().get(&p) {
                     return Ok(Texture::Image(t.clone()));
                 }
-                let t = Arc::new(ImageTexture::load(&p).map_err(|e| SceneError::File {
+                let t = Arc::new(ImageTexture::load(&p).map_err(|e| LoadError::File {
                     path: p.clone(),
                     message: format!("cannot load texture: {e}"),
                 })?);
@@ -534,7 +534,7 @@ fn check_fields(
     what: &str,
     present: &[(&str, bool)],
     allowed: &[&str],
-) -> Result<(), SceneError> {
+) -> Result<(), LoadError> {
     for (name, set) in present {
         if *set && !allowed.contains(name) {
             return Err(cx.err(
@@ -559,7 +559,7 @@ pub fn look_at_transform(eye: Vec3, target: Vec3, up: Vec3) -> Option<Affine3A> 
     ))
 }
 
-fn camera(cx: &Ctx, c: &Spanned<CameraDesc>) -> Result<PerspectiveCamera, SceneError> {
+fn camera(cx: &Ctx, c: &Spanned<CameraDesc>) -> Result<PerspectiveCamera, LoadError> {
     let span = c.span();
     let c = c.get_ref();
     if c.fov.0 >= 180.0 {
@@ -616,7 +616,7 @@ fn camera(cx: &Ctx, c: &Spanned<CameraDesc>) -> Result<PerspectiveCamera, SceneE
     })
 }
 
-fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, SceneError> {
+fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, LoadError> {
     let span = m.span();
     let m = m.get_ref();
     let what = format!("material '{}' of type {:?}", m.name, m.ty).to_lowercase();
@@ -642,7 +642,7 @@ fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, SceneError>
         MaterialType::Phong => &["diffuse", "specular", "exponent"],
     };
     check_fields(cx, &span, &what, &present, allowed)?;
-    let albedo_check = |t: &Texture, field: &str| -> Result<(), SceneError> {
+    let albedo_check = |t: &Texture, field: &str| -> Result<(), LoadError> {
         if !matches!(t, Texture::Image(_)) && t.max_value() > 1.0 {
             return Err(cx.err(
                 span.clone(),
@@ -656,7 +656,7 @@ fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, SceneError>
     let absorption = m.absorption.map_or(Spectrum::ZERO, |x| x.0);
     let alpha = m.alpha.map_or(0.1, |x| x.0);
     let specular = m.specular.map(|x| x.0);
-    let eta_k = || -> Result<(Spectrum, Spectrum), SceneError> {
+    let eta_k = || -> Result<(Spectrum, Spectrum), LoadError> {
         match (&m.preset, m.eta, m.k) {
             (Some(p), None, None) => conductor_preset(p).ok_or_else(|| {
                 cx.err(
@@ -734,7 +734,7 @@ fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, SceneError>
 }
 
 /// The shape's transform: `translate · rotate · scale · matrix` (matrix applied first).
-fn shape_transform(cx: &Ctx, span: &Range<usize>, s: &ShapeDesc) -> Result<Affine3A, SceneError> {
+fn shape_transform(cx: &Ctx, span: &Range<usize>, s: &ShapeDesc) -> Result<Affine3A, LoadError> {
     let mut t = Affine3A::IDENTITY;
     if let Some(m) = s.matrix {
         if !m.0.row(3).abs_diff_eq(glam::Vec4::W, 1e-6) {
@@ -779,7 +779,7 @@ fn shape(
     cx: &Ctx,
     s: &Spanned<ShapeDesc>,
     material_names: &[String],
-) -> Result<ShapeEntry, SceneError> {
+) -> Result<ShapeEntry, LoadError> {
     let span = s.span();
     let s = s.get_ref();
     let what = format!("a {:?} shape", s.ty).to_lowercase();
@@ -892,7 +892,7 @@ fn shape(
     ))
 }
 
-fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, SceneError> {
+fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, LoadError> {
     let span = l.span();
     let l = l.get_ref();
     let what = format!("a {:?} light", l.ty).to_lowercase();
@@ -927,7 +927,7 @@ fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, SceneError> {
         v.map(|x| x.0)
             .ok_or_else(|| cx.err(span.clone(), format!("{what} needs '{field}'")))
     };
-    let dir = |origin: Vec3| -> Result<Vec3, SceneError> {
+    let dir = |origin: Vec3| -> Result<Vec3, LoadError> {
         let d = match (l.direction, l.target) {
             (Some(d), None) => d.0,
             (None, Some(t)) if l.ty == LightType::Spot => t.0 - origin,
@@ -999,7 +999,7 @@ fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, SceneError> {
 
 /// Parses the TOML scene `text` (read from `path`, which names errors and anchors relative
 /// file names) into a [`SceneBuilder`].
-pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, SceneError> {
+pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadError> {
     let cx = Ctx {
         text,
         path,
@@ -1088,7 +1088,7 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, SceneEr
 mod tests {
     use super::*;
 
-    fn parse(text: &str) -> Result<SceneBuilder, SceneError> {
+    fn parse(text: &str) -> Result<SceneBuilder, LoadError> {
         parse_toml_scene(text, Path::new("/virtual/dir/test.toml"))
     }
 
@@ -1098,7 +1098,7 @@ mod tests {
     #[track_caller]
     fn expect_parse_error(text: &str, line: usize, words: &[&str]) {
         match parse(text) {
-            Err(SceneError::Parse {
+            Err(LoadError::Parse {
                 path,
                 line: l,
                 message,
@@ -1227,7 +1227,7 @@ mod tests {
              [[shape]]\ntype = \"obj\"\nmaterial = \"d\"\nfilename = \"meshes/missing.obj\"\n"
         );
         match parse(&text) {
-            Err(e @ SceneError::File { .. }) => {
+            Err(e @ LoadError::File { .. }) => {
                 assert!(
                     e.to_string().contains("/virtual/dir/meshes/missing.obj"),
                     "{e}"
@@ -1390,7 +1390,7 @@ mod tests {
             (d.center, d.normal, d.radius),
             (Vec3::new(0.0, 2.0, 0.0), -Vec3::Y, 0.3)
         );
-        assert_ne!(shapes[4].light, crate::intersection::NONE);
+        assert_ne!(shapes[4].light, caustica_scene::intersection::NONE);
         let ShapeGeometry::Mesh(cube) = &shapes[5].geometry else {
             panic!()
         };
@@ -1428,7 +1428,7 @@ mod tests {
             "{CAMERA}[[material]]\nname = \"d\"\ntype = \"diffuse\"\nreflectance = {{ texture = \"missing.png\" }}\n"
         );
         assert!(
-            matches!(parse(&text), Err(SceneError::File { path, .. }) if path.ends_with("dir/missing.png"))
+            matches!(parse(&text), Err(LoadError::File { path, .. }) if path.ends_with("dir/missing.png"))
         );
         let text = format!(
             "{CAMERA}[[material]]\nname = \"d\"\ntype = \"diffuse\"\n\
