@@ -2,9 +2,10 @@
 //! case-study scenes (`water-wave`, `metal-ring`, `gold-ring`; `docs/scenes.md`) are also
 //! written as Mitsuba 3 XML in `scenes/mitsuba/`, with their meshes in `scenes/meshes/`.
 
-use super::toml_scene::look_at_transform;
-use caustica_scene::camera::{FovAxis, PerspectiveCamera};
+use crate::toml::look_at_transform;
+use caustica_core::{Affine3A, Spectrum, Vec3};
 use caustica_scene::SceneError;
+use caustica_scene::camera::{FovAxis, PerspectiveCamera};
 use caustica_scene::light::{DirectionalLight, Light, PointLight};
 use caustica_scene::material::{Material, conductor_preset};
 use caustica_scene::scene::{FilterKind, SceneBuilder};
@@ -12,7 +13,6 @@ use caustica_scene::shape::{
     RingParams, ShapeGeometry, Sphere, TriangleMesh, WaveParams, ring_mesh, water_wave_mesh,
 };
 use caustica_scene::texture::Texture;
-use caustica_core::{Affine3A, Spectrum, Vec3};
 
 /// The scene `caustica render` uses without an argument.
 /// The Cornell box until a caustic-capable default integrator (photon mapping) lands: the
@@ -414,9 +414,9 @@ fn gold_ring() -> Result<SceneBuilder, SceneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use caustica_scene::light::AreaShape;
     use crate::parse_scene_file;
     use caustica_core::Ray;
+    use caustica_scene::light::AreaShape;
     use std::path::Path;
 
     #[test]

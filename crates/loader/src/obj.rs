@@ -2,8 +2,8 @@
 //! normals and texture coordinates. All objects/groups of a file are merged into one mesh.
 
 use crate::error::LoadError;
-use caustica_scene::shape::TriangleMesh;
 use caustica_core::{Vec2, Vec3};
+use caustica_scene::shape::TriangleMesh;
 use std::path::Path;
 
 /// Loads `path` as one [`TriangleMesh`]. Vertex normals (uvs) are kept only if every object of

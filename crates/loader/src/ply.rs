@@ -4,8 +4,8 @@
 //! (the procedural meshes of `scenes/meshes/`).
 
 use crate::error::LoadError;
-use caustica_scene::shape::TriangleMesh;
 use caustica_core::{Vec2, Vec3};
+use caustica_scene::shape::TriangleMesh;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Property};
 use std::path::Path;
@@ -186,9 +186,9 @@ mod tests {
 
     #[test]
     fn ascii_writer_round_trips_bit_for_bit() {
-        let mut m = caustica_scene::shape::TriangleMesh::cube(&caustica_core::Affine3A::from_scale(
-            Vec3::new(0.1, 1.0 / 3.0, 7.25e-9),
-        ));
+        let mut m = caustica_scene::shape::TriangleMesh::cube(
+            &caustica_core::Affine3A::from_scale(Vec3::new(0.1, 1.0 / 3.0, 7.25e-9)),
+        );
         m.normals = Some(
             m.positions
                 .iter()

@@ -14,8 +14,8 @@ mod tests;
 mod transform;
 
 use crate::error::LoadError;
-use caustica_scene::scene::SceneBuilder;
 use caustica_core::{Mat4, Spectrum, Vec3};
+use caustica_scene::scene::SceneBuilder;
 use roxmltree::{Document, Node};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};

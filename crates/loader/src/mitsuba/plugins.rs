@@ -2,15 +2,15 @@
 
 use super::transform::{affine, is_rigid, uniform_scale};
 use super::{Doc, Loader, MAX_NESTING, Props};
-use caustica_scene::camera::{FovAxis, PerspectiveCamera};
 use crate::error::LoadError;
-use caustica_scene::light::{DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
 use crate::{load_obj, load_ply};
+use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
+use caustica_scene::camera::{FovAxis, PerspectiveCamera};
+use caustica_scene::light::{DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
 use caustica_scene::material::{Material, conductor_preset};
 use caustica_scene::scene::FilterKind;
 use caustica_scene::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
 use caustica_scene::texture::{ImageTexture, Texture};
-use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
 use roxmltree::Node;
 use std::sync::Arc;
 
@@ -223,12 +223,7 @@ fn texture_param(
 }
 
 /// Converts a `<bsdf>` element (nesting depth `depth`).
-pub(super) fn bsdf(
-    lo: &mut Loader,
-    d: &Doc,
-    n: Node,
-    depth: usize,
-) -> Result<Material, LoadError> {
+pub(super) fn bsdf(lo: &mut Loader, d: &Doc, n: Node, depth: usize) -> Result<Material, LoadError> {
     if depth > MAX_NESTING {
         return Err(d.err_at(d.pos(n), format!("BSDFs nested deeper than {MAX_NESTING}")));
     }

@@ -3,7 +3,7 @@
 
 use super::{Doc, Loader};
 use crate::error::LoadError;
-use crate::toml_scene::look_at_transform;
+use crate::toml::look_at_transform;
 use caustica_core::{Affine3A, Mat3, Mat4, Vec3};
 use glam::Vec4;
 use roxmltree::Node;
