@@ -20,6 +20,11 @@ pub use ply::load_ply;
 use caustica_scene::{Scene, SceneBuilder};
 use std::path::Path;
 
+/// Largest image (camera width × height) a scene file may ask for, in every format: the
+/// renderer's film holds about 50 bytes per pixel, so larger sizes would fail to allocate rather
+/// than give an error.
+pub const MAX_FILM_PIXELS: u64 = 1 << 28;
+
 /// Reads and builds the scene at `path`: Mitsuba 3 XML for `.xml` files, caustica TOML
 /// otherwise (relative file names inside resolve against the scene file's folder).
 pub fn load_scene(path: &Path) -> Result<Scene, LoadError> {

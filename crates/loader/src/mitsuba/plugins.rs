@@ -2,6 +2,7 @@
 
 use super::transform::{affine, is_rigid, uniform_scale};
 use super::{Doc, Loader, MAX_NESTING, Props};
+use crate::MAX_FILM_PIXELS;
 use crate::error::LoadError;
 use crate::{load_obj, load_ply};
 use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
@@ -153,10 +154,6 @@ fn conductor_eta_k(
         )),
     }
 }
-
-/// Largest film (width × height) a scene may ask for: the renderer's film holds about 50 bytes
-/// per pixel, so larger sizes would fail to allocate rather than give an error.
-const MAX_FILM_PIXELS: u64 = 1 << 28;
 
 /// A `<texture type="bitmap">`: `filename` (PNG decoded from sRGB, EXR/PFM linear).
 pub(super) fn bitmap(lo: &mut Loader, d: &Doc, n: Node) -> Result<Texture, LoadError> {

@@ -141,6 +141,28 @@ fn invalid_values_are_rejected_with_field_names() {
 }
 
 #[test]
+fn absurd_camera_sizes_are_errors() {
+    // Each side is a valid count, but the film (about 50 bytes per pixel) would need ~200 GB and
+    // abort when allocated; the TOML loader shares the Mitsuba loader's cap.
+    let cam = |w: u32, h: u32| {
+        format!(
+            "[camera]\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\nwidth = {w}\nheight = {h}\n"
+        )
+    };
+    expect_parse_error(
+        &cam(65536, 65536),
+        1,
+        &["camera", "65536x65536", "too large", "268435456"],
+    );
+    expect_parse_error(&cam(1 << 28, 2), 1, &["too large"]);
+    let b = parse(&cam(16384, 16384)).unwrap();
+    let c = b.camera().unwrap();
+    assert_eq!((c.width, c.height), (16384, 16384));
+    let b = parse(&cam(1 << 28, 1)).unwrap();
+    assert_eq!(b.camera().unwrap().width, 1 << 28);
+}
+
+#[test]
 fn missing_mesh_file_names_the_resolved_path() {
     let text = format!(
         "{CAMERA}[[material]]\nname = \"d\"\ntype = \"diffuse\"\n\

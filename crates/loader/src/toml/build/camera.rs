@@ -1,5 +1,6 @@
 //! The camera: a look-at (Mitsuba's convention) or a rigid `to_world`.
 
+use crate::MAX_FILM_PIXELS;
 use crate::error::LoadError;
 use crate::toml::context::Ctx;
 use crate::toml::desc::camera::{CameraDesc, FovAxisDesc};
@@ -27,6 +28,13 @@ pub(crate) fn camera(cx: &Ctx, c: &Spanned<CameraDesc>) -> Result<PerspectiveCam
         return Err(cx.err(
             span,
             format!("field 'fov': must be below 180 degrees, got {}", c.fov.0),
+        ));
+    }
+    let (width, height) = (c.width.0, c.height.0);
+    if u64::from(width) * u64::from(height) > MAX_FILM_PIXELS {
+        return Err(cx.err(
+            span,
+            format!("camera: an image of {width}x{height} pixels is too large (at most {MAX_FILM_PIXELS} pixels, e.g. 16384x16384)"),
         ));
     }
     let (to_world, default_focus) = match (c.to_world, c.eye, c.target) {
