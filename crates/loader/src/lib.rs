@@ -14,8 +14,8 @@ pub use self::toml::parse_toml_scene;
 pub use builtin::{DEFAULT_SCENE, builtin_names, builtin_scene};
 pub use error::LoadError;
 pub use mitsuba::{load_mitsuba, parse_mitsuba};
-pub use obj::load_obj;
-pub use ply::load_ply;
+pub use obj::{load_obj, parse_obj};
+pub use ply::{load_ply, parse_ply};
 
 use caustica_scene::{Scene, SceneBuilder};
 use std::path::Path;

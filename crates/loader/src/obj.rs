@@ -4,25 +4,39 @@
 use crate::error::LoadError;
 use caustica_core::{Vec2, Vec3};
 use caustica_scene::shape::TriangleMesh;
+use std::io::BufRead;
 use std::path::Path;
 
 /// Loads `path` as one [`TriangleMesh`]. Vertex normals (uvs) are kept only if every object of
 /// the file has them. Non-finite vertices are kept here; [`caustica_scene::SceneBuilder::add_shape`]
 /// drops the affected triangles and counts them in the scene warnings.
 pub fn load_obj(path: &Path) -> Result<TriangleMesh, LoadError> {
+    let file = std::fs::File::open(path).map_err(|_| LoadError::File {
+        path: path.to_path_buf(),
+        message: "cannot open OBJ file".to_string(),
+    })?;
+    parse_obj(&mut std::io::BufReader::new(file), path)
+}
+
+/// As [`load_obj`], reading the OBJ text from `reader`; `path` only names errors. Material
+/// libraries (`mtllib`) are never opened: caustica takes its materials from the scene file, and
+/// a library could name a file that never ends (`/dev/zero`) or blocks (a FIFO).
+pub fn parse_obj(reader: &mut impl BufRead, path: &Path) -> Result<TriangleMesh, LoadError> {
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj(path, &opts).map_err(|e| LoadError::File {
-        path: path.to_path_buf(),
-        message: match e {
-            tobj::LoadError::OpenFileFailed => "cannot open OBJ file".to_string(),
-            e => format!("malformed OBJ file: {e}"),
-        },
-    })?;
+    let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
+    let (models, _materials) =
+        tobj::load_obj_buf(reader, &opts, no_materials).map_err(|e| LoadError::File {
+            path: path.to_path_buf(),
+            message: match e {
+                tobj::LoadError::OpenFileFailed => "cannot open OBJ file".to_string(),
+                e => format!("malformed OBJ file: {e}"),
+            },
+        })?;
     let mut mesh = TriangleMesh::default();
     let all_normals = models
         .iter()
@@ -130,6 +144,25 @@ mod tests {
         let r = m.sanitize();
         assert_eq!(r.non_finite, 1);
         assert_eq!(m.indices.len(), 1);
+    }
+
+    #[test]
+    fn material_libraries_are_not_read() {
+        // With `a.mtl` read, tobj would split the faces by material into two models with their
+        // own vertices (6); unread, the quad keeps its 4 shared vertices.
+        write("a.mtl", "newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 1 0\n");
+        let p = write(
+            "mtl.obj",
+            "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n",
+        );
+        let m = load_obj(&p).unwrap();
+        assert_eq!((m.positions.len(), m.indices.len()), (4, 2));
+        // Reading this library would never end.
+        let p = write(
+            "zero.obj",
+            "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        );
+        assert_eq!(load_obj(&p).unwrap().indices.len(), 1);
     }
 
     #[test]

@@ -8,6 +8,7 @@ use caustica_core::{Vec2, Vec3};
 use caustica_scene::shape::TriangleMesh;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Property};
+use std::io::BufRead;
 use std::path::Path;
 
 fn file_err(path: &Path, message: impl Into<String>) -> LoadError {
@@ -21,9 +22,13 @@ fn file_err(path: &Path, message: impl Into<String>) -> LoadError {
 pub fn load_ply(path: &Path) -> Result<TriangleMesh, LoadError> {
     let file = std::fs::File::open(path)
         .map_err(|e| file_err(path, format!("cannot open PLY file: {e}")))?;
-    let mut reader = std::io::BufReader::new(file);
+    parse_ply(&mut std::io::BufReader::new(file), path)
+}
+
+/// As [`load_ply`], reading the PLY data from `reader`; `path` only names errors.
+pub fn parse_ply(reader: &mut impl BufRead, path: &Path) -> Result<TriangleMesh, LoadError> {
     let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut reader)
+        .read_ply(reader)
         .map_err(|e| file_err(path, format!("malformed PLY file: {e}")))?;
     let vertices = ply
         .payload

@@ -1,5 +1,5 @@
 //! The file being read: errors at a span (`file:line:column: message`), toml's own errors given
-//! the key they concern, relative file names resolved against the file's folder, and the cache
+//! the key they concern, relative file names resolved against the file's folder (input files must be regular files), and the cache
 //! of image textures it loads.
 
 use super::position::{key_before, line_column};
@@ -46,6 +46,20 @@ impl Ctx<'_> {
             p.to_path_buf()
         } else {
             self.dir.join(p)
+        }
+    }
+
+    /// `file` resolved as by [`Ctx::resolve`]; it must be an existing regular file (an error at
+    /// `span` otherwise), so a scene cannot make the loader read a device (`/dev/zero`), a FIFO
+    /// or a directory. Missing files are left to the reader, which names them with the OS error.
+    pub(crate) fn input_file(&self, file: &str, span: &Range<usize>) -> Result<PathBuf, LoadError> {
+        let path = self.resolve(file);
+        match std::fs::metadata(&path) {
+            Ok(m) if !m.is_file() => Err(self.err(
+                span.clone(),
+                format!("'{}' is not a regular file", path.display()),
+            )),
+            _ => Ok(path),
         }
     }
 }

@@ -162,6 +162,38 @@ fn absurd_camera_sizes_are_errors() {
     assert_eq!(b.camera().unwrap().width, 1 << 28);
 }
 
+#[cfg(unix)]
+#[test]
+fn devices_and_directories_are_not_read() {
+    // A directory is not a mesh or an image; reading /dev/zero would never end.
+    let dir = std::env::temp_dir();
+    let d = "[[material]]\nname = \"d\"\ntype = \"diffuse\"\n";
+    let shape = |ty: &str, file: &str| {
+        format!("{CAMERA}{d}[[shape]]\ntype = \"{ty}\"\nmaterial = \"d\"\nfilename = \"{file}\"\n")
+    };
+    let dir_name = dir.display().to_string();
+    expect_parse_error(
+        &shape("obj", &dir_name),
+        10,
+        &[&dir_name, "not a regular file"],
+    );
+    expect_parse_error(
+        &shape("ply", "/dev/zero"),
+        10,
+        &["/dev/zero", "not a regular file"],
+    );
+    expect_parse_error(&shape("obj", "/dev/zero"), 10, &["not a regular file"]);
+    let tex = format!(
+        "{CAMERA}[[material]]\nname = \"t\"\ntype = \"diffuse\"\nreflectance = {{ texture = \"{dir_name}\" }}\n"
+    );
+    expect_parse_error(&tex, 7, &["not a regular file"]);
+    // A missing file is still a file error naming the path.
+    match parse(&shape("ply", "missing.ply")) {
+        Err(LoadError::File { path, .. }) => assert!(path.ends_with("dir/missing.ply")),
+        r => panic!("expected a file error, got {:?}", r.err()),
+    }
+}
+
 #[test]
 fn missing_mesh_file_names_the_resolved_path() {
     let text = format!(

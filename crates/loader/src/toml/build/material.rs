@@ -70,6 +70,7 @@ pub(crate) fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, 
         MaterialType::Diffuse => {
             let r = texture(
                 cx,
+                &span,
                 m.reflectance
                     .as_ref()
                     .unwrap_or(&TexDesc::Constant(grey(0.5))),
@@ -117,6 +118,7 @@ pub(crate) fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, 
         MaterialType::Phong => {
             let d = texture(
                 cx,
+                &span,
                 m.diffuse.as_ref().unwrap_or(&TexDesc::Constant(grey(0.5))),
             )?;
             albedo_check(&d, "diffuse")?;

@@ -60,8 +60,8 @@ pub(crate) fn shape(
     let need_file = || {
         s.filename
             .as_deref()
-            .map(|f| cx.resolve(f))
             .ok_or_else(|| cx.err(span.clone(), format!("{what} needs 'filename'")))
+            .and_then(|f| cx.input_file(f, &span))
     };
     let geometry = match s.ty {
         ShapeType::Obj => {

@@ -4,9 +4,11 @@ use crate::error::LoadError;
 use crate::toml::context::Ctx;
 use crate::toml::desc::texture::TexDesc;
 use caustica_scene::texture::{ImageTexture, Texture};
+use std::ops::Range;
 use std::sync::Arc;
 
-pub(crate) fn texture(cx: &Ctx, t: &TexDesc) -> Result<Texture, LoadError> {
+/// The texture `t` describes; a file error or a non-regular file is reported at `span`.
+pub(crate) fn texture(cx: &Ctx, span: &Range<usize>, t: &TexDesc) -> Result<Texture, LoadError> {
     Ok(match t {
         TexDesc::Constant(c) => Texture::Constant(*c),
         TexDesc::Checker(a, b, scale) => Texture::Checkerboard {
@@ -19,6 +21,7 @@ pub(crate) fn texture(cx: &Ctx, t: &TexDesc) -> Result<Texture, LoadError> {
             if let Some(t) = cx.textures.borrow().get(&p) {
                 return Ok(Texture::Image(t.clone()));
             }
+            let p = cx.input_file(f, span)?;
             let t = Arc::new(ImageTexture::load(&p).map_err(|e| LoadError::File {
                 path: p.clone(),
                 message: format!("cannot load texture: {e}"),
