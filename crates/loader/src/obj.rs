@@ -29,12 +29,14 @@ pub fn parse_obj(reader: &mut impl BufRead, path: &Path) -> Result<TriangleMesh,
         ignore_lines: true,
     };
     let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
+    let mut guarded = FaceIndexGuard::new(reader);
     let (models, _materials) =
-        tobj::load_obj_buf(reader, &opts, no_materials).map_err(|e| LoadError::File {
+        tobj::load_obj_buf(&mut guarded, &opts, no_materials).map_err(|e| LoadError::File {
             path: path.to_path_buf(),
-            message: match e {
-                tobj::LoadError::OpenFileFailed => "cannot open OBJ file".to_string(),
-                e => format!("malformed OBJ file: {e}"),
+            message: match (guarded.bad_face.take(), e) {
+                (Some(face), _) => format!("malformed OBJ file: {face}"),
+                (None, tobj::LoadError::OpenFileFailed) => "cannot open OBJ file".to_string(),
+                (None, e) => format!("malformed OBJ file: {e}"),
             },
         })?;
     let mut mesh = TriangleMesh::default();
@@ -90,6 +92,113 @@ pub fn parse_obj(reader: &mut impl BufRead, path: &Path) -> Result<TriangleMesh,
         mesh.uvs = Some(uvs);
     }
     Ok(mesh)
+}
+
+/// Passes the OBJ text to tobj line by line (tobj reads it with `BufRead::lines`), counting the
+/// `v`, `vt` and `vn` statements as tobj does, and stops with a read error at the first face
+/// whose texture-coordinate or normal index tobj would overflow on when it builds the mesh
+/// (`tobj` 4.0.5 computes `vt * 2` and `vn * 3` unchecked): a relative (negative) index reaching
+/// before the first element, or a positive one beyond `usize::MAX / 3`. Debug builds panicked
+/// there; release builds wrapped around and read the wrong texture coordinates or normals.
+/// (Position indices are bounds-checked by tobj without overflow.) The face is described in
+/// `bad_face`.
+struct FaceIndexGuard<'r, R> {
+    inner: &'r mut R,
+    line: Vec<u8>,
+    pos: usize,
+    line_number: usize,
+    /// Positions, texture coordinates and normals so far.
+    counts: [usize; 3],
+    bad_face: Option<String>,
+}
+
+impl<'r, R: BufRead> FaceIndexGuard<'r, R> {
+    fn new(inner: &'r mut R) -> Self {
+        Self {
+            inner,
+            line: Vec::new(),
+            pos: 0,
+            line_number: 0,
+            counts: [0; 3],
+            bad_face: None,
+        }
+    }
+
+    /// Checks the line just read; `Err` names the first index that cannot be used.
+    fn check_line(&mut self) -> Result<(), String> {
+        // Lines that are not UTF-8 end tobj's reading with its own error.
+        let Ok(text) = std::str::from_utf8(&self.line) else {
+            return Ok(());
+        };
+        let mut words = text.split_whitespace();
+        let counter = match words.next() {
+            Some("v") => Some(0),
+            Some("vt") => Some(1),
+            Some("vn") => Some(2),
+            _ => None,
+        };
+        if let Some(i) = counter {
+            self.counts[i] += 1;
+            return Ok(());
+        }
+        if !matches!(text.split_whitespace().next(), Some("f" | "l")) {
+            return Ok(());
+        }
+        // Points and lines (fewer than three vertices) are ignored by the loader.
+        if words.clone().count() < 3 {
+            return Ok(());
+        }
+        const WHAT: [&str; 3] = ["position", "texture coordinate", "normal"];
+        for word in words {
+            for (i, part) in word.split('/').enumerate().take(3).skip(1) {
+                let Ok(x) = part.parse::<isize>() else {
+                    continue;
+                };
+                let before_first = x < 0 && x.unsigned_abs() > self.counts[i];
+                let huge = x > 0 && x.unsigned_abs() - 1 > (usize::MAX - 2) / 3;
+                if before_first || huge {
+                    return Err(format!(
+                        "line {}: face index '{word}' refers to {} {x} of {}",
+                        self.line_number, WHAT[i], self.counts[i]
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<R: BufRead> std::io::Read for FaceIndexGuard<'_, R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let available = self.fill_buf()?;
+        let n = available.len().min(buf.len());
+        buf[..n].copy_from_slice(&available[..n]);
+        self.consume(n);
+        Ok(n)
+    }
+}
+
+impl<R: BufRead> BufRead for FaceIndexGuard<'_, R> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        if self.pos == self.line.len() && self.bad_face.is_none() {
+            self.line.clear();
+            self.pos = 0;
+            if self.inner.read_until(b'\n', &mut self.line)? > 0 {
+                self.line_number += 1;
+                if let Err(face) = self.check_line() {
+                    self.bad_face = Some(face);
+                }
+            }
+        }
+        if let Some(face) = &self.bad_face {
+            return Err(std::io::Error::other(face.clone()));
+        }
+        Ok(&self.line[self.pos..])
+    }
+
+    fn consume(&mut self, amt: usize) {
+        self.pos = (self.pos + amt).min(self.line.len());
+    }
 }
 
 #[cfg(test)]

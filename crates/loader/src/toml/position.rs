@@ -23,9 +23,13 @@ pub(crate) fn key_before(text: &str, offset: usize) -> Option<&str> {
     let line = &before[before.rfind('\n').map_or(0, |i| i + 1)..];
     let eq = line.rfind('=')?;
     let lhs = line[..eq].trim_end();
+    // The key starts after the last character that cannot be part of a bare key (which may be
+    // several bytes long).
     let start = lhs
-        .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'))
-        .map_or(0, |i| i + 1);
+        .char_indices()
+        .rev()
+        .find(|&(_, c)| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'))
+        .map_or(0, |(i, c)| i + c.len_utf8());
     let key = &lhs[start..];
     (!key.is_empty()).then_some(key)
 }
