@@ -33,14 +33,13 @@ pub fn build(mesh: TriangleMesh) {
     ) else {
         return;
     };
-    if b
-        .add_shape(
-            ShapeGeometry::Mesh(mesh),
-            material,
-            Some(Spectrum::ONE),
-            false,
-        )
-        .is_ok()
+    if b.add_shape(
+        ShapeGeometry::Mesh(mesh),
+        material,
+        Some(Spectrum::ONE),
+        false,
+    )
+    .is_ok()
     {
         let _ = b.build();
     }
