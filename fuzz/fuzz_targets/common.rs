@@ -1,8 +1,8 @@
 //! Shared by the Mitsuba fuzz targets: turns fuzzer bytes into a loader input that cannot
 //! touch the real file system.
 
+use caustica_loader::LoadError;
 use caustica_scene::SceneBuilder;
-use caustica_scene::error::SceneError;
 use std::path::Path;
 
 /// The fuzzed document "lives" in a directory that does not exist, so every relative
@@ -14,7 +14,7 @@ pub const SCENE_PATH: &str = "/nonexistent-caustica-fuzz/scene.xml";
 /// which could name an absolute path (`/dev/zero`, a FIFO, a huge file). `$name` substitution
 /// only concatenates attribute values, so a substituted value starting with `/` needs a raw
 /// value starting with `/`, which is rejected here.
-pub fn parse(data: &[u8]) -> Option<Result<SceneBuilder, SceneError>> {
+pub fn parse(data: &[u8]) -> Option<Result<SceneBuilder, LoadError>> {
     let text = std::str::from_utf8(data).ok()?;
     if let Ok(doc) = roxmltree::Document::parse(text) {
         let absolute = doc
@@ -26,7 +26,7 @@ pub fn parse(data: &[u8]) -> Option<Result<SceneBuilder, SceneError>> {
         }
     }
     let defines = [("fuzz".to_string(), "1".to_string())];
-    Some(caustica_scene::loader::parse_mitsuba(
+    Some(caustica_loader::parse_mitsuba(
         text,
         Path::new(SCENE_PATH),
         &defines,

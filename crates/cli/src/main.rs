@@ -61,7 +61,7 @@ fn main() {
         Command::Photons(args) => photons_cmd::run(args),
         Command::Testbed(args) => testbed_cmd::run(args),
         Command::Scenes => {
-            for name in caustica_scene::loader::builtin_names() {
+            for name in caustica_loader::builtin_names() {
                 println!("{name}");
             }
             Ok(())

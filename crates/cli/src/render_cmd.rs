@@ -3,11 +3,11 @@
 use anyhow::{Context, Result, bail};
 use caustica_core::image_io::Image;
 use caustica_core::sampling::SamplerKind;
+use caustica_loader as loader;
 use caustica_render::{
     Film, IntegratorKind, PathLimits, Progress, RenderControl, RenderOptions, render,
 };
 use caustica_scene::Scene;
-use caustica_scene::loader;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};

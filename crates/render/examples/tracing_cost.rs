@@ -14,10 +14,10 @@
 
 use std::time::{Duration, Instant};
 
+use caustica_loader::builtin_scene;
 use caustica_render::photon::differential::trace_photon_differentials;
 use caustica_render::photon::tracer::{MapKind, trace_photons};
 use caustica_render::{PhotonBudget, RenderOptions, Smoothing};
-use caustica_scene::loader::builtin_scene;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -2,9 +2,9 @@
 //! `water-wave` shows the two caustic bands where geometric optics puts them.
 
 use caustica_core::{Vec2, Vec3};
+use caustica_loader::builtin::{WATER_IOR, WATER_WAVE};
+use caustica_loader::builtin_scene;
 use caustica_render::{IntegratorKind, RenderControl, RenderOptions, render};
-use caustica_scene::loader::builtin::{WATER_IOR, WATER_WAVE};
-use caustica_scene::loader::builtin_scene;
 
 /// Where a vertical ray refracted by the analytic surface at `x` meets the floor y = 0.
 fn landing(x: f64) -> f64 {

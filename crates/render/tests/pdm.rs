@@ -7,6 +7,7 @@ mod common;
 use caustica_core::image_io::Image;
 use caustica_core::{Affine3A, Spectrum, Vec3};
 use caustica_density::kernel::Kernel;
+use caustica_loader::builtin_scene;
 use caustica_render::integrator::photon_mapping::PhotonMaps;
 use caustica_render::photon::caustic::{CAUSTIC_STREAM, CausticEstimate};
 use caustica_render::photon::differential::{
@@ -18,7 +19,6 @@ use caustica_render::{
 };
 use caustica_scene::camera::PerspectiveCamera;
 use caustica_scene::light::{Light, PointLight};
-use caustica_scene::loader::builtin_scene;
 use caustica_scene::material::Material;
 use caustica_scene::{Scene, SceneBuilder};
 use std::f32::consts::FRAC_PI_2;

@@ -6,12 +6,12 @@
 mod common;
 
 use caustica_core::image_io::Image;
+use caustica_loader::builtin_scene;
 use caustica_render::{
     FootprintSettings, IntegratorKind, NormalDistance, PathLimits, PhotonOptions, RenderControl,
     RenderOptions, Smoothing, render,
 };
 use caustica_scene::Scene;
-use caustica_scene::loader::builtin_scene;
 
 /// A built-in scene at `w` × `h` pixels.
 fn small_builtin(name: &str, w: u32, h: u32) -> Scene {

@@ -1,23 +1,11 @@
-//! Errors raised while building or loading a scene.
+//! Errors raised while building a scene (`SceneBuilder`); the loaders in `caustica-loader`
+//! wrap them in their own error type, which adds file positions.
 
-use std::path::PathBuf;
 use thiserror::Error;
 
-/// Every error names what the user must fix; loader errors name the file and, where the parser
-/// knows it, the line and column.
+/// Every error names what the user must fix.
 #[derive(Debug, Error)]
 pub enum SceneError {
-    /// A scene file could not be parsed: `file:line:column: message`.
-    #[error("{path}:{line}:{column}: {message}")]
-    Parse {
-        path: PathBuf,
-        line: usize,
-        column: usize,
-        message: String,
-    },
-    /// A file the scene refers to could not be read.
-    #[error("{path}: {message}")]
-    File { path: PathBuf, message: String },
     /// A parameter is outside its valid range (e.g. IOR ≤ 0, negative radius).
     #[error("invalid parameter: {0}")]
     InvalidParameter(String),

@@ -7,7 +7,8 @@
 //!   [`bsdf::Bsdf`] at a hit from (textured) parameters; [`texture`] evaluates those.
 //! * [`light`] — lights for next-event estimation and for emitting photons.
 //! * [`camera`] — perspective cameras with ray differentials.
-//! * [`scene`] — the assembled, immutable [`Scene`]; [`loader`] builds it from files.
+//! * [`scene`] — the assembled, immutable [`Scene`], put together by a [`SceneBuilder`]; the
+//!   `caustica-loader` crate fills builders from files and holds the built-in scenes.
 //!
 //! # Normal orientation and two-sidedness (the one place these rules are written)
 //!
@@ -33,7 +34,6 @@ pub mod error;
 pub mod geometry;
 pub mod intersection;
 pub mod light;
-pub mod loader;
 pub mod material;
 pub mod scene;
 pub mod shape;

@@ -1,10 +1,10 @@
 use super::*;
-use crate::camera::FovAxis;
-use crate::light::Light;
-use crate::material::{Material, conductor_preset};
-use crate::scene::FilterKind;
-use crate::shape::ShapeGeometry;
-use crate::texture::Texture;
+use caustica_scene::camera::FovAxis;
+use caustica_scene::light::Light;
+use caustica_scene::material::{Material, conductor_preset};
+use caustica_scene::scene::FilterKind;
+use caustica_scene::shape::ShapeGeometry;
+use caustica_scene::texture::Texture;
 
 const CAM: &str = r#"<sensor type="perspective"><float name="fov" value="40"/>
 <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
@@ -13,11 +13,11 @@ fn path() -> PathBuf {
     PathBuf::from("/virtual/dir/scene.xml")
 }
 
-fn parse(body: &str) -> Result<SceneBuilder, SceneError> {
+fn parse(body: &str) -> Result<SceneBuilder, LoadError> {
     parse_defs(body, &[])
 }
 
-fn parse_defs(body: &str, defs: &[(&str, &str)]) -> Result<SceneBuilder, SceneError> {
+fn parse_defs(body: &str, defs: &[(&str, &str)]) -> Result<SceneBuilder, LoadError> {
     let text = format!("<scene version=\"3.0.0\">\n{body}\n</scene>\n");
     let defs: Vec<(String, String)> = defs
         .iter()
@@ -29,13 +29,13 @@ fn parse_defs(body: &str, defs: &[(&str, &str)]) -> Result<SceneBuilder, SceneEr
 /// Expects a parse error at `line` (1-based, the `<scene>` tag is line 1) and `column`
 /// (`None`: any column) whose message contains every word of `words`.
 fn expect_err(
-    r: Result<SceneBuilder, SceneError>,
+    r: Result<SceneBuilder, LoadError>,
     line: usize,
     column: Option<usize>,
     words: &[&str],
 ) {
     match r {
-        Err(SceneError::Parse {
+        Err(LoadError::Parse {
             line: l,
             column: c,
             message,
@@ -303,7 +303,7 @@ fn shapes_convert() {
     // Unknown shape type, missing mesh.
     expect_err(parse(r#"<shape type="teapot"/>"#), 2, Some(14), &["teapot"]);
     match parse(r#"<shape type="obj"><string name="filename" value="meshes/none.obj"/></shape>"#) {
-        Err(SceneError::File { path, .. }) => assert!(path.ends_with("dir/meshes/none.obj")),
+        Err(LoadError::File { path, .. }) => assert!(path.ends_with("dir/meshes/none.obj")),
         Err(e) => panic!("{e}"),
         Ok(_) => panic!("missing mesh accepted"),
     }
@@ -416,7 +416,7 @@ fn sensor_film_sampler_integrator() {
 fn cornell_box_matches_builtin() {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mitsuba/cornell-box.xml");
     let b = load_mitsuba(&file, &[]).unwrap();
-    let reference = crate::loader::builtin_scene("cornell-box").unwrap();
+    let reference = crate::builtin_scene("cornell-box").unwrap();
     assert_eq!(b.shape_count(), reference.shape_count());
     assert_eq!(b.lights().len(), 1);
     assert_eq!(b.settings.spp, Some(64));
@@ -481,7 +481,7 @@ fn malformed_input_names_line_and_column() {
     // Unclosed tag.
     let text = "<scene version=\"3.0.0\">\n  <bsdf type=\"diffuse\">\n</scene>\n";
     match parse_mitsuba(text, &path(), &[]) {
-        Err(SceneError::Parse {
+        Err(LoadError::Parse {
             line,
             column,
             message,
@@ -512,7 +512,7 @@ fn malformed_input_names_line_and_column() {
     );
     expect_err(parse("<bsdf/>"), 2, Some(1), &["type"]);
     match parse_mitsuba("<scene version=\"0.6.0\"/>", &path(), &[]) {
-        Err(SceneError::Parse { message, .. }) => assert!(message.contains("0.6.0")),
+        Err(LoadError::Parse { message, .. }) => assert!(message.contains("0.6.0")),
         other => panic!("{:?}", other.err()),
     }
 }
@@ -567,7 +567,7 @@ fn includes_resolve_and_cycles_fail() {
     )
     .unwrap();
     match load_mitsuba(&dir.join("a.xml"), &[]) {
-        Err(SceneError::Parse {
+        Err(LoadError::Parse {
             path,
             line,
             message,
@@ -599,7 +599,7 @@ fn includes_resolve_and_cycles_fail() {
     }
     std::fs::write(dir.join("chain40.xml"), "<scene version=\"3.0.0\"/>").unwrap();
     match load_mitsuba(&dir.join("chain0.xml"), &[]) {
-        Err(SceneError::Parse { message, .. }) => assert!(message.contains("deeper"), "{message}"),
+        Err(LoadError::Parse { message, .. }) => assert!(message.contains("deeper"), "{message}"),
         other => panic!("{:?}", other.err()),
     }
     std::fs::write(dir.join("chain8.xml"), "<scene version=\"3.0.0\"/>").unwrap();
@@ -612,7 +612,7 @@ fn includes_resolve_and_cycles_fail() {
     .unwrap();
     assert!(matches!(
         load_mitsuba(&dir.join("self.xml"), &[]),
-        Err(SceneError::Parse { .. })
+        Err(LoadError::Parse { .. })
     ));
 }
 
@@ -631,7 +631,7 @@ fn hostile_input_does_not_panic() {
         "<bsdf type=\"twosided\">".repeat(100),
         "</bsdf>".repeat(100)
     );
-    assert!(matches!(parse(&nested), Err(SceneError::Parse { .. })));
+    assert!(matches!(parse(&nested), Err(LoadError::Parse { .. })));
     // Huge and odd values.
     assert!(parse(r#"<shape type="sphere"><float name="radius" value="-1"/></shape>"#).is_err());
     assert!(
@@ -678,7 +678,7 @@ fn bitmap_textures_nested_and_referenced() {
     let missing = r#"<scene version="3.0.0"><texture type="bitmap" id="t"><string name="filename" value="none.png"/></texture></scene>"#;
     assert!(matches!(
         parse_mitsuba(missing, &dir.join("s.xml"), &[]),
-        Err(SceneError::File { .. })
+        Err(LoadError::File { .. })
     ));
 }
 
@@ -815,7 +815,7 @@ fn devices_and_directories_are_not_read() {
     expect_err(parse(&tex), 2, None, &["not a regular file"]);
     // A missing file is still a file error naming the path.
     match parse(r#"<include filename="missing.xml"/>"#) {
-        Err(SceneError::File { path, .. }) => assert!(path.ends_with("missing.xml")),
+        Err(LoadError::File { path, .. }) => assert!(path.ends_with("missing.xml")),
         r => panic!("expected a file error, got {:?}", r.err()),
     }
 }

@@ -2,14 +2,14 @@
 //! Mitsuba's order (each new element pre-multiplies: M = T_new · M_old).
 
 use super::{Doc, Loader};
-use crate::error::SceneError;
-use crate::loader::toml_scene::look_at_transform;
+use crate::error::LoadError;
+use crate::toml::look_at_transform;
 use caustica_core::{Affine3A, Mat3, Mat4, Vec3};
 use glam::Vec4;
 use roxmltree::Node;
 
 /// Parses the children of a `<transform>` element into one matrix.
-pub(super) fn parse_transform(lo: &mut Loader, d: &Doc, node: Node) -> Result<Mat4, SceneError> {
+pub(super) fn parse_transform(lo: &mut Loader, d: &Doc, node: Node) -> Result<Mat4, LoadError> {
     let mut m = Mat4::IDENTITY;
     for c in node.children().filter(|c| c.is_element()) {
         let t = match c.tag_name().name() {
@@ -97,7 +97,7 @@ pub(super) fn parse_transform(lo: &mut Loader, d: &Doc, node: Node) -> Result<Ma
 }
 
 /// `x`, `y`, `z` attributes (each defaulting to `default`) or `value="x y z"`.
-fn vector_attrs(lo: &mut Loader, d: &Doc, c: Node, default: f32) -> Result<Vec3, SceneError> {
+fn vector_attrs(lo: &mut Loader, d: &Doc, c: Node, default: f32) -> Result<Vec3, LoadError> {
     if let Some((v, pos)) = lo.attr(d, c, "value")? {
         return d.vec3(&v, pos);
     }
@@ -111,7 +111,7 @@ fn vector_attrs(lo: &mut Loader, d: &Doc, c: Node, default: f32) -> Result<Vec3,
 }
 
 /// The affine part of `m`; fails if the bottom row is not (0, 0, 0, 1).
-pub(super) fn affine(d: &Doc, pos: usize, m: Mat4) -> Result<Affine3A, SceneError> {
+pub(super) fn affine(d: &Doc, pos: usize, m: Mat4) -> Result<Affine3A, LoadError> {
     if !m.row(3).abs_diff_eq(Vec4::W, 1e-6) {
         return Err(d.err_at(
             pos,

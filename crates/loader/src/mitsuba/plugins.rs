@@ -2,15 +2,16 @@
 
 use super::transform::{affine, is_rigid, uniform_scale};
 use super::{Doc, Loader, MAX_NESTING, Props};
-use crate::camera::{FovAxis, PerspectiveCamera};
-use crate::error::SceneError;
-use crate::light::{DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
-use crate::loader::{load_obj, load_ply};
-use crate::material::{Material, conductor_preset};
-use crate::scene::FilterKind;
-use crate::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
-use crate::texture::{ImageTexture, Texture};
+use crate::MAX_FILM_PIXELS;
+use crate::error::LoadError;
+use crate::{load_obj, load_ply};
 use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
+use caustica_scene::camera::{FovAxis, PerspectiveCamera};
+use caustica_scene::light::{DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
+use caustica_scene::material::{Material, conductor_preset};
+use caustica_scene::scene::FilterKind;
+use caustica_scene::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
+use caustica_scene::texture::{ImageTexture, Texture};
 use roxmltree::Node;
 use std::sync::Arc;
 
@@ -49,7 +50,7 @@ pub fn named_ior(name: &str) -> Option<f32> {
     })
 }
 
-fn ty(lo: &Loader, d: &Doc, n: Node) -> Result<(String, usize), SceneError> {
+fn ty(lo: &Loader, d: &Doc, n: Node) -> Result<(String, usize), LoadError> {
     lo.req_attr(d, n, "type")
 }
 
@@ -60,7 +61,7 @@ fn ior_param(
     p: &mut Props,
     name: &str,
     default: f32,
-) -> Result<f32, SceneError> {
+) -> Result<f32, LoadError> {
     let _ = lo;
     let Some(prop) = p.take(name) else {
         return Ok(default);
@@ -84,7 +85,7 @@ fn ior_param(
 
 /// Roughness: `alpha`, or `alpha_u`/`alpha_v` (anisotropy approximated by √(αu·αv)); and
 /// `distribution` (Beckmann, Mitsuba's default, is approximated by GGX with the same α).
-fn roughness(lo: &mut Loader, d: &Doc, p: &mut Props) -> Result<f32, SceneError> {
+fn roughness(lo: &mut Loader, d: &Doc, p: &mut Props) -> Result<f32, LoadError> {
     let n = p.node;
     match p.string(d, "distribution")? {
         Some((s, _)) if s == "ggx" => {}
@@ -131,7 +132,7 @@ fn conductor_eta_k(
     lo: &mut Loader,
     d: &Doc,
     p: &mut Props,
-) -> Result<Option<(Spectrum, Spectrum)>, SceneError> {
+) -> Result<Option<(Spectrum, Spectrum)>, LoadError> {
     let material = p.string(d, "material")?;
     let eta = p.spectrum(d, "eta")?;
     let k = p.spectrum(d, "k")?;
@@ -154,12 +155,8 @@ fn conductor_eta_k(
     }
 }
 
-/// Largest film (width × height) a scene may ask for: the renderer's film holds about 50 bytes
-/// per pixel, so larger sizes would fail to allocate rather than give an error.
-const MAX_FILM_PIXELS: u64 = 1 << 28;
-
 /// A `<texture type="bitmap">`: `filename` (PNG decoded from sRGB, EXR/PFM linear).
-pub(super) fn bitmap(lo: &mut Loader, d: &Doc, n: Node) -> Result<Texture, SceneError> {
+pub(super) fn bitmap(lo: &mut Loader, d: &Doc, n: Node) -> Result<Texture, LoadError> {
     let (t, tpos) = ty(lo, d, n)?;
     if t != "bitmap" {
         return Err(d.err_at(
@@ -172,7 +169,7 @@ pub(super) fn bitmap(lo: &mut Loader, d: &Doc, n: Node) -> Result<Texture, Scene
         .string(d, "filename")?
         .ok_or_else(|| d.err_at(d.pos(n), "bitmap needs a 'filename' string"))?;
     let path = d.input_file(&file, fpos)?;
-    let img = ImageTexture::load(&path).map_err(|e| SceneError::File {
+    let img = ImageTexture::load(&path).map_err(|e| LoadError::File {
         path: path.clone(),
         message: format!("cannot load texture: {e}"),
     })?;
@@ -203,7 +200,7 @@ fn texture_param(
     d: &Doc,
     p: &mut Props,
     name: &str,
-) -> Result<Option<Texture>, SceneError> {
+) -> Result<Option<Texture>, LoadError> {
     let found = p.children.iter().position(|c| {
         matches!(c.tag_name().name(), "texture" | "ref") && c.attribute("name") == Some(name)
     });
@@ -223,12 +220,7 @@ fn texture_param(
 }
 
 /// Converts a `<bsdf>` element (nesting depth `depth`).
-pub(super) fn bsdf(
-    lo: &mut Loader,
-    d: &Doc,
-    n: Node,
-    depth: usize,
-) -> Result<Material, SceneError> {
+pub(super) fn bsdf(lo: &mut Loader, d: &Doc, n: Node, depth: usize) -> Result<Material, LoadError> {
     if depth > MAX_NESTING {
         return Err(d.err_at(d.pos(n), format!("BSDFs nested deeper than {MAX_NESTING}")));
     }
@@ -401,7 +393,7 @@ pub(super) fn bsdf(
 }
 
 /// Resolves `<ref id=…/>` to a declared BSDF.
-fn bsdf_ref(lo: &Loader, d: &Doc, r: Node) -> Result<(Material, u32), SceneError> {
+fn bsdf_ref(lo: &Loader, d: &Doc, r: Node) -> Result<(Material, u32), LoadError> {
     let (id, pos) = lo.req_attr(d, r, "id")?;
     match lo.bsdfs.get(&id) {
         Some(x) => Ok(x.clone()),
@@ -410,7 +402,7 @@ fn bsdf_ref(lo: &Loader, d: &Doc, r: Node) -> Result<(Material, u32), SceneError
     }
 }
 
-fn to_world(d: &Doc, p: &mut Props) -> Result<Affine3A, SceneError> {
+fn to_world(d: &Doc, p: &mut Props) -> Result<Affine3A, LoadError> {
     match p.transform(d, "to_world")? {
         Some((m, pos)) => affine(d, pos, m),
         None => Ok(Affine3A::IDENTITY),
@@ -445,7 +437,7 @@ pub fn cylinder_mesh(to_world: &Affine3A) -> TriangleMesh {
     m
 }
 
-pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError> {
+pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> {
     let (t, tpos) = ty(lo, d, n)?;
     let mut p = lo.props(d, n)?;
     let m = to_world(d, &mut p)?;
@@ -606,10 +598,10 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError>
         .map_err(|e| d.err_at(d.pos(n), e.to_string()))
 }
 
-pub(super) fn emitter(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError> {
+pub(super) fn emitter(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> {
     let (t, tpos) = ty(lo, d, n)?;
     let mut p = lo.props(d, n)?;
-    let check = |d: &Doc, s: Spectrum, what: &str| -> Result<Spectrum, SceneError> {
+    let check = |d: &Doc, s: Spectrum, what: &str| -> Result<Spectrum, LoadError> {
         if s.min_component() < 0.0 {
             return Err(d.err_at(d.pos(n), format!("{what} must be non-negative")));
         }
@@ -698,7 +690,7 @@ pub(super) fn emitter(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneErro
     Ok(())
 }
 
-pub(super) fn sensor(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError> {
+pub(super) fn sensor(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> {
     let (t, tpos) = ty(lo, d, n)?;
     if t != "perspective" && t != "thinlens" {
         return Err(d.err_at(
@@ -895,7 +887,7 @@ pub(super) fn sensor(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError
     Ok(())
 }
 
-pub(super) fn integrator(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), SceneError> {
+pub(super) fn integrator(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> {
     let (t, _) = ty(lo, d, n)?;
     let mut p = lo.props(d, n)?;
     if let Some(prop) = p.map.get("max_depth").cloned() {

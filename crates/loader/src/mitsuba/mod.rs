@@ -13,9 +13,9 @@ mod plugins;
 mod tests;
 mod transform;
 
-use crate::error::SceneError;
-use crate::scene::SceneBuilder;
+use crate::error::LoadError;
 use caustica_core::{Mat4, Spectrum, Vec3};
+use caustica_scene::scene::SceneBuilder;
 use roxmltree::{Document, Node};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -29,7 +29,7 @@ const MAX_NESTING: usize = 32;
 const MAX_SUBSTITUTED_LEN: usize = 1 << 16;
 
 /// Reads the Mitsuba XML scene at `path`; `defines` (`-D name=value`) override `<default>`s.
-pub fn load_mitsuba(path: &Path, defines: &[(String, String)]) -> Result<SceneBuilder, SceneError> {
+pub fn load_mitsuba(path: &Path, defines: &[(String, String)]) -> Result<SceneBuilder, LoadError> {
     let text = read_text(path, "cannot read scene file")?;
     parse_mitsuba(&text, path, defines)
 }
@@ -40,7 +40,7 @@ pub fn parse_mitsuba(
     text: &str,
     path: &Path,
     defines: &[(String, String)],
-) -> Result<SceneBuilder, SceneError> {
+) -> Result<SceneBuilder, LoadError> {
     let name = path.file_stem().map_or_else(
         || "mitsuba".to_string(),
         |s| s.to_string_lossy().into_owned(),
@@ -75,8 +75,8 @@ pub fn parse_mitsuba(
     Ok(lo.b)
 }
 
-fn read_text(path: &Path, what: &str) -> Result<String, SceneError> {
-    std::fs::read_to_string(path).map_err(|e| SceneError::File {
+fn read_text(path: &Path, what: &str) -> Result<String, LoadError> {
+    std::fs::read_to_string(path).map_err(|e| LoadError::File {
         path: path.to_path_buf(),
         message: format!("{what}: {e}"),
     })
@@ -93,9 +93,9 @@ pub(crate) struct Doc<'a, 'i> {
 }
 
 impl Doc<'_, '_> {
-    fn err_at(&self, pos: usize, message: impl Into<String>) -> SceneError {
+    fn err_at(&self, pos: usize, message: impl Into<String>) -> LoadError {
         let p = self.doc.text_pos_at(pos);
-        SceneError::Parse {
+        LoadError::Parse {
             path: self.path.to_path_buf(),
             line: p.row as usize,
             column: p.col as usize,
@@ -126,7 +126,7 @@ impl Doc<'_, '_> {
     }
     /// `file` resolved relative to this document; it must be an existing regular file, so a
     /// scene cannot make the loader read a device (`/dev/zero`), a FIFO or a directory.
-    fn input_file(&self, file: &str, pos: usize) -> Result<PathBuf, SceneError> {
+    fn input_file(&self, file: &str, pos: usize) -> Result<PathBuf, LoadError> {
         let path = self.resolve(file);
         match std::fs::metadata(&path) {
             Ok(m) if !m.is_file() => {
@@ -137,7 +137,7 @@ impl Doc<'_, '_> {
         }
     }
     /// One finite number (must also be finite in single precision).
-    fn number(&self, s: &str, pos: usize) -> Result<f32, SceneError> {
+    fn number(&self, s: &str, pos: usize) -> Result<f32, LoadError> {
         let t = s.trim();
         let v: f64 = t
             .parse()
@@ -148,13 +148,13 @@ impl Doc<'_, '_> {
         Ok(v as f32)
     }
     /// Numbers separated by spaces and/or commas.
-    fn numbers(&self, s: &str, pos: usize) -> Result<Vec<f32>, SceneError> {
+    fn numbers(&self, s: &str, pos: usize) -> Result<Vec<f32>, LoadError> {
         s.split(|c: char| c == ',' || c.is_whitespace())
             .filter(|t| !t.is_empty())
             .map(|t| self.number(t, pos))
             .collect()
     }
-    fn vec3(&self, s: &str, pos: usize) -> Result<Vec3, SceneError> {
+    fn vec3(&self, s: &str, pos: usize) -> Result<Vec3, LoadError> {
         let n = self.numbers(s, pos)?;
         match n.len() {
             3 => Ok(Vec3::new(n[0], n[1], n[2])),
@@ -196,9 +196,9 @@ pub(crate) struct Loader {
     b: SceneBuilder,
     params: HashMap<String, String>,
     /// BSDFs declared with an `id`: (material, index in the builder).
-    bsdfs: HashMap<String, (crate::material::Material, u32)>,
+    bsdfs: HashMap<String, (caustica_scene::material::Material, u32)>,
     /// Textures declared with an `id` at the top level.
-    textures: HashMap<String, crate::texture::Texture>,
+    textures: HashMap<String, caustica_scene::texture::Texture>,
     /// Every `id` declared so far (all kinds).
     ids: HashSet<String>,
     unsupported: Vec<String>,
@@ -212,7 +212,7 @@ pub(crate) struct Loader {
 
 impl Loader {
     /// Attribute `name` of `n` after `$param` substitution, with the offset of its value.
-    fn attr(&self, d: &Doc, n: Node, name: &str) -> Result<Option<(String, usize)>, SceneError> {
+    fn attr(&self, d: &Doc, n: Node, name: &str) -> Result<Option<(String, usize)>, LoadError> {
         let Some(a) = n.attribute_node(name) else {
             return Ok(None);
         };
@@ -220,7 +220,7 @@ impl Loader {
         Ok(Some((self.substitute(d, a.value(), pos)?, pos)))
     }
 
-    fn req_attr(&self, d: &Doc, n: Node, name: &str) -> Result<(String, usize), SceneError> {
+    fn req_attr(&self, d: &Doc, n: Node, name: &str) -> Result<(String, usize), LoadError> {
         self.attr(d, n, name)?.ok_or_else(|| {
             d.err_at(
                 d.pos(n),
@@ -232,7 +232,7 @@ impl Loader {
         })
     }
 
-    fn substitute(&self, d: &Doc, s: &str, pos: usize) -> Result<String, SceneError> {
+    fn substitute(&self, d: &Doc, s: &str, pos: usize) -> Result<String, LoadError> {
         if !s.contains('$') {
             return Ok(s.to_string());
         }
@@ -280,10 +280,10 @@ impl Loader {
             .push(format!("{} ({})", what.into(), d.loc(n)));
     }
 
-    fn document(&mut self, text: &str, path: &Path) -> Result<(), SceneError> {
+    fn document(&mut self, text: &str, path: &Path) -> Result<(), LoadError> {
         let doc = Document::parse(text).map_err(|e| {
             let p = e.pos();
-            SceneError::Parse {
+            LoadError::Parse {
                 path: path.to_path_buf(),
                 line: p.row as usize,
                 column: p.col as usize,
@@ -316,7 +316,7 @@ impl Loader {
         Ok(())
     }
 
-    fn scene_element(&mut self, d: &Doc, c: Node) -> Result<(), SceneError> {
+    fn scene_element(&mut self, d: &Doc, c: Node) -> Result<(), LoadError> {
         match c.tag_name().name() {
             "default" => {
                 let (name, _) = self.req_attr(d, c, "name")?;
@@ -369,14 +369,14 @@ impl Loader {
         d: &Doc,
         n: Node,
         name: &str,
-        m: crate::material::Material,
-    ) -> Result<u32, SceneError> {
+        m: caustica_scene::material::Material,
+    ) -> Result<u32, LoadError> {
         m.validate().map_err(|e| d.err_at(d.pos(n), e))?;
-        self.b.add_material(name, m)
+        Ok(self.b.add_material(name, m)?)
     }
 
     /// Records the element's `id`; a duplicate id is an error.
-    fn declare_id(&mut self, d: &Doc, n: Node) -> Result<Option<String>, SceneError> {
+    fn declare_id(&mut self, d: &Doc, n: Node) -> Result<Option<String>, LoadError> {
         let Some((id, pos)) = self.attr(d, n, "id")? else {
             return Ok(None);
         };
@@ -386,7 +386,7 @@ impl Loader {
         Ok(Some(id))
     }
 
-    fn include(&mut self, d: &Doc, c: Node) -> Result<(), SceneError> {
+    fn include(&mut self, d: &Doc, c: Node) -> Result<(), LoadError> {
         let (file, pos) = self.req_attr(d, c, "filename")?;
         let path = d.input_file(&file, pos)?;
         if self.include_stack.len() > MAX_INCLUDE_DEPTH {
@@ -408,7 +408,7 @@ impl Loader {
 
     /// Collects the parameters of plugin element `n` (`<float name=… value=…/>`, …), its nested
     /// plugins and `<ref>`s.
-    fn props<'a, 'i>(&mut self, d: &Doc, n: Node<'a, 'i>) -> Result<Props<'a, 'i>, SceneError> {
+    fn props<'a, 'i>(&mut self, d: &Doc, n: Node<'a, 'i>) -> Result<Props<'a, 'i>, LoadError> {
         let ty = n.attribute("type").unwrap_or("");
         let mut p = Props {
             map: HashMap::new(),
@@ -538,7 +538,7 @@ impl Props<'_, '_> {
     fn take(&mut self, name: &str) -> Option<Prop> {
         self.map.remove(name)
     }
-    fn float(&mut self, d: &Doc, name: &str) -> Result<Option<f32>, SceneError> {
+    fn float(&mut self, d: &Doc, name: &str) -> Result<Option<f32>, LoadError> {
         match self.take(name) {
             None => Ok(None),
             Some(Prop {
@@ -550,7 +550,7 @@ impl Props<'_, '_> {
             Some(p) => Err(d.err_at(p.pos, format!("parameter '{name}' must be a float"))),
         }
     }
-    fn int(&mut self, d: &Doc, name: &str) -> Result<Option<i64>, SceneError> {
+    fn int(&mut self, d: &Doc, name: &str) -> Result<Option<i64>, LoadError> {
         match self.take(name) {
             None => Ok(None),
             Some(Prop {
@@ -559,7 +559,7 @@ impl Props<'_, '_> {
             Some(p) => Err(d.err_at(p.pos, format!("parameter '{name}' must be an integer"))),
         }
     }
-    fn bool(&mut self, d: &Doc, name: &str) -> Result<Option<bool>, SceneError> {
+    fn bool(&mut self, d: &Doc, name: &str) -> Result<Option<bool>, LoadError> {
         match self.take(name) {
             None => Ok(None),
             Some(Prop {
@@ -568,7 +568,7 @@ impl Props<'_, '_> {
             Some(p) => Err(d.err_at(p.pos, format!("parameter '{name}' must be a boolean"))),
         }
     }
-    fn string(&mut self, d: &Doc, name: &str) -> Result<Option<(String, usize)>, SceneError> {
+    fn string(&mut self, d: &Doc, name: &str) -> Result<Option<(String, usize)>, LoadError> {
         match self.take(name) {
             None => Ok(None),
             Some(Prop {
@@ -579,7 +579,7 @@ impl Props<'_, '_> {
         }
     }
     /// An `rgb`, `spectrum` or `float` (grey) value.
-    fn spectrum(&mut self, d: &Doc, name: &str) -> Result<Option<Spectrum>, SceneError> {
+    fn spectrum(&mut self, d: &Doc, name: &str) -> Result<Option<Spectrum>, LoadError> {
         match self.take(name) {
             None => Ok(None),
             Some(Prop {
@@ -597,7 +597,7 @@ impl Props<'_, '_> {
             )),
         }
     }
-    fn vector(&mut self, d: &Doc, name: &str) -> Result<Option<Vec3>, SceneError> {
+    fn vector(&mut self, d: &Doc, name: &str) -> Result<Option<Vec3>, LoadError> {
         match self.take(name) {
             None => Ok(None),
             Some(Prop {
@@ -610,7 +610,7 @@ impl Props<'_, '_> {
             )),
         }
     }
-    fn transform(&mut self, d: &Doc, name: &str) -> Result<Option<(Mat4, usize)>, SceneError> {
+    fn transform(&mut self, d: &Doc, name: &str) -> Result<Option<(Mat4, usize)>, LoadError> {
         match self.take(name) {
             None => Ok(None),
             Some(Prop {

@@ -3,27 +3,32 @@
 //! `vertex_index` lists, polygons triangulated as fans. [`to_ascii_ply`] writes a mesh back
 //! (the procedural meshes of `scenes/meshes/`).
 
-use crate::error::SceneError;
-use crate::shape::TriangleMesh;
+use crate::error::LoadError;
 use caustica_core::{Vec2, Vec3};
+use caustica_scene::shape::TriangleMesh;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Property};
+use std::io::BufRead;
 use std::path::Path;
 
-fn file_err(path: &Path, message: impl Into<String>) -> SceneError {
-    SceneError::File {
+fn file_err(path: &Path, message: impl Into<String>) -> LoadError {
+    LoadError::File {
         path: path.to_path_buf(),
         message: message.into(),
     }
 }
 
 /// Loads `path` as a [`TriangleMesh`].
-pub fn load_ply(path: &Path) -> Result<TriangleMesh, SceneError> {
+pub fn load_ply(path: &Path) -> Result<TriangleMesh, LoadError> {
     let file = std::fs::File::open(path)
         .map_err(|e| file_err(path, format!("cannot open PLY file: {e}")))?;
-    let mut reader = std::io::BufReader::new(file);
+    parse_ply(&mut std::io::BufReader::new(file), path)
+}
+
+/// As [`load_ply`], reading the PLY data from `reader`; `path` only names errors.
+pub fn parse_ply(reader: &mut impl BufRead, path: &Path) -> Result<TriangleMesh, LoadError> {
     let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut reader)
+        .read_ply(reader)
         .map_err(|e| file_err(path, format!("malformed PLY file: {e}")))?;
     let vertices = ply
         .payload
@@ -186,9 +191,9 @@ mod tests {
 
     #[test]
     fn ascii_writer_round_trips_bit_for_bit() {
-        let mut m = crate::shape::TriangleMesh::cube(&caustica_core::Affine3A::from_scale(
-            Vec3::new(0.1, 1.0 / 3.0, 7.25e-9),
-        ));
+        let mut m = caustica_scene::shape::TriangleMesh::cube(
+            &caustica_core::Affine3A::from_scale(Vec3::new(0.1, 1.0 / 3.0, 7.25e-9)),
+        );
         m.normals = Some(
             m.positions
                 .iter()

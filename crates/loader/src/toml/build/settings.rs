@@ -1,0 +1,45 @@
+//! `[render]` and `[film]`: the scene's settings (sample count, path depth, pixel filter).
+
+use super::fields::check_fields;
+use crate::error::LoadError;
+use crate::toml::context::Ctx;
+use crate::toml::desc::film::{FilmDesc, FilterType};
+use crate::toml::desc::render::RenderDesc;
+use ::toml::Spanned;
+use caustica_scene::scene::{FilterKind, SceneSettings};
+
+pub(crate) fn settings(
+    cx: &Ctx,
+    render: Option<&RenderDesc>,
+    film: Option<&Spanned<FilmDesc>>,
+) -> Result<SceneSettings, LoadError> {
+    let mut settings = SceneSettings::default();
+    if let Some(r) = render {
+        settings.spp = r.spp.map(|x| x.0);
+        settings.max_depth = r.max_depth.map(|x| x.0);
+    }
+    if let Some(f) = film {
+        let span = f.span();
+        let f = f.get_ref();
+        settings.filter = match f.filter {
+            FilterType::Box => {
+                check_fields(
+                    cx,
+                    &span,
+                    "the box filter",
+                    &[
+                        ("stddev", f.stddev.is_some()),
+                        ("radius", f.radius.is_some()),
+                    ],
+                    &[],
+                )?;
+                FilterKind::Box
+            }
+            FilterType::Gaussian => FilterKind::Gaussian {
+                stddev: f.stddev.map_or(0.5, |x| x.0),
+                radius: f.radius.map_or(2.0, |x| x.0),
+            },
+        };
+    }
+    Ok(settings)
+}

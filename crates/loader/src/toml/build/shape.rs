@@ -1,0 +1,131 @@
+//! Shapes: meshes from files or inline arrays, spheres, disks, rectangles and cubes, with their
+//! material, emission and orientation.
+
+use super::fields::check_fields;
+use super::transform::{shape_transform, similarity_scale};
+use crate::error::LoadError;
+use crate::toml::context::Ctx;
+use crate::toml::desc::shape::{ShapeDesc, ShapeType};
+use ::toml::Spanned;
+use caustica_core::{Spectrum, Vec2, Vec3};
+use caustica_scene::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
+
+/// A shape ready for `SceneBuilder::add_shape`: geometry, material index, emission, flip.
+pub(crate) type ShapeEntry = (ShapeGeometry, u32, Option<Spectrum>, bool);
+
+pub(crate) fn shape(
+    cx: &Ctx,
+    s: &Spanned<ShapeDesc>,
+    material_names: &[String],
+) -> Result<ShapeEntry, LoadError> {
+    let span = s.span();
+    let s = s.get_ref();
+    let what = format!("a {:?} shape", s.ty).to_lowercase();
+    let present = [
+        ("filename", s.filename.is_some()),
+        ("center", s.center.is_some()),
+        ("radius", s.radius.is_some()),
+        ("normal", s.normal.is_some()),
+        ("positions", s.positions.is_some()),
+        ("indices", s.indices.is_some()),
+        ("normals", s.normals.is_some()),
+        ("uvs", s.uvs.is_some()),
+    ];
+    let allowed: &[&str] = match s.ty {
+        ShapeType::Obj | ShapeType::Ply => &["filename"],
+        ShapeType::Sphere => &["center", "radius"],
+        ShapeType::Disk => &["center", "radius", "normal"],
+        ShapeType::Rectangle | ShapeType::Cube => &[],
+        ShapeType::Mesh => &["positions", "indices", "normals", "uvs"],
+    };
+    check_fields(cx, &span, &what, &present, allowed)?;
+    let material = material_names
+        .iter()
+        .rposition(|n| *n == s.material)
+        .ok_or_else(|| {
+            cx.err(
+                span.clone(),
+                format!("field 'material': no material named '{}'", s.material),
+            )
+        })? as u32;
+    let t = shape_transform(cx, &span, s)?;
+    let similarity = || {
+        similarity_scale(&t).ok_or_else(|| {
+            cx.err(
+                span.clone(),
+                format!("{what} only accepts rotations, translations and uniform scales"),
+            )
+        })
+    };
+    let need_file = || {
+        s.filename
+            .as_deref()
+            .ok_or_else(|| cx.err(span.clone(), format!("{what} needs 'filename'")))
+            .and_then(|f| cx.input_file(f, &span))
+    };
+    let geometry = match s.ty {
+        ShapeType::Obj => {
+            let mut m = crate::obj::load_obj(&need_file()?)?;
+            m.transform(&t);
+            ShapeGeometry::Mesh(m)
+        }
+        ShapeType::Ply => {
+            let mut m = crate::ply::load_ply(&need_file()?)?;
+            m.transform(&t);
+            ShapeGeometry::Mesh(m)
+        }
+        ShapeType::Rectangle => ShapeGeometry::Mesh(TriangleMesh::rectangle(&t)),
+        ShapeType::Cube => ShapeGeometry::Mesh(TriangleMesh::cube(&t)),
+        ShapeType::Sphere => {
+            let k = similarity()?;
+            ShapeGeometry::Sphere(Sphere {
+                center: t.transform_point3(s.center.map_or(Vec3::ZERO, |c| c.0)),
+                radius: s.radius.map_or(1.0, |r| r.0) * k,
+            })
+        }
+        ShapeType::Disk => {
+            let k = similarity()?;
+            let n = s
+                .normal
+                .map_or(Vec3::Z, |n| n.0)
+                .try_normalize()
+                .ok_or_else(|| cx.err(span.clone(), "field 'normal': must be non-zero"))?;
+            ShapeGeometry::Disk(Disk {
+                center: t.transform_point3(s.center.map_or(Vec3::ZERO, |c| c.0)),
+                normal: t.transform_vector3(n).normalize(),
+                radius: s.radius.map_or(1.0, |r| r.0) * k,
+            })
+        }
+        ShapeType::Mesh => {
+            let (Some(p), Some(i)) = (&s.positions, &s.indices) else {
+                return Err(cx.err(span, "a mesh shape needs 'positions' and 'indices'"));
+            };
+            let n = p.len();
+            if s.normals.as_ref().is_some_and(|v| v.len() != n)
+                || s.uvs.as_ref().is_some_and(|v| v.len() != n)
+            {
+                return Err(cx.err(
+                    span,
+                    "mesh: 'normals' and 'uvs' need one entry per position",
+                ));
+            }
+            let mut m = TriangleMesh {
+                positions: p.iter().map(|v| v.0).collect(),
+                normals: s.normals.as_ref().map(|v| v.iter().map(|x| x.0).collect()),
+                uvs: s
+                    .uvs
+                    .as_ref()
+                    .map(|v| v.iter().map(|x| Vec2::from(*x)).collect()),
+                indices: i.clone(),
+            };
+            m.transform(&t);
+            ShapeGeometry::Mesh(m)
+        }
+    };
+    Ok((
+        geometry,
+        material,
+        s.emission.map(|e| e.0),
+        s.flip_normals.unwrap_or(false),
+    ))
+}

@@ -1,0 +1,35 @@
+//! `[[material]]`.
+
+use super::texture::TexDesc;
+use crate::toml::value::{NonNeg, Positive, Rgb};
+use serde::Deserialize;
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Debug)]
+#[serde(rename_all = "lowercase")]
+pub(crate) enum MaterialType {
+    Diffuse,
+    Mirror,
+    Dielectric,
+    Conductor,
+    RoughConductor,
+    RoughDielectric,
+    Phong,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MaterialDesc {
+    pub(crate) name: String,
+    #[serde(rename = "type")]
+    pub(crate) ty: MaterialType,
+    pub(crate) reflectance: Option<TexDesc>,
+    pub(crate) ior: Option<Positive>,
+    pub(crate) absorption: Option<Rgb>,
+    pub(crate) eta: Option<Rgb>,
+    pub(crate) k: Option<Rgb>,
+    pub(crate) preset: Option<String>,
+    pub(crate) specular: Option<Rgb>,
+    pub(crate) alpha: Option<Positive>,
+    pub(crate) diffuse: Option<TexDesc>,
+    pub(crate) exponent: Option<NonNeg>,
+}

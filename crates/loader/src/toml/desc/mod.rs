@@ -1,0 +1,36 @@
+//! Descriptions: what each section of a TOML scene file deserialises to, before it is checked
+//! against the other fields and converted (`super::build`).
+
+pub(crate) mod camera;
+pub(crate) mod film;
+pub(crate) mod light;
+pub(crate) mod material;
+pub(crate) mod render;
+pub(crate) mod shape;
+pub(crate) mod texture;
+pub(crate) mod transform;
+
+use ::toml::Spanned;
+use camera::CameraDesc;
+use film::FilmDesc;
+use light::LightDesc;
+use material::MaterialDesc;
+use render::RenderDesc;
+use serde::Deserialize;
+use shape::ShapeDesc;
+
+/// The whole file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SceneFile {
+    pub(crate) name: Option<String>,
+    pub(crate) camera: Spanned<CameraDesc>,
+    pub(crate) film: Option<Spanned<FilmDesc>>,
+    pub(crate) render: Option<RenderDesc>,
+    #[serde(default)]
+    pub(crate) material: Vec<Spanned<MaterialDesc>>,
+    #[serde(default)]
+    pub(crate) shape: Vec<Spanned<ShapeDesc>>,
+    #[serde(default)]
+    pub(crate) light: Vec<Spanned<LightDesc>>,
+}

@@ -1,0 +1,39 @@
+//! `[[shape]]`.
+
+use super::transform::{RotateList, ScaleDesc};
+use crate::toml::value::{Matrix, Positive, Rgb, V3};
+use serde::Deserialize;
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Debug)]
+#[serde(rename_all = "lowercase")]
+pub(crate) enum ShapeType {
+    Obj,
+    Ply,
+    Sphere,
+    Disk,
+    Rectangle,
+    Cube,
+    Mesh,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ShapeDesc {
+    #[serde(rename = "type")]
+    pub(crate) ty: ShapeType,
+    pub(crate) material: String,
+    pub(crate) emission: Option<Rgb>,
+    pub(crate) flip_normals: Option<bool>,
+    pub(crate) filename: Option<String>,
+    pub(crate) center: Option<V3>,
+    pub(crate) radius: Option<Positive>,
+    pub(crate) normal: Option<V3>,
+    pub(crate) positions: Option<Vec<V3>>,
+    pub(crate) indices: Option<Vec<[u32; 3]>>,
+    pub(crate) normals: Option<Vec<V3>>,
+    pub(crate) uvs: Option<Vec<[f32; 2]>>,
+    pub(crate) translate: Option<V3>,
+    pub(crate) rotate: Option<RotateList>,
+    pub(crate) scale: Option<ScaleDesc>,
+    pub(crate) matrix: Option<Matrix>,
+}

@@ -1,0 +1,96 @@
+//! The caustica TOML scene format (documented in `docs/scene-format.md`).
+//!
+//! Parsing happens in two passes: the file is deserialised with serde (values are range-checked
+//! while deserialising, so errors carry the line and column of the offending value), then every
+//! camera, material, shape and light is converted and validated, and only then added to a
+//! [`SceneBuilder`].
+//!
+//! * value parsing: `position` (byte spans → line and column), `context` (the file being read:
+//!   `file:line:column` errors, relative paths), `value` (typed field readers that check ranges
+//!   while deserialising);
+//! * `desc`: the description each section deserialises to, one file per section;
+//! * `build`: descriptions checked and turned into camera, settings, textures, materials, shape
+//!   transforms, shapes and lights, one file each.
+
+mod build;
+mod context;
+mod desc;
+mod position;
+mod value;
+
+pub use build::camera::look_at_transform;
+pub use position::line_column;
+
+use crate::error::LoadError;
+use build::camera::camera;
+use build::light::light;
+use build::material::material;
+use build::settings::settings;
+use build::shape::shape;
+use caustica_scene::scene::SceneBuilder;
+use context::Ctx;
+use desc::SceneFile;
+use std::path::{Path, PathBuf};
+
+/// Parses the TOML scene `text` (read from `path`, which names errors and anchors relative
+/// file names) into a [`SceneBuilder`].
+pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadError> {
+    let cx = Ctx {
+        text,
+        path,
+        dir: path
+            .parent()
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+        textures: Default::default(),
+    };
+    let file: SceneFile = ::toml::from_str(text).map_err(|e| cx.toml_err(e))?;
+
+    // Pass 1: convert and validate everything.
+    let camera = camera(&cx, &file.camera)?;
+    let settings = settings(&cx, file.render.as_ref(), file.film.as_ref())?;
+    let mut materials = Vec::with_capacity(file.material.len());
+    let mut names: Vec<String> = Vec::new();
+    for m in &file.material {
+        let name = &m.get_ref().name;
+        if names.contains(name) {
+            return Err(cx.err(
+                m.span(),
+                format!("a material named '{name}' already exists"),
+            ));
+        }
+        materials.push(material(&cx, m)?);
+        names.push(name.clone());
+    }
+    let shapes = file
+        .shape
+        .iter()
+        .map(|s| shape(&cx, s, &names))
+        .collect::<Result<Vec<_>, _>>()?;
+    let lights = file
+        .light
+        .iter()
+        .map(|l| light(&cx, l))
+        .collect::<Result<Vec<_>, _>>()?;
+
+    // Pass 2: assemble.
+    let name = file.name.unwrap_or_else(|| {
+        path.file_stem()
+            .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned())
+    });
+    let mut b = SceneBuilder::new(name);
+    b.settings = settings;
+    b.set_camera(camera);
+    for (n, m) in names.iter().zip(materials) {
+        b.add_material(n, m)?;
+    }
+    for (g, m, e, flip) in shapes {
+        b.add_shape(g, m, e, flip)?;
+    }
+    for l in lights {
+        b.add_light(l);
+    }
+    Ok(b)
+}
+
+#[cfg(test)]
+mod tests;
