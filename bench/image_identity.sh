@@ -51,7 +51,7 @@ report=$out/report.md
     echo
     echo "Base: \`$BASE_BIN\` ($("$BASE_BIN" --version 2>/dev/null || echo '?'))"
     echo "New: \`$NEW_BIN\`"
-    echo "Settings: \`${common[*]}\`, Mitsuba scenes with \`${mitsuba_defs[*]}\`; photon counts per"
+    echo "Settings: \`${common[*]}\`, Mitsuba scenes with those of \`${mitsuba_defs[*]}\` they declare; photon counts per"
     echo "integrator as in \`bench/image_identity.sh\`. Date: $(date -u +%F)."
     echo
     echo "| scene | integrator | result (the mean tells a real image from a black one) |"
@@ -62,7 +62,16 @@ differ=0
 for s in "${scenes[@]}"; do
     name=$s
     defs=()
-    case $s in *.xml) name=mitsuba/$(basename "$s" .xml) defs=("${mitsuba_defs[@]}") ;; esac
+    case $s in
+        *.xml)
+            name=mitsuba/$(basename "$s" .xml)
+            # Only the parameters this scene declares (-D of any other name is an error).
+            for d in "${mitsuba_defs[@]}"; do
+                [ "$d" = -D ] && continue
+                grep -q "<default name=\"${d%%=*}\"" "$s" && defs+=(-D "$d")
+            done
+            ;;
+    esac
     for i in "${integrators[@]}"; do
         tag="${name//\//-}-$i"
         args=(render "$s" --integrator "$i" "${common[@]}" "${defs[@]}" $(photon_opts "$i"))

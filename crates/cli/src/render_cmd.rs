@@ -215,6 +215,11 @@ pub fn load(scene: Option<&str>, defines: &[(String, String)]) -> Result<Scene> 
         loader::parse_scene_file_with_defines(path, defines)
             .with_context(|| format!("cannot load scene {}", path.display()))?
     } else {
+        if let Some((d, _)) = defines.first() {
+            bail!(
+                "-D {d}: the built-in scene '{name}' has no parameters (-D sets a Mitsuba scene's <default> parameters)"
+            );
+        }
         loader::builtin_scene(name).with_context(|| {
             format!(
                 "'{name}' is neither a scene file nor a built-in scene ({})",

@@ -228,7 +228,7 @@ fn mitsuba_xml_scene_renders_with_defines() {
         "1",
         "-q",
         "-D",
-        "unused=1",
+        "res=32",
         "-o",
         out.to_str().unwrap(),
     ]);
@@ -580,4 +580,29 @@ fn the_path_tracer_warns_once_where_it_cannot_see_the_caustic() {
     // An area light and diffuse walls, or a method that sees the caustic: none.
     assert_eq!(run("cornell-box", "path"), 0);
     assert_eq!(run("glass-sphere", "pm"), 0);
+}
+
+#[test]
+fn a_define_the_scene_does_not_declare_is_an_error_listing_those_it_does() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let xml = root.join("scenes/mitsuba/cornell-box.xml");
+    let toml = root.join("scenes/cornell-box.toml");
+    let out = tmp("defines.exr");
+    let out = out.to_str().unwrap();
+    let render =
+        |scene: &str, d: &str| caustica(&["render", scene, "-D", d, "--spp", "1", "-q", "-o", out]);
+    // Declared: accepted.
+    let o = render(xml.to_str().unwrap(), "spp=1");
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A typo: refused, naming the name and the scene's parameters.
+    assert_clean_failure(
+        &render(xml.to_str().unwrap(), "sp=1"),
+        &["-D sp", "no parameter 'sp'", "spp"],
+    );
+    // TOML and built-in scenes have no parameters.
+    assert_clean_failure(
+        &render(toml.to_str().unwrap(), "spp=1"),
+        &["-D spp", "TOML"],
+    );
+    assert_clean_failure(&render("cornell-box", "spp=1"), &["-D spp", "built-in"]);
 }

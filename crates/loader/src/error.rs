@@ -16,6 +16,14 @@ pub enum LoadError {
         column: usize,
         message: String,
     },
+    /// `-D name=…` for a parameter the scene neither declares (`<default>`) nor uses (`$name`).
+    #[error("{path}: -D {name}: the scene has no parameter '{name}' ({declared})")]
+    UnknownParameter {
+        path: PathBuf,
+        name: String,
+        /// "its parameters are: a, b" or "it has none".
+        declared: String,
+    },
     /// A file the scene refers to could not be read.
     #[error("{path}: {message}")]
     File { path: PathBuf, message: String },

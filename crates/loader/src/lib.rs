@@ -38,7 +38,8 @@ pub fn parse_scene_file(path: &Path) -> Result<SceneBuilder, LoadError> {
 }
 
 /// As [`parse_scene_file`]; `defines` (`-D name=value`) override a Mitsuba scene's `<default>`
-/// parameters and are ignored by TOML scenes.
+/// parameters; a name the scene neither declares nor uses, or any `-D` on a TOML scene, is an
+/// error ([`LoadError::UnknownParameter`]).
 pub fn parse_scene_file_with_defines(
     path: &Path,
     defines: &[(String, String)],
@@ -48,6 +49,14 @@ pub fn parse_scene_file_with_defines(
         .is_some_and(|e| e.eq_ignore_ascii_case("xml"));
     if is_xml {
         return load_mitsuba(path, defines);
+    }
+    if let Some((name, _)) = defines.first() {
+        return Err(LoadError::UnknownParameter {
+            path: path.to_path_buf(),
+            name: name.clone(),
+            declared: "-D sets a Mitsuba scene's <default> parameters; a TOML scene has none"
+                .to_string(),
+        });
     }
     let text = std::fs::read_to_string(path).map_err(|e| LoadError::File {
         path: path.to_path_buf(),

@@ -48,6 +48,7 @@ pub fn parse_mitsuba(
     let mut lo = Loader {
         b: SceneBuilder::new(name),
         params: defines.iter().cloned().collect(),
+        known: Default::default(),
         bsdfs: HashMap::new(),
         textures: HashMap::new(),
         ids: HashSet::new(),
@@ -59,6 +60,19 @@ pub fn parse_mitsuba(
         anonymous: 0,
     };
     lo.document(text, path)?;
+    let known = lo.known.take();
+    if let Some((name, _)) = defines.iter().find(|(n, _)| !known.contains(n)) {
+        let names: Vec<&str> = known.iter().map(String::as_str).collect();
+        return Err(LoadError::UnknownParameter {
+            path: path.to_path_buf(),
+            name: name.clone(),
+            declared: if names.is_empty() {
+                "it has none".to_string()
+            } else {
+                format!("its parameters are: {}", names.join(", "))
+            },
+        });
+    }
     if !lo.unsupported.is_empty() {
         lo.b.warnings.push(format!(
             "Mitsuba scene: ignored {} unsupported element(s): {}",
@@ -195,6 +209,9 @@ pub(crate) struct Props<'a, 'i> {
 pub(crate) struct Loader {
     b: SceneBuilder,
     params: HashMap<String, String>,
+    /// Parameters the scene declares (`<default>`) or uses (`$name`), so that a `-D` for any
+    /// other name is an error rather than silently ignored.
+    known: std::cell::RefCell<std::collections::BTreeSet<String>>,
     /// BSDFs declared with an `id`: (material, index in the builder).
     bsdfs: HashMap<String, (caustica_scene::material::Material, u32)>,
     /// Textures declared with an `id` at the top level.
@@ -248,6 +265,7 @@ impl Loader {
             if key.is_empty() {
                 out.push('$');
             } else {
+                self.known.borrow_mut().insert(key.to_string());
                 match self.params.get(key) {
                     Some(v) if out.len() + v.len() > MAX_SUBSTITUTED_LEN => {
                         return Err(d.err_at(
@@ -321,6 +339,7 @@ impl Loader {
             "default" => {
                 let (name, _) = self.req_attr(d, c, "name")?;
                 let (value, _) = self.req_attr(d, c, "value")?;
+                self.known.borrow_mut().insert(name.clone());
                 self.params.entry(name).or_insert(value);
             }
             "include" => self.include(d, c)?,
