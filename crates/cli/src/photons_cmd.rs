@@ -39,7 +39,7 @@ pub struct PhotonsArgs {
 pub fn run(args: PhotonsArgs) -> Result<()> {
     let defines = crate::render_cmd::parse_defines(&args.define)?;
     crate::render_cmd::check_writable(&args.output)?;
-    let scene = load(args.scene.as_deref(), &defines)?;
+    let scene = load(args.scene.as_deref(), &defines, Default::default())?;
     IntegratorKind::PhotonMapping.check_scene(&scene)?;
     let max_depth = match args.max_depth {
         -1 => u32::MAX,

@@ -56,6 +56,13 @@ pub struct RenderSettings {
     /// light tracer and photon mapping without the noise of other light (lighttrace, pm, dpm, pdm).
     #[arg(long)]
     pub caustics_only: bool,
+    /// Image width in pixels, overriding the scene's (any scene kind). Alone, the height
+    /// follows to keep the aspect ratio; the field of view is kept along the scene's fov axis.
+    #[arg(long, allow_negative_numbers = true)]
+    pub width: Option<u32>,
+    /// Image height in pixels, overriding the scene's (alone: the width follows).
+    #[arg(long, allow_negative_numbers = true)]
+    pub height: Option<u32>,
     /// Memory budget in GB (default: three quarters of the physical memory): a render whose
     /// estimated allocations exceed it is refused before it starts, with the figure and the
     /// option that lowers it (a positive finite number).
@@ -113,7 +120,11 @@ impl RenderSettings {
     /// Loads the scene (with the `-D` definitions) and prints its warnings.
     pub fn load_scene(&self) -> Result<Scene> {
         let defines = parse_defines(&self.define)?;
-        let scene = load(self.scene.as_deref(), &defines)?;
+        let size = Resolution {
+            width: self.width,
+            height: self.height,
+        };
+        let scene = load(self.scene.as_deref(), &defines, size)?;
         for w in &scene.warnings {
             eprintln!("warning: {w}");
         }
@@ -207,8 +218,42 @@ fn physical_memory() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// Loads a scene given as a path or built-in name; `defines` override Mitsuba `<default>`s.
-pub fn load(scene: Option<&str>, defines: &[(String, String)]) -> Result<Scene> {
+/// Image size overrides (`--width`, `--height`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Resolution {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+}
+
+impl Resolution {
+    /// The size of a `w` × `h` image with these overrides: one given, the other follows the
+    /// aspect ratio (rounded, at least 1); checked against the loaders' film limit.
+    pub fn apply(self, w: u32, h: u32) -> Result<(u32, u32)> {
+        let follow = |given: u32, from: u32, to: u32| {
+            ((given as f64 * to as f64 / from.max(1) as f64).round() as u32).max(1)
+        };
+        let (nw, nh) = match (self.width, self.height) {
+            (None, None) => return Ok((w, h)),
+            (Some(nw), None) => (nw, follow(nw, w, h)),
+            (None, Some(nh)) => (follow(nh, h, w), nh),
+            (Some(nw), Some(nh)) => (nw, nh),
+        };
+        if nw == 0 || nh == 0 {
+            bail!("--width and --height must be at least 1, got {nw}x{nh}");
+        }
+        if u64::from(nw) * u64::from(nh) > loader::MAX_FILM_PIXELS {
+            bail!(
+                "an image of {nw}x{nh} pixels is too large (at most {} pixels, e.g. 16384x16384)",
+                loader::MAX_FILM_PIXELS
+            );
+        }
+        Ok((nw, nh))
+    }
+}
+
+/// Loads a scene given as a path or built-in name; `defines` override Mitsuba `<default>`s,
+/// `size` the image size.
+pub fn load(scene: Option<&str>, defines: &[(String, String)], size: Resolution) -> Result<Scene> {
     let name = scene.unwrap_or(loader::DEFAULT_SCENE);
     let path = Path::new(name);
     let builder = if path.extension().is_some() || path.exists() {
@@ -227,6 +272,15 @@ pub fn load(scene: Option<&str>, defines: &[(String, String)]) -> Result<Scene> 
             )
         })?
     };
+    let mut builder = builder;
+    if let Some(camera) = builder.camera() {
+        let (w, h) = size.apply(camera.width, camera.height)?;
+        if (w, h) != (camera.width, camera.height) {
+            let mut camera = camera.clone();
+            (camera.width, camera.height) = (w, h);
+            builder.set_camera(camera);
+        }
+    }
     builder
         .build()
         .with_context(|| format!("cannot build scene '{name}'"))

@@ -606,3 +606,40 @@ fn a_define_the_scene_does_not_declare_is_an_error_listing_those_it_does() {
     );
     assert_clean_failure(&render("cornell-box", "spp=1"), &["-D spp", "built-in"]);
 }
+
+#[test]
+fn width_and_height_override_every_scene_kind() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = tmp("size.exr");
+    let o_str = out.to_str().unwrap();
+    let size = |scene: &str, extra: &[&str]| {
+        let mut args = vec!["render", scene, "--spp", "1", "-q", "-o", o_str];
+        args.extend_from_slice(extra);
+        let o = caustica(&args);
+        assert!(o.status.success(), "{scene} {extra:?}: {}", stderr(&o));
+        let img = Image::read(&out).unwrap();
+        (img.width, img.height)
+    };
+    let toml = root.join("scenes/cornell-box.toml");
+    let xml = root.join("scenes/mitsuba/glass-sphere-point.xml");
+    // Built-in 256×256: the other side follows the aspect ratio.
+    assert_eq!(size("cornell-box", &["--width", "40"]), (40, 40));
+    assert_eq!(size(toml.to_str().unwrap(), &["--height", "24"]).1, 24);
+    // Mitsuba 256×192: 64 wide is 48 high; both given, both taken.
+    assert_eq!(size(xml.to_str().unwrap(), &["--width", "64"]), (64, 48));
+    assert_eq!(
+        size(xml.to_str().unwrap(), &["--width", "30", "--height", "10"]),
+        (30, 10)
+    );
+    for bad in [["--width", "0"], ["--height", "-3"]] {
+        let mut args = vec!["render", "--spp", "1", "-q", "-o", o_str];
+        args.extend_from_slice(&bad);
+        assert_clean_failure(&caustica(&args), &[bad[0]]);
+    }
+    assert_clean_failure(
+        &caustica(&[
+            "render", "--width", "100000", "--height", "100000", "-o", o_str,
+        ]),
+        &["too large", "268435456"],
+    );
+}
