@@ -151,31 +151,48 @@ fn nan_and_degenerate_triangles_are_skipped_with_a_warning() {
     );
 }
 
-#[test]
-fn interrupt_writes_the_image_so_far() {
-    let out = tmp("interrupted.exr");
-    let _ = std::fs::remove_file(&out);
-    let child = Command::new(env!("CARGO_BIN_EXE_caustica"))
-        .args([
-            "render",
-            "cornell-box",
-            "--spp",
-            "1000000",
-            "-q",
-            "-o",
-            out.to_str().unwrap(),
-        ])
+/// Starts `caustica args`, sends it Ctrl-C (SIGINT) after `after_ms`, and returns its output
+/// and the seconds it took to exit after the signal; a process still running `deadline` s
+/// after the signal is killed and fails the test instead of hanging it.
+fn interrupt(args: &[&str], after_ms: u64, deadline: f64) -> (std::process::Output, f64) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_caustica"))
+        .args(args)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(1500));
+    std::thread::sleep(std::time::Duration::from_millis(after_ms));
+    let sent = std::time::Instant::now();
     let killed = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .unwrap();
     assert!(killed.success());
-    let o = child.wait_with_output().unwrap();
+    while child.try_wait().unwrap().is_none() {
+        if sent.elapsed().as_secs_f64() > deadline {
+            let _ = child.kill();
+            panic!("{args:?}: still running {deadline} s after Ctrl-C");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let waited = sent.elapsed().as_secs_f64();
+    (child.wait_with_output().unwrap(), waited)
+}
+
+#[test]
+fn interrupt_writes_the_image_so_far() {
+    let out = tmp("interrupted.exr");
+    let _ = std::fs::remove_file(&out);
+    let args = [
+        "render",
+        "cornell-box",
+        "--spp",
+        "1000000",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    let (o, _) = interrupt(&args, 1500, 60.0);
     assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
     assert!(Path::new(&out).exists(), "no image written after Ctrl-C");
     let img = caustica_core::image_io::Image::read(&out).unwrap();
@@ -476,44 +493,23 @@ fn interrupting_the_photon_pass_writes_an_image_of_the_photons_so_far() {
     for kind in ["pm", "dpm", "pdm", "pds"] {
         let out = tmp(&format!("interrupted-{kind}.exr"));
         let _ = std::fs::remove_file(&out);
-        let mut child = Command::new(env!("CARGO_BIN_EXE_caustica"))
-            .args([
-                "render",
-                "glass-sphere",
-                "--integrator",
-                kind,
-                "--photons",
-                "20000000",
-                "--global-photons",
-                "20000",
-                "--final-gather",
-                "4",
-                "-o",
-                out.to_str().unwrap(),
-            ])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(std::time::Duration::from_millis(1500));
-        let killed_at = std::time::Instant::now();
-        let killed = Command::new("kill")
-            .args(["-INT", &child.id().to_string()])
-            .status()
-            .unwrap();
-        assert!(killed.success());
+        let args = [
+            "render",
+            "glass-sphere",
+            "--integrator",
+            kind,
+            "--photons",
+            "20000000",
+            "--global-photons",
+            "20000",
+            "--final-gather",
+            "4",
+            "-o",
+            out.to_str().unwrap(),
+        ];
         // One wave of light paths (≤ 2^20) and one sample per pixel: well under a second on
-        // an idle machine; 4 s leaves room for a loaded one. A pass that ignores Ctrl-C is
-        // killed and fails the test instead of hanging it.
-        while child.try_wait().unwrap().is_none() {
-            if killed_at.elapsed().as_secs_f64() > 4.0 {
-                let _ = child.kill();
-                panic!("{kind}: still running 4 s after Ctrl-C");
-            }
-            std::thread::sleep(std::time::Duration::from_millis(20));
-        }
-        let waited = killed_at.elapsed().as_secs_f64();
-        let o = child.wait_with_output().unwrap();
+        // an idle machine; 4 s leaves room for a loaded one.
+        let (o, waited) = interrupt(&args, 1500, 4.0);
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(130), "{kind}: {err}");
         let summary = String::from_utf8_lossy(&o.stdout);
