@@ -187,6 +187,19 @@ impl RenderSettings {
             photons: self.photon.options()?,
             caustics_only: self.caustics_only,
         };
+        let mut opts = opts;
+        // The scene's [integrator] suggestions, where the command line is silent.
+        if self.photon.photons.is_none()
+            && self.photon.light_paths.is_none()
+            && let Some(n) = scene.settings.photons
+        {
+            opts.photons.caustic_photons = n as usize;
+        }
+        if self.photon.smoothing.is_none()
+            && let Some(s) = scene.settings.smoothing
+        {
+            opts.photons.footprints.smoothing = caustica_render::Smoothing::new(s)?;
+        }
         kind.check(&opts)?;
         if (self.photon.smoothing.is_some() || self.photon.normal_distance.is_some())
             && !kind.uses_photon_differentials()

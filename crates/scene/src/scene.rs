@@ -33,6 +33,10 @@ pub struct SceneSettings {
     pub max_depth: Option<u32>,
     /// Integrator the scene file asks for (e.g. Mitsuba's `path` or `ptracer`), if any.
     pub integrator: Option<String>,
+    /// Caustic photons the scene suggests for its photon integrator.
+    pub photons: Option<u32>,
+    /// Smoothing of photon differentials the scene suggests (pdm, pds; positive).
+    pub smoothing: Option<f32>,
 }
 
 /// An immutable, ready-to-render scene.

@@ -25,7 +25,7 @@ use crate::error::LoadError;
 use build::camera::camera;
 use build::light::light;
 use build::material::material;
-use build::settings::settings;
+use build::settings::{integrator, settings};
 use build::shape::shape;
 use caustica_scene::scene::SceneBuilder;
 use context::Ctx;
@@ -47,7 +47,10 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
 
     // Pass 1: convert and validate everything.
     let camera = camera(&cx, &file.camera)?;
-    let settings = settings(&cx, file.render.as_ref(), file.film.as_ref())?;
+    let mut settings = settings(&cx, file.render.as_ref(), file.film.as_ref())?;
+    if let Some(i) = &file.integrator {
+        integrator(&cx, i, &mut settings)?;
+    }
     let mut materials = Vec::with_capacity(file.material.len());
     let mut names: Vec<String> = Vec::new();
     for m in &file.material {

@@ -428,3 +428,40 @@ fn shapes_transforms_and_flip() {
             .abs_diff_eq(-Vec3::Z, 1e-6)
     );
 }
+
+#[test]
+fn the_integrator_table_names_the_method_and_its_photon_options() {
+    let b = parse(&format!(
+        "{CAMERA}[integrator]\ntype = \"pds\"\nphotons = 5000\nsmoothing = 4\n"
+    ))
+    .unwrap();
+    assert_eq!(b.settings.integrator.as_deref(), Some("pds"));
+    assert_eq!(
+        (b.settings.photons, b.settings.smoothing),
+        (Some(5000), Some(4.0))
+    );
+    // Without the table: nothing suggested.
+    let b = parse(CAMERA).unwrap();
+    assert_eq!((b.settings.integrator, b.settings.photons), (None, None));
+    // Unknown method, unknown key, bad values: errors at their line.
+    expect_parse_error(
+        &format!("{CAMERA}[integrator]\ntype = \"bdpt\"\n"),
+        8,
+        &["bdpt", "pds"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}[integrator]\ntype = \"pm\"\nk = 3\n"),
+        9,
+        &["k"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}[integrator]\ntype = \"pdm\"\nsmoothing = -1\n"),
+        7,
+        &["smoothing"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}[integrator]\ntype = \"pm\"\nphotons = 0\n"),
+        9,
+        &["photons"],
+    );
+}

@@ -4,6 +4,7 @@ use super::fields::check_fields;
 use crate::error::LoadError;
 use crate::toml::context::Ctx;
 use crate::toml::desc::film::{FilmDesc, FilterType};
+use crate::toml::desc::integrator::IntegratorDesc;
 use crate::toml::desc::render::RenderDesc;
 use ::toml::Spanned;
 use caustica_scene::scene::{FilterKind, SceneSettings};
@@ -42,4 +43,25 @@ pub(crate) fn settings(
         };
     }
     Ok(settings)
+}
+
+/// `[integrator]`: the suggested method and its photon options.
+pub(crate) fn integrator(
+    cx: &Ctx,
+    desc: &Spanned<IntegratorDesc>,
+    settings: &mut SceneSettings,
+) -> Result<(), LoadError> {
+    let d = desc.get_ref();
+    settings.integrator = Some(d.ty.name().to_string());
+    settings.photons = d.photons.map(|c| c.0);
+    if let Some(s) = d.smoothing {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(cx.err(
+                desc.span(),
+                format!("[integrator] smoothing must be a positive finite number, got {s}"),
+            ));
+        }
+        settings.smoothing = Some(s);
+    }
+    Ok(())
 }

@@ -3,6 +3,7 @@
 
 pub(crate) mod camera;
 pub(crate) mod film;
+pub(crate) mod integrator;
 pub(crate) mod light;
 pub(crate) mod material;
 pub(crate) mod render;
@@ -13,6 +14,7 @@ pub(crate) mod transform;
 use ::toml::Spanned;
 use camera::CameraDesc;
 use film::FilmDesc;
+use integrator::IntegratorDesc;
 use light::LightDesc;
 use material::MaterialDesc;
 use render::RenderDesc;
@@ -27,6 +29,7 @@ pub(crate) struct SceneFile {
     pub(crate) camera: Spanned<CameraDesc>,
     pub(crate) film: Option<Spanned<FilmDesc>>,
     pub(crate) render: Option<RenderDesc>,
+    pub(crate) integrator: Option<::toml::Spanned<IntegratorDesc>>,
     #[serde(default)]
     pub(crate) material: Vec<Spanned<MaterialDesc>>,
     #[serde(default)]
