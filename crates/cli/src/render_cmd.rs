@@ -200,6 +200,11 @@ impl RenderSettings {
         {
             opts.photons.footprints.smoothing = caustica_render::Smoothing::new(s)?;
         }
+        if self.photon.final_gather.is_none()
+            && let Some(g) = scene.settings.final_gather
+        {
+            opts.photons.final_gather = g;
+        }
         kind.check(&opts)?;
         if (self.photon.smoothing.is_some() || self.photon.normal_distance.is_some())
             && !kind.uses_photon_differentials()

@@ -19,6 +19,8 @@ fn default_scene_renders_exr_and_png_with_summary() {
         "render",
         "--spp",
         "1",
+        "--photons",
+        "20000",
         "-q",
         "-o",
         exr.to_str().unwrap(),
@@ -640,6 +642,58 @@ fn width_and_height_override_every_scene_kind() {
     );
 }
 
+/// Mean of `img`'s channels over the pixels where `mask` holds.
+fn masked_mean(img: &Image, mask: &[bool]) -> f32 {
+    let (sum, n) = img
+        .data
+        .iter()
+        .zip(mask)
+        .filter(|(_, m)| **m)
+        .fold((0.0, 0usize), |(s, n), (p, _)| {
+            (s + (p[0] + p[1] + p[2]) / 3.0, n + 1)
+        });
+    sum / n.max(1) as f32
+}
+
+/// Renders `scene` at `args` plus tiny common settings and reads the image back.
+fn render_tiny(scene: Option<&str>, args: &[&str], out: &Path) -> (Image, String) {
+    let mut all: Vec<&str> = vec!["render"];
+    all.extend(scene);
+    all.extend_from_slice(&["-q", "-o", out.to_str().unwrap()]);
+    all.extend_from_slice(args);
+    let o = caustica(&all);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{scene:?} {args:?}: {err}");
+    (Image::read(out).unwrap(), err)
+}
+
+/// The caustic region of `scene` at `width`: the pixels where the light tracer's caustics
+/// (L S+ D E, an estimator independent of the photon methods) reach a quarter of their
+/// maximum, and their mean there (W/m²/sr). `None` for a scene without caustics.
+fn caustic_region(scene: Option<&str>, width: &str, out: &Path) -> Option<(Vec<bool>, f32)> {
+    let (lt, _) = render_tiny(
+        scene,
+        &[
+            "--integrator",
+            "lighttrace",
+            "--caustics-only",
+            "--width",
+            width,
+            "--spp",
+            "512",
+        ],
+        out,
+    );
+    let lum: Vec<f32> = lt.data.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
+    let max = lum.iter().copied().fold(0.0f32, f32::max);
+    if max <= 0.0 {
+        return None;
+    }
+    let mask: Vec<bool> = lum.iter().map(|&v| v >= 0.25 * max).collect();
+    let mean = masked_mean(&lt, &mask);
+    Some((mask, mean))
+}
+
 #[test]
 fn every_shipped_and_built_in_scene_shows_its_light_with_its_own_integrator() {
     // Tiny settings, each scene's own integrator and options otherwise. The caustic scenes were
@@ -653,45 +707,75 @@ fn every_shipped_and_built_in_scene_shows_its_light_with_its_own_integrator() {
         .map(|p| p.to_str().unwrap().to_string())
         .collect();
     scenes.sort();
-    for b in [
-        "cornell-box",
-        "glass-sphere",
-        "water-wave",
-        "metal-ring",
-        "gold-ring",
-    ] {
+    let output = caustica(&["scenes"]);
+    let listed = String::from_utf8_lossy(&output.stdout).to_string();
+    for b in caustica_loader::builtin_names() {
+        assert!(listed.contains(b), "`caustica scenes` does not list {b}");
         scenes.push(b.to_string());
     }
     let out = tmp("every-scene.exr");
+    let tiny = [
+        "--width",
+        "32",
+        "--spp",
+        "2",
+        "--photons",
+        "3000",
+        "--global-photons",
+        "3000",
+    ];
     for scene in &scenes {
-        let o = caustica(&[
-            "render",
-            scene,
-            "--width",
-            "32",
-            "--spp",
-            "2",
-            "--photons",
-            "3000",
-            "--global-photons",
-            "3000",
-            "-q",
-            "-o",
-            out.to_str().unwrap(),
-        ]);
-        let err = stderr(&o);
-        assert!(o.status.success(), "{scene}: {err}");
+        let (img, err) = render_tiny(Some(scene), &tiny, &out);
         assert!(
             !err.contains("cannot render their caustics"),
             "{scene}: {err}"
         );
-        let img = Image::read(&out).unwrap();
-        let n = (img.width * img.height) as f32;
-        let mean = img.data.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / (3.0 * n);
-        let summary = String::from_utf8_lossy(&o.stdout);
-        eprintln!("{scene}: mean {mean:.4} W/m²/sr ({})", summary.trim());
+        let mean = masked_mean(&img, &vec![true; img.data.len()]);
         // Radiance of the lit regions is O(0.1–10) W/m²/sr in every scene; 1e-3 on average is
         // far from black and far below any of them.
         assert!(mean > 1e-3, "{scene}: mean radiance {mean}");
+        // Where the scene has a caustic, its own integrator must show it: over the region the
+        // light tracer lights (its caustics alone), the scene's integrator's caustics alone
+        // reach at least 40 % of the light tracer's mean there. A method that misses the
+        // caustic gives 0 (the path tracer under a point or directional light); the photon
+        // methods' blur at 3000 photons spreads the caustic over its neighbours and loses at
+        // most a third of it from the region.
+        if let Some((mask, reference)) = caustic_region(Some(scene), "32", &out) {
+            let mut args = tiny.to_vec();
+            args.push("--caustics-only");
+            let (img, _) = render_tiny(Some(scene), &args, &out);
+            let m = masked_mean(&img, &mask);
+            eprintln!("{scene}: caustic region {m:.4} W/m²/sr, light tracer {reference:.4}");
+            assert!(
+                m >= 0.4 * reference,
+                "{scene}: caustic region mean {m} W/m²/sr, light tracer {reference}"
+            );
+        }
     }
+}
+
+#[test]
+fn the_default_render_shows_its_caustic() {
+    // The README's render command without a scene (at 64 × 64 and fewer photons): the glass
+    // ball's caustic on the floor of `caustic-box`, in the region the light tracer's caustics
+    // light, holds at least half and at most twice the light tracer's radiance there (about
+    // 0.3 W/m²/sr), and the full render there is at least as bright as its caustics alone.
+    let out = tmp("default-caustic.exr");
+    let (mask, reference) = caustic_region(None, "64", &out).expect("the default has a caustic");
+    assert!(reference > 0.1, "light tracer caustic {reference} W/m²/sr");
+    let tiny = ["--width", "64", "--spp", "2", "--photons", "20000"];
+    let mut args = tiny.to_vec();
+    args.push("--caustics-only");
+    let (caustic, err) = render_tiny(None, &args, &out);
+    assert!(!err.contains("cannot render"), "{err}");
+    let c = masked_mean(&caustic, &mask);
+    assert!(
+        (0.5 * reference..=2.0 * reference).contains(&c),
+        "default caustic {c} W/m²/sr vs light tracer {reference}"
+    );
+    let mut args = tiny.to_vec();
+    args.extend_from_slice(&["--global-photons", "3000", "--final-gather", "1"]);
+    let (full, _) = render_tiny(None, &args, &out);
+    let f = masked_mean(&full, &mask);
+    assert!(f >= 0.9 * c, "full render {f} W/m²/sr vs its caustics {c}");
 }

@@ -37,6 +37,9 @@ pub struct SceneSettings {
     pub photons: Option<u32>,
     /// Smoothing of photon differentials the scene suggests (pdm, pds; positive).
     pub smoothing: Option<f32>,
+    /// Final-gather rays per camera sample the scene suggests (pm, dpm, pdm, pds; 0 = the
+    /// global map seen directly).
+    pub final_gather: Option<u32>,
 }
 
 /// An immutable, ready-to-render scene.

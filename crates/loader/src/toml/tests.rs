@@ -432,13 +432,17 @@ fn shapes_transforms_and_flip() {
 #[test]
 fn the_integrator_table_names_the_method_and_its_photon_options() {
     let b = parse(&format!(
-        "{CAMERA}[integrator]\ntype = \"pds\"\nphotons = 5000\nsmoothing = 4\n"
+        "{CAMERA}[integrator]\ntype = \"pds\"\nphotons = 5000\nsmoothing = 4\nfinal_gather = 0\n"
     ))
     .unwrap();
     assert_eq!(b.settings.integrator.as_deref(), Some("pds"));
     assert_eq!(
-        (b.settings.photons, b.settings.smoothing),
-        (Some(5000), Some(4.0))
+        (
+            b.settings.photons,
+            b.settings.smoothing,
+            b.settings.final_gather
+        ),
+        (Some(5000), Some(4.0), Some(0))
     );
     // Without the table: nothing suggested.
     let b = parse(CAMERA).unwrap();
@@ -463,5 +467,10 @@ fn the_integrator_table_names_the_method_and_its_photon_options() {
         &format!("{CAMERA}[integrator]\ntype = \"pm\"\nphotons = 0\n"),
         9,
         &["photons"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}[integrator]\ntype = \"pm\"\nfinal_gather = -2\n"),
+        9,
+        &["final_gather"],
     );
 }

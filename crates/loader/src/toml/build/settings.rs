@@ -54,6 +54,7 @@ pub(crate) fn integrator(
     let d = desc.get_ref();
     settings.integrator = Some(d.ty.name().to_string());
     settings.photons = d.photons.map(|c| c.0);
+    settings.final_gather = d.final_gather;
     if let Some(s) = d.smoothing {
         if !(s.is_finite() && s > 0.0) {
             return Err(cx.err(

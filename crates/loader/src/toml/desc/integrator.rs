@@ -38,4 +38,6 @@ pub(crate) struct IntegratorDesc {
     pub(crate) photons: Option<Count>,
     /// Smoothing s of photon differentials (`--smoothing`; pdm, pds).
     pub(crate) smoothing: Option<f32>,
+    /// Final-gather rays per camera sample (`--final-gather`; 0 = the global map seen directly).
+    pub(crate) final_gather: Option<u32>,
 }
