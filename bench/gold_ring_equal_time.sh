@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 5: equal-time comparison of pm, pdm and pds on the gold ring (seed 002 fig. 1-2):
+# Issue 5: equal-time comparison of pm, pdm and pds on the gold ring (Frisvad et al. 2014 fig. 1-2):
 # caustics only (paths L S+ D E from the area light via the gold ring), against a long light
 # tracer run. Each method first gets its RMSE-optimal bandwidth at 20 000 photons (pm: k; pdm and
 # pds: s), then a sweep over the photon count records render time, RMSE and SSIM. The equal-time
@@ -58,7 +58,7 @@ with open(os.path.join(out, "results.csv"), "w", newline="") as f:
         for r in rs:
             w.writerow([m, setting[m], int(r["value"]), r["seconds"], r["rmse"], r["ssim"]])
 md = [
-    "# Equal-time caustics on the gold ring: pm vs pdm vs pds (seed 002 fig. 1-2)",
+    "# Equal-time caustics on the gold ring: pm vs pdm vs pds (Frisvad et al. 2014 fig. 1-2)",
     "",
     f"Regenerate: `bash bench/gold_ring_equal_time.sh {ref_spp} {spp}`. Caustics only (L S+ D E: "
     f"the area light via the gold ring onto the table), {spp} spp, seed 1, against the light tracer "

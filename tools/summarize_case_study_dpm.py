@@ -22,12 +22,12 @@ METRICS = [("rmse", min), ("mise", min), ("ssim", max)]
 
 summary = []
 md = [
-    "# dpm vs pm on the case studies (seed 000 ch. 6, Table 6.1 / fig. 6.6-6.9)",
+    "# dpm vs pm on the case studies (Schjøth 2009 ch. 6, Table 6.1 / fig. 6.6-6.9)",
     "",
     f"Regenerate: `bash bench/case_study_dpm.sh {ref_spp} {spp}` (about 15 min on 2 cores). "
     f"Caustics only (L S+ D E), {photons} caustic photons, {spp} spp, seed 1; reference: the light "
     f"tracer with {ref_spp} light paths per pixel. Metrics over the whole image (`caustica sweep`): "
-    "RMSE on linear radiance, MISE and SSIM on the display image (seed 000 ch. 6). "
+    "RMSE on linear radiance, MISE and SSIM on the display image (Schjøth 2009 ch. 6). "
     "dpm swept over q at each bandwidth h (q = 1e9 is the fixed-bandwidth estimate); "
     "noise scale h/2, α = 1.",
     "",

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Summarises bench/case_study_pds.sh: seed 002 (photon differential splatting) Table 1 and
+"""Summarises bench/case_study_pds.sh: Frisvad et al. 2014 (photon differential splatting) Table 1 and
 fig. 6-8 on the case studies. Optimal settings of pm, dpm and pds at PHOTONS caustic photons,
 their errors and render times, and the photon count pm (and dpm, when swept at several photon
 counts) needs to reach pds's best RMSE and SSIM.
@@ -26,14 +26,14 @@ work, out, photons, ref_spp, spp = sys.argv[1:6]
 photons = int(photons)
 SCENES = [("water-wave", "refraction"), ("metal-ring", "reflection")]
 COLOURS = {"pm": "black", "dpm": "#d62728", "pds": "#1f5fd6"}
-# Seed 002 sec. 4.1, Table 1 / fig. 8-9: photons standard photon mapping and diffusion-based
+# Frisvad et al. 2014 sec. 4.1, Table 1 / fig. 8-9: photons standard photon mapping and diffusion-based
 # photon mapping need to match pds at 20k photons (refraction: fig. 8, reflection: fig. 9).
 PAPER = {
     "water-wave": {"pm": {"rmse": 200000, "ssim": 1000000}, "dpm": {"rmse": 45000, "ssim": 45000}},
     "metal-ring": {"pm": {"rmse": 150000, "ssim": 900000}, "dpm": {"rmse": 65000, "ssim": 65000}},
 }
 PAPER_PHOTONS = 20000
-# Seed 002 fig. 7 (refraction) and fig. 9 (reflection): best RMSE / SSIM at 20k photons.
+# Frisvad et al. 2014 fig. 7 (refraction) and fig. 9 (reflection): best RMSE / SSIM at 20k photons.
 PAPER_AT = {
     "water-wave": {"pm": (0.0682, 0.8821), "dpm": (0.0418, 0.9234), "pds": (0.0370, 0.9348)},
     "metal-ring": {"pm": (0.0732, 0.8569), "dpm": (0.0452, 0.9064), "pds": (0.0414, 0.9261)},
@@ -267,7 +267,7 @@ def fig6(scene, per_metric, path):
         "bandwidth parameter, each method on its own log axis normalised to its swept range "
         "(× = optimum)</text>"
     )
-    title = f"{scene}: RMSE and SSIM against bandwidth, {photons} caustic photons (seed 002 fig. 6)"
+    title = f"{scene}: RMSE and SSIM against bandwidth, {photons} caustic photons (Frisvad et al. 2014 fig. 6)"
     with open(path, "w") as f:
         f.write(svg_doc(width, height, body, title))
 
@@ -325,7 +325,7 @@ def fig8(scene, data, path):
                 )
             entries.insert(0, (f"{m}, best {label} per photon count", COLOURS[m], False))
         legend(body, x0 + 10, top + ph + 54, entries)
-    title = f"{scene}: best RMSE and SSIM against caustic photons (seed 002 fig. 8)"
+    title = f"{scene}: best RMSE and SSIM against caustic photons (Frisvad et al. 2014 fig. 8)"
     with open(path, "w") as f:
         f.write(svg_doc(width, height, body, title))
 
@@ -333,7 +333,7 @@ def fig8(scene, data, path):
 # ---------------------------------------------------------------- summary
 summary = []
 md = [
-    "# pds vs pm and dpm on the case studies (seed 002 sec. 4.1, Table 1 / fig. 6-8)",
+    "# pds vs pm and dpm on the case studies (Frisvad et al. 2014 sec. 4.1, Table 1 / fig. 6-8)",
     "",
     f"Regenerate: `bash bench/case_study_pds.sh {ref_spp} {spp}`. Caustics only (L S+ D E), "
     f"{photons} caustic photons, {spp} spp, seed 1; reference: the light tracer with {ref_spp} "
@@ -553,9 +553,9 @@ for scene, case in SCENES:
     )
 
 # Comparison with the paper.
-cmp_md = ["## Comparison with seed 002", ""]
+cmp_md = ["## Comparison with Frisvad et al. 2014", ""]
 cmp_md.append(
-    "Seed 002 (sec. 4.1, Table 1, fig. 8-9; photon-mapped reference, its own scenes and "
+    "Frisvad et al. 2014 (sec. 4.1, Table 1, fig. 8-9; photon-mapped reference, its own scenes and "
     "parameters) reports at 20k photons that standard photon mapping needs about one order of "
     "magnitude more photons for comparable RMSE and almost two for comparable SSIM on the "
     "refraction case (200k = 10× and 1000k = 50×), 150k = 7.5× and 900k = 45× on the reflection "
@@ -625,7 +625,7 @@ with open(os.path.join(out, "index.html"), "w") as f:
         "<title>pds vs pm and dpm on the case studies</title>"
         f"<style>{css}</style></head><body>\n<h1>{esc(md[0][2:])}</h1>\n<p>{intro}</p>\n"
         + "\n".join(page)
-        + "\n<h2>Comparison with seed 002</h2>\n"
+        + "\n<h2>Comparison with Frisvad et al. 2014</h2>\n"
         + "".join(f"<p>{esc(l[2:] if l.startswith('- ') else l)}</p>" for l in cmp_md[2:] if l)
         + "\n</body></html>\n"
     )

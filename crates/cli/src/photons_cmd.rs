@@ -27,6 +27,7 @@ pub struct PhotonsArgs {
     /// Background brightness factor.
     #[arg(long, default_value_t = 0.3)]
     pub dim: f32,
+    /// Seed of the photon and background random numbers (same seed, same image).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Longest light path in edges (-1 = unlimited).

@@ -1,5 +1,5 @@
 //! `caustica testbed`: every density estimator on 2-D photon distributions with a closed-form
-//! density (seed 000 fig. 4.4–4.5). Writes per distribution the exact density image, the
+//! density (Schjøth 2009 fig. 4.4–4.5). Writes per distribution the exact density image, the
 //! estimate images of fig. 4.5's rows, `results.csv` (every run) and `README.md` (the fig. 4.5
 //! MISE table and each estimator's best).
 
@@ -77,7 +77,7 @@ pub fn run(args: TestbedArgs) -> Result<()> {
     let mut readme = String::new();
     let _ = writeln!(
         readme,
-        "# Density estimators on the 2-D testbed (seed 000 fig. 4.4–4.5)\n\n\
+        "# Density estimators on the 2-D testbed (Schjøth 2009 fig. 4.4–4.5)\n\n\
          Regenerate: `caustica testbed --distribution {} --samples {} --size {} --seed {} --realisations {} -o DIR` \
          (release build). MISE = ∫(f̂ − f)² over the unit square (densities in 1/area, f integrates to 1), \
          averaged over {} realisations; SSIM on densities divided by the true peak; line = mean estimate \
