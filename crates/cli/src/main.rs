@@ -4,6 +4,7 @@
 
 mod compare_cmd;
 mod convert_cmd;
+mod eta;
 mod photon_args;
 mod photons_cmd;
 mod render_cmd;

@@ -1,5 +1,6 @@
 //! `caustica render`.
 
+use crate::eta::{EtaClock, TimeLeft};
 use anyhow::{Context, Result, bail};
 use caustica_core::image_io::Image;
 use caustica_core::sampling::SamplerKind;
@@ -11,8 +12,9 @@ use caustica_scene::Scene;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// The options that decide what a render computes: scene, integrator, sampling, photon mapping.
 /// Shared by `render` and `sweep` (which varies one of them).
@@ -429,15 +431,25 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     bar.set_style(
         ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta} {msg}",
+            "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}",
         )
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
+    // The bar shows the whole render; the message the pass, its own progress and the time left
+    // (of the render under --time, else of the pass: see eta.rs).
+    let started = Instant::now();
+    let eta = Mutex::new(EtaClock::new(opts.time_limit));
     let progress = |p: Progress| {
         bar.set_position((p.fraction * 1000.0) as u64);
-        if bar.message() != p.pass {
-            bar.set_message(p.pass);
-        }
+        let left = match eta.lock() {
+            Ok(mut c) => c.update(started.elapsed().as_secs_f64(), p.pass, p.pass_fraction),
+            Err(_) => TimeLeft::Unknown,
+        };
+        let msg = match left {
+            TimeLeft::Unknown => format!("{} {:.0}%", p.pass, 100.0 * p.pass_fraction),
+            _ => format!("{} {:.0}%, {left}", p.pass, 100.0 * p.pass_fraction),
+        };
+        bar.set_message(msg);
     };
     // A failing checkpoint is reported at once (each distinct failure once); the render goes on.
     let checkpoint_err = std::sync::Mutex::new(None::<String>);

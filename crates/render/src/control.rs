@@ -21,6 +21,9 @@ pub struct Progress {
     pub samples: u64,
     /// What the render is doing ("tracing photons", "camera pass", "splatting", …).
     pub pass: &'static str,
+    /// Fraction of the current pass's work done, in [0, 1] (by work even under a time budget):
+    /// what an estimate of the pass's remaining time extrapolates.
+    pub pass_fraction: f64,
 }
 
 /// Callbacks and the stop flag of a render.
@@ -124,6 +127,7 @@ impl<'a> Stage<'a> {
             fraction: fraction.min(1.0),
             samples,
             pass: self.label,
+            pass_fraction: done.clamp(0.0, 1.0),
         });
     }
 
