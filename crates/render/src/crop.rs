@@ -37,14 +37,14 @@ impl CropWindow {
     /// Parses `X,Y,W,H` and checks the window against a `film_width` × `film_height` film.
     pub fn parse(s: &str, film_width: u32, film_height: u32) -> Result<Self, OptionError> {
         let refuse = |why: String| OptionError::Crop {
-            got: s.to_string(),
+            got: format!("'{s}'"),
             film_width,
             film_height,
             why,
         };
         let parts: Vec<&str> = s.split(',').map(str::trim).collect();
         if parts.len() != 4 {
-            return Err(refuse(format!("{} values", parts.len())));
+            return Err(refuse(format!("{} comma-separated values", parts.len())));
         }
         let mut v = [0u32; 4];
         for (out, p) in v.iter_mut().zip(&parts) {
