@@ -20,10 +20,6 @@ pub struct CropWindow {
 }
 
 impl CropWindow {
-    /// The rule a window must satisfy, in words (as `--help` states it).
-    pub const RULE: &'static str =
-        "X,Y,W,H: four non-negative integers, W and H at least 1, X+W and Y+H within the film";
-
     /// The whole `width` × `height` film.
     pub fn full(width: u32, height: u32) -> Self {
         Self {
@@ -81,7 +77,7 @@ impl CropWindow {
         match why {
             None => Ok(self),
             Some(why) => Err(OptionError::Crop {
-                got: self.to_string(),
+                got: format!("'{self}'"),
                 film_width,
                 film_height,
                 why,

@@ -42,6 +42,11 @@ impl Film {
     /// A film for `window` of a `full_width` × `full_height` camera film (the window is assumed
     /// inside it, see [`CropWindow::check`]).
     pub fn cropped(window: CropWindow, full_width: usize, full_height: usize) -> Self {
+        debug_assert!(
+            window.x as usize + window.width as usize <= full_width
+                && window.y as usize + window.height as usize <= full_height,
+            "crop window {window} outside the {full_width}x{full_height} film"
+        );
         let (width, height) = (window.width as usize, window.height as usize);
         let n = width * height;
         Self {

@@ -41,11 +41,10 @@ where
     stats
 }
 
-/// [`render_pixels`] whose closure also learns the film's pixel index (`y · width + x`, in the
-/// film's window) and may push
-/// records into `out`; the records of all samples are returned in a fixed order (pass, row,
-/// column, sample index), so they too are a pure function of the seed. Photon differential
-/// splatting keeps its eye-path vertices this way.
+/// [`render_pixels`] whose closure also learns the film's pixel index (`y · width + x` within
+/// the film's window) and may push records into `out`; the records of all samples are returned
+/// in a fixed order (pass, row, column, sample index), so they too are a pure function of the
+/// seed. Photon differential splatting keeps its eye-path vertices this way.
 pub fn render_pixels_collect<F, R>(
     film: &mut Film,
     filter: &Filter,
