@@ -71,3 +71,18 @@ fn a_crop_of_every_scene_kind_is_the_full_render_s_sub_image() {
         assert!(line.contains("30x7 (crop 5,20,30,7 of 36x27)"), "{line}");
     }
 }
+
+#[test]
+fn help_states_the_crop_rule() {
+    let o = caustica(&["render", "--help"]);
+    assert!(o.status.success());
+    let help = stdout(&o);
+    for rule in [
+        "--crop <X,Y,W,H>",
+        "pixelbounds",
+        "W and H at least 1",
+        "inside the film",
+    ] {
+        assert!(help.contains(rule), "render --help does not state {rule:?}");
+    }
+}

@@ -126,6 +126,7 @@ fn light_tracer_crops_are_sub_images() {
 #[test]
 fn photon_mapping_crops_are_sub_images() {
     crops_are_sub_images(IntegratorKind::PhotonMapping, false);
+    crops_are_sub_images(IntegratorKind::DiffusionPhotonMapping, true);
     crops_are_sub_images(IntegratorKind::PhotonDifferentialMapping, true);
 }
 
