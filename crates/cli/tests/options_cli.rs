@@ -135,3 +135,38 @@ fn help_lists_every_integrator_and_states_the_rules() {
         assert!(help.contains(rule), "--help does not state {rule:?}");
     }
 }
+
+#[test]
+fn every_invalid_crop_is_rejected_naming_it_and_the_film() {
+    // The film is the default scene's after the size overrides: 32x24.
+    for v in [
+        "",
+        "1,2,3",
+        "1,2,3,4,5",
+        "a,0,1,1",
+        "-1,0,4,4",
+        "0,-2,4,4",
+        "1.5,0,1,1",
+        "0,0,0,4",
+        "0,0,4,0",
+        "30,0,3,1",
+        "0,20,1,5",
+        "32,0,1,1",
+        "4294967295,0,2,2",
+    ] {
+        let args = ["--width", "32", "--height", "24", "--crop", v];
+        rejects(&args, "--crop");
+        let out = tmp_in("options", "never.exr");
+        let mut all = vec!["render", "-q", "-o", out.to_str().unwrap()];
+        all.extend_from_slice(&args);
+        let o = caustica(&all);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "--crop {v:?}: {err}");
+        for needle in ["32x24", "X,Y,W,H"] {
+            assert!(
+                err.contains(needle),
+                "--crop {v:?} does not name {needle}: {err}"
+            );
+        }
+    }
+}

@@ -20,6 +20,16 @@ pub enum OptionError {
         rule: &'static str,
         got: String,
     },
+    /// A crop window (`--crop`) that does not parse or does not fit the film.
+    #[error(
+        "--crop {got}: {why}; expected X,Y,W,H (pixels of the {film_width}x{film_height} film): four non-negative integers, W and H at least 1, X+W <= {film_width} and Y+H <= {film_height}"
+    )]
+    Crop {
+        got: String,
+        film_width: u32,
+        film_height: u32,
+        why: String,
+    },
     /// Options that cannot be combined, or an option the chosen integrator cannot honour.
     #[error("{0}")]
     Conflict(String),

@@ -3,17 +3,26 @@
 //! Pixel values are radiance (W/m²/sr) averaged over the pixel's filter footprint. Camera
 //! samples are averaged per pixel (each has weight 1 under filter importance sampling); splats
 //! from light tracing are summed and scaled by 1/N, N the number of light paths traced.
+//!
+//! A film may hold only a [`CropWindow`] of the camera's film: its `width` × `height` are the
+//! window's, pixel (0, 0) is the window's top-left pixel, and [`Film::window`] says where that
+//! lies on the full film (whose coordinates the drivers use for rays and random numbers).
 
 use caustica_core::image_io::Image;
 use caustica_core::{Spectrum, Vec2};
 
+use crate::crop::CropWindow;
 use crate::filter::Filter;
 
 /// Float accumulators of one image.
 #[derive(Clone, Debug)]
 pub struct Film {
+    /// Size of the image held (the window's).
     pub width: usize,
     pub height: usize,
+    /// Where the image lies on the camera's film, and that film's size.
+    window: CropWindow,
+    full: (usize, usize),
     /// Σ L per pixel (camera samples).
     pub(crate) sum: Vec<[f64; 3]>,
     /// Number of camera samples per pixel.
@@ -25,16 +34,41 @@ pub struct Film {
 }
 
 impl Film {
+    /// A film for a whole `width` × `height` image.
     pub fn new(width: usize, height: usize) -> Self {
+        Self::cropped(CropWindow::full(width as u32, height as u32), width, height)
+    }
+
+    /// A film for `window` of a `full_width` × `full_height` camera film (the window is assumed
+    /// inside it, see [`CropWindow::check`]).
+    pub fn cropped(window: CropWindow, full_width: usize, full_height: usize) -> Self {
+        debug_assert!(
+            window.x as usize + window.width as usize <= full_width
+                && window.y as usize + window.height as usize <= full_height,
+            "crop window {window} outside the {full_width}x{full_height} film"
+        );
+        let (width, height) = (window.width as usize, window.height as usize);
         let n = width * height;
         Self {
             width,
             height,
+            window,
+            full: (full_width, full_height),
             sum: vec![[0.0; 3]; n],
             count: vec![0; n],
             splat: vec![[0.0; 3]; n],
             splat_paths: 0,
         }
+    }
+
+    /// The window of the camera's film this film holds (the whole film unless cropped).
+    pub fn window(&self) -> CropWindow {
+        self.window
+    }
+
+    /// Size of the camera's full film (pixels).
+    pub fn full_size(&self) -> (usize, usize) {
+        self.full
     }
 
     /// Mean camera samples per pixel so far.
@@ -66,22 +100,53 @@ impl Film {
     }
 }
 
-/// A full-resolution buffer that light paths splat into; merged into a [`Film`] in a fixed order
-/// so the result does not depend on the thread schedule.
+/// A buffer of a film's pixels that light paths splat into; merged into a [`Film`] in a fixed
+/// order so the result does not depend on the thread schedule. Splats are at raster positions of
+/// the camera's full film and spread over its pixels as if the whole film were held; only the
+/// film's window is kept.
 #[derive(Clone, Debug)]
 pub struct SplatBuffer {
+    /// Size of the camera's full film.
     width: usize,
     height: usize,
+    window: CropWindow,
     data: Vec<[f32; 3]>,
 }
 
 impl SplatBuffer {
-    pub fn new(width: usize, height: usize) -> Self {
+    /// A buffer for the pixels `film` holds.
+    pub fn for_film(film: &Film) -> Self {
+        let (width, height) = film.full;
         Self {
             width,
             height,
-            data: vec![[0.0; 3]; width * height],
+            window: film.window,
+            data: vec![[0.0; 3]; film.width * film.height],
         }
+    }
+
+    /// Adds `c` to full-film pixel (`x`, `y`) if it is in the window.
+    #[inline]
+    fn add_pixel(&mut self, x: usize, y: usize, c: [f32; 3]) {
+        if !self.window.contains(x, y) {
+            return;
+        }
+        let (lx, ly) = (x - self.window.x as usize, y - self.window.y as usize);
+        let d = &mut self.data[ly * self.window.width as usize + lx];
+        for (d, c) in d.iter_mut().zip(c) {
+            *d += c;
+        }
+    }
+
+    /// True when a splat at raster position `p` may reach a pixel of the window (a conservative
+    /// test: the light tracer skips the camera connection's shadow ray when it cannot).
+    pub fn reaches(&self, filter: &Filter, p: Vec2) -> bool {
+        let r = filter.radius().max(0.5);
+        let win = self.window;
+        p.x + r >= win.x as f32
+            && p.y + r >= win.y as f32
+            && p.x - r < (win.x + win.width) as f32
+            && p.y - r < (win.y + win.height) as f32
     }
 
     pub fn clear(&mut self) {
@@ -103,10 +168,7 @@ impl SplatBuffer {
         if x0 == x1 && y0 == y1 || r <= 0.5 {
             let (x, y) = (p.x.floor() as usize, p.y.floor() as usize);
             if x < self.width && y < self.height {
-                let d = &mut self.data[y * self.width + x];
-                for (d, v) in d.iter_mut().zip(v.c) {
-                    *d += v;
-                }
+                self.add_pixel(x, y, v.c);
             }
             return;
         }
@@ -123,10 +185,7 @@ impl SplatBuffer {
             for x in x0..=x1 {
                 let w = filter.eval(p - Vec2::new(x as f32 + 0.5, y as f32 + 0.5)) / total;
                 if w > 0.0 {
-                    let d = &mut self.data[y * self.width + x];
-                    for (d, v) in d.iter_mut().zip(v.c) {
-                        *d += w * v;
-                    }
+                    self.add_pixel(x, y, v.c.map(|v| w * v));
                 }
             }
         }

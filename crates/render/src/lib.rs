@@ -10,12 +10,13 @@
 //!   tracer, photon mapping (`pm`, `dpm`, `pdm`) and photon differential splatting (`pds`).
 //! * [`options`], [`control`], [`error`] — what a render is asked to do, how it reports and
 //!   stops, and why it refuses.
-//! * [`film`], [`filter`], [`stats`], [`photon_view`] — accumulation, reconstruction,
+//! * [`film`] and its [`crop`] window, [`filter`], [`stats`], [`photon_view`] — accumulation, reconstruction,
 //!   counters, and photons drawn over an image.
 
 #![forbid(unsafe_code)]
 
 pub mod control;
+pub mod crop;
 pub mod driver;
 pub mod error;
 pub mod film;
@@ -29,6 +30,7 @@ pub mod stats;
 pub mod transport;
 
 pub use control::{Progress, RenderControl};
+pub use crop::CropWindow;
 pub use error::{OptionError, RenderError};
 pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};

@@ -7,7 +7,7 @@
 //! front, [`crate::photon::plan::Cut`]), the footprints of `pdm` (landings and photons alive
 //! together while the map is built) and the eye map of `pds` (at most one vertex per camera
 //! sample; the records and the tiles built from them are alive together, plus one accumulator
-//! per vertex). Scene geometry is already allocated when a render starts, so it is not counted.
+//! per vertex). Film and eye map count the crop window's pixels only. Scene geometry is already allocated when a render starts, so it is not counted.
 
 use crate::integrator::IntegratorKind;
 use crate::options::RenderOptions;
@@ -115,7 +115,11 @@ fn photon_count(budget: PhotonBudget, per_path: u64) -> u64 {
 /// The estimate for rendering `scene` with `kind` and `opts`.
 pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> MemoryEstimate {
     let mut m = MemoryEstimate::default();
-    let pixels = scene.camera.width as u64 * scene.camera.height as u64;
+    // The pixels rendered: the crop window's (an invalid window is refused before rendering).
+    let pixels = opts.window(&scene.camera).map_or(
+        scene.camera.width as u64 * scene.camera.height as u64,
+        |w| w.pixels(),
+    );
     // Film: sum, splat (3 × f64 each) and count (u32) per pixel.
     m.add("film", pixels, 2 * size_of::<[f64; 3]>() as u64 + 4);
     if !kind.uses_photons() {

@@ -184,6 +184,11 @@ fn splat_batch<R: SplatRule>(
 
 /// Adds what every eye vertex gathered in the first `chunks_done` chunks to its pixel's
 /// camera-sample sum.
+///
+/// The vertices of one pixel are added in eye-map order, which depends on the whole vertex set:
+/// a crop window's map holds fewer vertices, so a cropped pixel's f64 sum may be rounded in
+/// another order than the uncropped one's (a last-bit difference that the f32 image almost
+/// never shows; `crates/render/tests/crop.rs` finds none).
 pub fn resolve<R: SplatRule>(
     film: &mut Film,
     eye: &EyeMap,

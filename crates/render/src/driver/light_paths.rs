@@ -26,9 +26,7 @@ pub fn render_paths<F>(
 where
     F: Fn(&mut Sampler, &mut SplatBuffer, &mut RenderStats) + Sync,
 {
-    let mut buffers: Vec<SplatBuffer> = (0..WAVE)
-        .map(|_| SplatBuffer::new(film.width, film.height))
-        .collect();
+    let mut buffers: Vec<SplatBuffer> = (0..WAVE).map(|_| SplatBuffer::for_film(film)).collect();
     let mut stats = RenderStats::default();
     let mut next_path = 0u64;
     loop {

@@ -2,6 +2,9 @@
 //! pass rows are rendered in parallel and each pixel's samples in index order, so the result is
 //! a pure function of (scene, options, seed) whatever the thread count. Between passes the
 //! driver checks the stop flag, the time budget and the checkpoint timer.
+//!
+//! A cropped film ([`Film::window`]) renders only its window's pixels, each with the raster
+//! position and the sampler stream of its full-film pixel, so each equals the uncropped pixel.
 
 use crate::control::Stage;
 use crate::film::Film;
@@ -38,10 +41,10 @@ where
     stats
 }
 
-/// [`render_pixels`] whose closure also learns the pixel index (`y · width + x`) and may push
-/// records into `out`; the records of all samples are returned in a fixed order (pass, row,
-/// column, sample index), so they too are a pure function of the seed. Photon differential
-/// splatting keeps its eye-path vertices this way.
+/// [`render_pixels`] whose closure also learns the film's pixel index (`y · width + x` within
+/// the film's window) and may push records into `out`; the records of all samples are returned
+/// in a fixed order (pass, row, column, sample index), so they too are a pure function of the
+/// seed. Photon differential splatting keeps its eye-path vertices this way.
 pub fn render_pixels_collect<F, R>(
     film: &mut Film,
     filter: &Filter,
@@ -55,6 +58,7 @@ where
 {
     let mut records = Vec::new();
     let (w, h) = (film.width, film.height);
+    let (x0, y0) = (film.window().x, film.window().y);
     let pixels = (w * h) as u64;
     let per_pass = (SAMPLES_PER_PASS / pixels.max(1)).clamp(1, 64) as u32;
     let mut done_spp = 0u32;
@@ -93,10 +97,12 @@ where
                 let mut out = Vec::new();
                 let mut sampler = Sampler::new(opts.sampler, opts.seed);
                 for x in 0..w {
+                    // The full-film pixel.
+                    let (fx, fy) = (x as u32 + x0, y as u32 + y0);
                     for s in first..first + pass_spp {
-                        sampler.start_pixel_sample(x as u32, y as u32, s);
+                        sampler.start_pixel_sample(fx, fy, s);
                         let offset = filter.sample(sampler.next_2d());
-                        let raster = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                        let raster = Vec2::new(fx as f32 + 0.5, fy as f32 + 0.5) + offset;
                         let pixel = (y * w + x) as u32;
                         let l = sample(&mut sampler, raster, pixel, &mut out, &mut st);
                         if l.is_finite() {

@@ -49,6 +49,7 @@ pub fn trace_light_path(
                         && opts.limits.max_depth >= 1
                         && let Some(n) = es.normal
                         && let Some(cs) = camera.sample_wi(es.ray.o, u_lens)
+                        && out.reaches(filter, cs.raster)
                     {
                         let le = scene.lights[start.light].le(n, cs.wi);
                         if !le.is_black() {
@@ -74,6 +75,7 @@ pub fn trace_light_path(
                     if wanted
                         && lv.depth < opts.limits.max_depth
                         && let Some(cs) = camera.sample_wi(v.si.p, u_lens)
+                        && out.reaches(filter, cs.raster)
                     {
                         let wi_local = v.frame.to_local(cs.wi);
                         let f = v.bsdf.eval(v.wo, wi_local, TransportMode::Importance);

@@ -216,11 +216,13 @@ pub fn render(
 ) -> Result<RenderOutput, RenderError> {
     kind.check(opts)?;
     kind.check_scene(scene)?;
+    let window = opts.window(&scene.camera)?;
     check_memory(kind, scene, opts)?;
     let clock = Clock::start(opts);
     let stage = clock.stage(ctl);
     let cam = &scene.camera;
-    let mut film = Film::new(cam.width as usize, cam.height as usize);
+    // Only the window's pixels; the camera, the light paths and the photons are the full film's.
+    let mut film = Film::cropped(window, cam.width as usize, cam.height as usize);
     let filter = Filter::new(scene.settings.filter);
     let mut notes = Vec::new();
     let stats: RenderStats = match kind {
@@ -233,6 +235,8 @@ pub fn render(
             })
         }
         IntegratorKind::LightTrace => {
+            // Per pixel of the full film, cropped or not: the same paths, splats outside the
+            // window dropped.
             let total = opts.spp as u64 * cam.width as u64 * cam.height as u64;
             let stage = stage.labelled("tracing light paths");
             render_paths(&mut film, total, opts, &stage, |sampler, out, st| {

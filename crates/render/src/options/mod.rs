@@ -7,8 +7,11 @@ pub mod value;
 pub use photon::{CausticEstimator, DiffusionSettings, FootprintSettings, PhotonOptions};
 pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Smoothing, Steepness};
 
+use crate::crop::CropWindow;
+use crate::error::OptionError;
 use crate::transport::limits::PathLimits;
 use caustica_core::sampling::SamplerKind;
+use caustica_scene::camera::PerspectiveCamera;
 use std::time::Duration;
 
 /// Parameters shared by all integrators.
@@ -41,6 +44,10 @@ pub struct RenderOptions {
     /// the noise of the other light (seed 000 ch. 6 compares caustics alone). The path tracer
     /// cannot isolate these paths and refuses it.
     pub caustics_only: bool,
+    /// Render only this window of the camera's film ([`CropWindow`]); `None`: the whole film.
+    /// The image is the window's size and each pixel equals the uncropped render's; the
+    /// light-side work (light paths, photons) is that of the whole film.
+    pub crop: Option<CropWindow>,
 }
 
 impl Default for RenderOptions {
@@ -55,6 +62,18 @@ impl Default for RenderOptions {
             memory_limit: None,
             photons: PhotonOptions::default(),
             caustics_only: false,
+            crop: None,
+        }
+    }
+}
+
+impl RenderOptions {
+    /// The window of `camera`'s film this render computes (the whole film without a crop),
+    /// checked to lie inside it.
+    pub fn window(&self, camera: &PerspectiveCamera) -> Result<CropWindow, OptionError> {
+        match self.crop {
+            None => Ok(CropWindow::full(camera.width, camera.height)),
+            Some(c) => c.check(camera.width, camera.height),
         }
     }
 }
