@@ -61,7 +61,10 @@ fn every_invalid_general_option_is_rejected_naming_it() {
         "eye map",
     );
     rejects(&["-D", "spp"], "NAME=VALUE");
-    rejects(&["--spp", "4", "--time", "1"], "--spp and --time");
+    rejects(
+        &["--integrator", "path", "--spp", "4", "--time", "1"],
+        "--spp and --time",
+    );
     rejects(
         &["--integrator", "pm", "--spp", "4", "--time", "1"],
         "--spp and --time",
