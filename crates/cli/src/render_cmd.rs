@@ -199,6 +199,7 @@ impl RenderSettings {
             && let Some(s) = scene.settings.smoothing
         {
             opts.photons.footprints.smoothing = caustica_render::Smoothing::new(s)?;
+            opts.photons.auto.smoothing = false;
         }
         kind.check(&opts)?;
         if (self.photon.smoothing.is_some() || self.photon.normal_distance.is_some())

@@ -135,6 +135,7 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("isotropic", |s| &mut s.photon.isotropic),
     ("smoothing", |s| &mut s.photon.smoothing),
     ("normal-distance", |s| &mut s.photon.normal_distance),
+    ("no-auto-bandwidth", |s| &mut s.photon.no_auto_bandwidth),
 ];
 
 /// The setter of parameter `name` (a long option name, with or without the leading `--`).

@@ -126,7 +126,8 @@ pub struct Selection {
 }
 
 /// Minimises `score(candidate)` over the geometric grid `lo..=hi` of ratio `ratio`
-/// ([`geometric_grid`]), then over the two geometric midpoints (`best · ratio^{±1/2}`) around
+/// ([`geometric_grid`], scanned upward until [`PATIENCE`] candidates in a row are worse than
+/// the best), then over the two geometric midpoints (`best · ratio^{±1/2}`) around
 /// the best, each candidate passed through `snap` first (e.g. rounding a neighbour count) and
 /// scored once. `score` returns `None` to stop (an interrupted render): the result is then
 /// `None`. Ties go to the candidate scored first; non-finite scores never win.
@@ -147,8 +148,24 @@ pub fn select_geometric(
         scored.push((c, s));
         Some(())
     };
+    // The coarse scan stops once `PATIENCE` candidates in a row score worse than the best so
+    // far: the LSCV curve rises on both sides of its minimum, and the large bandwidths are the
+    // dearest to evaluate.
+    let mut worse = 0;
     for c in geometric_grid(lo, hi, ratio) {
+        let before = best_score(&scored);
+        let n = scored.len();
         eval(c, &mut scored)?;
+        if scored.len() > n
+            && before.is_some_and(|b| scored[n].1.partial_cmp(&b) != Some(std::cmp::Ordering::Less))
+        {
+            worse += 1;
+            if worse >= PATIENCE {
+                break;
+            }
+        } else if scored.len() > n {
+            worse = 0;
+        }
     }
     let best = best_of(&scored)?;
     let half = ratio.sqrt();
@@ -161,6 +178,18 @@ pub fn select_geometric(
         value: best_of(&scored)?,
         scored,
     })
+}
+
+/// Coarse candidates in a row scoring worse than the best before the scan stops.
+pub const PATIENCE: usize = 2;
+
+/// The least finite score so far.
+fn best_score(scored: &[(f64, f64)]) -> Option<f64> {
+    scored
+        .iter()
+        .map(|&(_, s)| s)
+        .filter(|s| s.is_finite())
+        .reduce(f64::min)
 }
 
 /// The candidate of least finite score (the first of equals), `None` if there is none.
@@ -392,7 +421,7 @@ mod tests {
         let sel =
             select_geometric(1.0, 64.0, 2.0, f64::round, |c| Some((c - 5.0).powi(2))).unwrap();
         assert_eq!(sel.value, 4.0);
-        assert_eq!(sel.scored.len(), 9);
+        assert_eq!(sel.scored.len(), 7, "the scan stops after 8 and 16");
         // Interrupted: no choice.
         assert!(select_geometric(1.0, 8.0, 2.0, |c| c, |_| None).is_none());
         // NaN never wins.

@@ -295,11 +295,10 @@ fn case_settings(b: &mut SceneBuilder) {
     caustic_integrator(b);
 }
 
-/// `pds` at the smoothing the case studies found best (s = 4–8): the built-in caustic scenes'
-/// default method.
+/// `pds`, the built-in caustic scenes' default method, with no smoothing: the renderer chooses
+/// s from the traced photons (least-squares cross-validation, docs/automatic-bandwidths.md).
 fn caustic_integrator(b: &mut SceneBuilder) {
     b.settings.integrator = Some("pds".to_string());
-    b.settings.smoothing = Some(4.0);
 }
 
 /// Seed 000 §6.2, the refraction case: collimated light straight down through a sinusoidal
@@ -478,6 +477,9 @@ mod tests {
             assert_eq!(a.settings.spp, b.settings.spp);
             assert_eq!(a.settings.max_depth, b.settings.max_depth);
             assert_eq!(a.settings.filter, b.settings.filter);
+            assert_eq!(a.settings.integrator, b.settings.integrator, "{name}");
+            assert_eq!(a.settings.smoothing, b.settings.smoothing, "{name}");
+            assert_eq!(a.settings.photons, b.settings.photons, "{name}");
             for (sa, sb) in a.shapes().iter().zip(b.shapes()) {
                 assert_eq!(sa.material, sb.material, "{name}");
                 assert_eq!(
