@@ -21,7 +21,8 @@
 //! [`PILOT_PHOTONS`] of its own light paths (a prefix of the same stream), and the pilot's
 //! choice is carried to the full count at the AMISE rate (k ∝ N^{2/3}, h ∝ N^{-1/6},
 //! s ∝ N^{1/3} on surfaces; [`Smoother::rate`]); at most [`SCORED_PIXELS`] pixels (a regular
-//! subgrid) are scored. The hold-out has [`HOLDOUT_FACTOR`] times the pilot's light paths.
+//! subgrid) are scored. The hold-out has [`HOLDOUT_FACTOR`] times the pilot's light paths, at
+//! most [`HOLDOUT_MAX_PATHS`] (or the pilot's own count if that is larger).
 //! The choice is deterministic: the pilot, the hold-out (fixed chunks merged in order) and the
 //! scores (per-pixel values in parallel, summed in pixel order) do not depend on the thread
 //! count.
@@ -58,6 +59,10 @@ pub const SCORED_PIXELS: usize = 16_384;
 pub const SCORED_PIXELS_DIFFUSION: usize = 4_096;
 /// Hold-out light paths per pilot light path.
 pub const HOLDOUT_FACTOR: u64 = 4;
+/// Most hold-out light paths, unless the pilot itself needed more (a light that sends few of
+/// its paths into caustics, like the gold ring's area light, would otherwise make the
+/// hold-out dearer than the render).
+pub const HOLDOUT_MAX_PATHS: u64 = 1 << 22;
 /// Random-number stream of the hold-out light paths (the photons use
 /// [`crate::photon::caustic::CAUSTIC_STREAM`] and the global map its own).
 pub const HOLDOUT_STREAM: u64 = 0x401D;
@@ -420,7 +425,10 @@ fn run(
         _ => SCORED_PIXELS,
     };
     let cells = cells(scene, opts, max_cells);
-    let holdout_paths = paths.saturating_mul(HOLDOUT_FACTOR).max(1);
+    let holdout_paths = paths
+        .saturating_mul(HOLDOUT_FACTOR)
+        .min(HOLDOUT_MAX_PATHS.max(paths))
+        .max(1);
     let film = holdout(scene, opts, holdout_paths, &mut |f| progress(0.3 + 0.2 * f))
         .ok_or_else(|| INTERRUPTED.to_string())?;
     let tilde: Vec<[f64; 3]> = film
