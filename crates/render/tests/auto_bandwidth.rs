@@ -71,7 +71,7 @@ fn chosen(notes: &[String], name: &str) -> f32 {
         + name.len()
         + 3;
     note[at..]
-        .split(|c: char| c == ',' || c == ' ')
+        .split([',', ' '])
         .next()
         .unwrap()
         .parse()
