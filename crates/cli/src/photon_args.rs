@@ -3,8 +3,8 @@
 use anyhow::Result;
 use caustica_density::kernel::Kernel;
 use caustica_render::{
-    Bandwidth, CausticEstimator, Diffusivity, NoiseScale, NormalDistance, PhotonOptions, Smoothing,
-    Steepness,
+    AutoBandwidth, Bandwidth, CausticEstimator, Diffusivity, NoiseScale, NormalDistance,
+    PhotonOptions, Smoothing, Steepness,
 };
 use clap::Args;
 
@@ -31,7 +31,9 @@ pub struct PhotonArgs {
     /// Photons stored in the global map (pm; default 100000; 0 = no indirect light).
     #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub global_photons: Option<usize>,
-    /// Photons per radiance estimate, k nearest (default 50; at least 1).
+    /// Photons per radiance estimate, k nearest (at least 1). Default for the caustic map of pm:
+    /// chosen from the traced photons by least-squares cross-validation (Rudemo 1982, Silverman
+    /// 1986 eq. 3.39; see docs/automatic-bandwidths.md); 50 for the global map.
     #[arg(long, allow_negative_numbers = true, help_heading = "Photon mapping")]
     pub k: Option<usize>,
     /// Photons per estimate in the global map (default: the same as --k; at least 1).
@@ -58,16 +60,17 @@ pub struct PhotonArgs {
     /// diffusion (dpm's).
     #[arg(long, help_heading = "Photon mapping")]
     pub estimator: Option<CausticEstimator>,
-    /// Fixed bandwidth h in scene units of the fixed and diffusion estimators (default: the
-    /// median distance from a caustic photon to its k-th nearest neighbour; a positive finite
-    /// length).
+    /// Fixed bandwidth h in scene units of the fixed and diffusion estimators (a positive finite
+    /// length). Default: chosen from the traced photons by least-squares cross-validation
+    /// (Silverman 1986 eq. 3.39; the median distance to the k-th nearest photon if interrupted).
     #[arg(
         long,
         allow_negative_numbers = true,
         help_heading = "Diffusion photon mapping (dpm)"
     )]
     pub bandwidth: Option<Bandwidth>,
-    /// Diffusivity coefficient q of Schjøth 2009 eq. 4.15 (default 0.2; large = no adaptation; > 0).
+    /// Diffusivity coefficient q of Schjøth 2009 eq. 4.15 (large = no adaptation; > 0). Default:
+    /// chosen with the bandwidth by least-squares cross-validation (0.2 if interrupted).
     #[arg(
         long,
         allow_negative_numbers = true,
@@ -93,7 +96,9 @@ pub struct PhotonArgs {
     #[arg(long, help_heading = "Diffusion photon mapping (dpm)")]
     pub isotropic: bool,
     /// Smoothing parameter s of photon differentials (pdm, pds; Frisvad et al. 2014 eq. 5-6): the
-    /// emitted footprints overlap s^2 times (default 1; a positive finite number).
+    /// emitted footprints overlap s^2 times (a positive finite number). Default: chosen from the
+    /// traced photons by least-squares cross-validation (Silverman 1986 eq. 3.39; 1 if
+    /// interrupted).
     #[arg(
         long,
         allow_negative_numbers = true,
@@ -109,6 +114,10 @@ pub struct PhotonArgs {
         help_heading = "Photon differentials (pdm, pds)"
     )]
     pub normal_distance: Option<NormalDistance>,
+    /// Choose no bandwidth automatically: pm's k 50, dpm's bandwidth the median distance to the
+    /// 50th nearest photon and q 0.2, pdm's and pds's s 1 (or the scene's smoothing).
+    #[arg(long, help_heading = "Photon mapping")]
+    pub no_auto_bandwidth: bool,
 }
 
 impl PhotonArgs {
@@ -151,6 +160,15 @@ impl PhotonArgs {
         if let Some(t) = self.normal_distance {
             o.footprints.normal_distance = t;
         }
+        // What neither the command line nor (see `RenderSettings::resolve`) the scene gives is
+        // chosen automatically.
+        let auto = !self.no_auto_bandwidth;
+        o.auto = AutoBandwidth {
+            k: auto && self.k.is_none(),
+            bandwidth: auto && self.bandwidth.is_none(),
+            q: auto && self.q.is_none(),
+            smoothing: auto && self.smoothing.is_none(),
+        };
         o.validate()?;
         Ok(o)
     }
@@ -175,5 +193,6 @@ impl PhotonArgs {
             || self.isotropic
             || self.smoothing.is_some()
             || self.normal_distance.is_some()
+            || self.no_auto_bandwidth
     }
 }

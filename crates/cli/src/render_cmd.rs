@@ -211,6 +211,7 @@ impl RenderSettings {
             && let Some(s) = scene.settings.smoothing
         {
             opts.photons.footprints.smoothing = caustica_render::Smoothing::new(s)?;
+            opts.photons.auto.smoothing = false;
         }
         if self.photon.final_gather.is_none()
             && let Some(g) = scene.settings.final_gather

@@ -25,7 +25,7 @@ pub struct SweepArgs {
     /// The render option to vary, by its long name: spp, seed, max-depth, sampler, time,
     /// integrator, photons, global-photons, k, global-k, max-radius, kernel, final-gather,
     /// tangent-projection, disc-test, caustics-only, estimator, bandwidth, q, alpha,
-    /// noise-scale, isotropic, smoothing or normal-distance.
+    /// noise-scale, isotropic, smoothing, normal-distance or no-auto-bandwidth.
     #[arg(long, value_name = "NAME")]
     pub param: String,
     /// The values of the parameter, comma-separated (e.g. 10,50,200 or uniform,cone:1.1);
@@ -135,6 +135,7 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("isotropic", |s| &mut s.photon.isotropic),
     ("smoothing", |s| &mut s.photon.smoothing),
     ("normal-distance", |s| &mut s.photon.normal_distance),
+    ("no-auto-bandwidth", |s| &mut s.photon.no_auto_bandwidth),
 ];
 
 /// The setter of parameter `name` (a long option name, with or without the leading `--`).

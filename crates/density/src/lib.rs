@@ -15,6 +15,9 @@
 //!   over any [`PointSet`] (the testbed's samples, a photon map).
 //! * [`radius_buckets`] — [`RadiusBuckets`]: points with their own support radius, searched by
 //!   "whose ball contains x" (variable bandwidths, photon-differential footprints).
+//! * [`bandwidth_selection`] — automatic bandwidths: least-squares cross-validation with a
+//!   hold-out cross term ([`bandwidth_selection::LscvScore`]) over a geometric grid, and the
+//!   AMISE rate that carries a pilot sample's choice to the full sample.
 //! * [`diffusion`] — diffusion-based estimation (ch. 4, eq. 4.11–4.19): gradient pre-pass,
 //!   structure tensor, diffusion tensor.
 //!
@@ -58,6 +61,7 @@
 
 #![forbid(unsafe_code)]
 
+pub mod bandwidth_selection;
 pub mod diffusion;
 pub mod estimate;
 pub mod estimator;
@@ -91,4 +95,9 @@ pub enum DensityError {
         "the {0} estimator is defined in a surface's tangent plane (seed 000 ch. 4) and cannot answer a volume query; use fixed, knn or variable for volume photons"
     )]
     SurfaceOnly(&'static str),
+    /// An LSCV score needs one hold-out value per estimated cell.
+    #[error(
+        "an LSCV score needs one hold-out value per cell: {estimate} estimates, {holdout} hold-out values"
+    )]
+    LengthMismatch { estimate: usize, holdout: usize },
 }

@@ -35,8 +35,8 @@ pub use error::{OptionError, RenderError};
 pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};
 pub use options::{
-    Bandwidth, CausticEstimator, DiffusionSettings, Diffusivity, FootprintSettings, NoiseScale,
-    NormalDistance, PhotonOptions, RenderOptions, Smoothing, Steepness,
+    AutoBandwidth, Bandwidth, CausticEstimator, DiffusionSettings, Diffusivity, FootprintSettings,
+    NoiseScale, NormalDistance, PhotonOptions, RenderOptions, Smoothing, Steepness,
 };
 pub use photon::plan::PhotonBudget;
 pub use stats::RenderStats;

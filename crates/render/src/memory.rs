@@ -11,6 +11,7 @@
 
 use crate::integrator::IntegratorKind;
 use crate::options::RenderOptions;
+use crate::photon::bandwidth_choice as choice;
 use crate::photon::differential::{DiffPhoton, Landing, RECORD_LANDING_PATHS};
 use crate::photon::eye_map::EyeVertex;
 use crate::photon::plan::PhotonBudget;
@@ -159,6 +160,32 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
             }
         }
         IntegratorKind::Path | IntegratorKind::LightTrace => {}
+    }
+    if choice::chooses(kind, p) {
+        // The automatic bandwidth choice (freed before the photon pass; counted anyway, as an
+        // upper bound): the pilot map (footprints for pdm and pds), the scored camera vertices,
+        // and the hold-out image with the splat buffers of one wave.
+        let pilot = (caustic.min(choice::PILOT_PHOTONS as u64), {
+            if kind.uses_photon_differentials() {
+                2 * size_of::<DiffPhoton>() as u64 + TREE_BYTES_PER_POINT
+            } else {
+                photon + DIFFUSION_BYTES_PER_PHOTON
+            }
+        });
+        m.add("bandwidth choice: pilot photons", pilot.0, pilot.1);
+        m.add(
+            "bandwidth choice: camera vertices",
+            pixels.min(choice::SCORED_PIXELS as u64),
+            choice::CELL_BYTES,
+        );
+        m.add(
+            "bandwidth choice: hold-out images",
+            pixels,
+            choice::HOLDOUT_WAVE * size_of::<[f32; 3]>() as u64
+                + 2 * size_of::<[f64; 3]>() as u64
+                + 4
+                + size_of::<[f32; 3]>() as u64,
+        );
     }
     m
 }

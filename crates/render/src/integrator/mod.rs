@@ -225,6 +225,22 @@ pub fn render(
     let mut film = Film::cropped(window, cam.width as usize, cam.height as usize);
     let filter = Filter::new(scene.settings.filter);
     let mut notes = Vec::new();
+    // Automatic bandwidths first, in a small share of the progress bar (and of a time budget);
+    // without any the stage is untouched, so explicit values render exactly as before.
+    let chosen;
+    let (opts, stage) = if crate::photon::bandwidth_choice::chooses(kind, &opts.photons) {
+        let choice_stage = stage
+            .part(0.0, CHOICE_SHARE)
+            .labelled("choosing bandwidths");
+        let c = crate::photon::bandwidth_choice::choose(scene, kind, opts, &mut |f| {
+            choice_stage.report_and_go_on(f)
+        });
+        notes.extend(c.note);
+        chosen = c.opts;
+        (&chosen, stage.part(CHOICE_SHARE, 1.0))
+    } else {
+        (opts, stage)
+    };
     let stats: RenderStats = match kind {
         IntegratorKind::Path => {
             let stage = stage.labelled("path tracing");
@@ -261,6 +277,9 @@ pub fn render(
         notes,
     })
 }
+
+/// Share of the progress bar (and of a time budget) of the automatic bandwidth choice.
+const CHOICE_SHARE: f64 = 0.05;
 
 /// Refuses a render whose estimated allocations ([`memory::estimate`]) exceed the budget, naming
 /// the largest part and the option that lowers it.

@@ -4,7 +4,9 @@
 pub mod photon;
 pub mod value;
 
-pub use photon::{CausticEstimator, DiffusionSettings, FootprintSettings, PhotonOptions};
+pub use photon::{
+    AutoBandwidth, CausticEstimator, DiffusionSettings, FootprintSettings, PhotonOptions,
+};
 pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Smoothing, Steepness};
 
 use crate::crop::CropWindow;

@@ -38,6 +38,41 @@ pub struct PhotonOptions {
     pub diffusion: DiffusionSettings,
     /// Photon-differential footprints (`pdm`, `pds`).
     pub footprints: FootprintSettings,
+    /// Which bandwidths the render chooses from the traced photons
+    /// ([`crate::photon::bandwidth_choice`]) instead of taking the value above. Off by default:
+    /// a library caller gets exactly the values it sets; the command line turns each on when
+    /// neither it nor the scene gives that value.
+    pub auto: AutoBandwidth,
+}
+
+/// Bandwidths chosen automatically, by least-squares cross-validation of the image
+/// ([`crate::photon::bandwidth_choice`]); each flag replaces one fixed value.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AutoBandwidth {
+    /// `estimate.k` of the caustic map (`pm` with the k-NN or variable estimator); the global
+    /// map keeps the fixed k.
+    pub k: bool,
+    /// `bandwidth` (`pm --estimator fixed`, `dpm`).
+    pub bandwidth: bool,
+    /// `diffusion.q` (`dpm`).
+    pub q: bool,
+    /// `footprints.smoothing` (`pdm`, `pds`).
+    pub smoothing: bool,
+}
+
+impl AutoBandwidth {
+    /// Every bandwidth automatic.
+    pub const ALL: AutoBandwidth = AutoBandwidth {
+        k: true,
+        bandwidth: true,
+        q: true,
+        smoothing: true,
+    };
+
+    /// True if any bandwidth is automatic.
+    pub fn any(self) -> bool {
+        self.k || self.bandwidth || self.q || self.smoothing
+    }
 }
 
 impl Default for PhotonOptions {
@@ -53,6 +88,7 @@ impl Default for PhotonOptions {
             bandwidth: None,
             diffusion: DiffusionSettings::default(),
             footprints: FootprintSettings::default(),
+            auto: AutoBandwidth::default(),
         }
     }
 }

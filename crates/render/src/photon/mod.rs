@@ -1,6 +1,8 @@
 //! The photon family: everything the photon methods (`pm`, `dpm`, `pdm`, `pds`, and later the
 //! progressive methods and photon cone focusing) share on the light side and at the eye.
 //!
+//! * [`bandwidth_choice`] — automatic bandwidths (k, h, q, s) by least-squares
+//!   cross-validation of the image against a hold-out light-tracer image.
 //! * [`plan`] — numbered light paths cut into chunks, waves and ranges ([`plan::trace_paths`]
 //!   with a `first_path`, [`plan::trace_path_range`] for a fixed budget N_e): the seam
 //!   iterations and shards use.
@@ -11,6 +13,7 @@
 //! * [`eye_map`] — the eye-path vertices of a camera pass, in spatial tiles.
 //! * [`differential`] — photon differentials: tracing, footprints, the `pdm` map, counting.
 
+pub mod bandwidth_choice;
 pub mod caustic;
 pub mod differential;
 pub mod eye_map;

@@ -7,6 +7,7 @@ use caustica_scene::light::EmissionSample;
 use caustica_scene::{Scene, SurfaceInteraction};
 
 /// The scattering state at a path vertex.
+#[derive(Clone)]
 pub struct Vertex {
     pub si: SurfaceInteraction,
     pub bsdf: Bsdf,
