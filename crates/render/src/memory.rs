@@ -175,7 +175,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         m.add("bandwidth choice: pilot photons", pilot.0, pilot.1);
         m.add(
             "bandwidth choice: camera vertices",
-            pixels.min(choice::SCORED_PIXELS as u64),
+            pixels.min(choice::SCORED_PIXELS as u64) * choice::RAYS_PER_PIXEL as u64,
             choice::CELL_BYTES,
         );
         m.add(

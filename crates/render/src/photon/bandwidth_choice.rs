@@ -3,7 +3,8 @@
 //! ([`caustica_density::bandwidth_selection`]).
 //!
 //! For a candidate bandwidth the caustic estimate L̂ of the photon method is evaluated at the
-//! first vertex of one camera ray through each scored pixel's centre, and scored as
+//! first vertices of [`RAYS_PER_PIXEL`] camera rays through each scored pixel (offsets drawn
+//! from the pixel filter, as the render's samples are) and averaged, and scored as
 //!
 //! ```text
 //! LSCV = Σ_pixels Σ_rgb [ L̂(x)² − 2 L̂(x) L̃(x) ]
@@ -244,46 +245,61 @@ struct Cell {
     beta: Spectrum,
 }
 
-/// The pixels scored: a regular subgrid of at most `max` pixels whose centre ray meets a
-/// non-delta surface first (its first vertex, as in the caustics-only light tracer).
+/// Camera rays per scored pixel, their offsets drawn from the pixel filter as the render's are:
+/// a pixel's score compares the estimate averaged over the filter, as the render computes it,
+/// with the hold-out's filtered pixel. Evaluated at the pixel centre alone, an estimate varying
+/// within the pixel counts that variation as error and the choice drifts to wider bandwidths.
+pub const RAYS_PER_PIXEL: usize = 4;
+
+/// The pixels scored: a regular subgrid of at most `max` pixels, [`RAYS_PER_PIXEL`] camera rays
+/// each (one cell per ray that meets a non-delta surface first, its first vertex, as in the
+/// caustics-only light tracer; the cells of a pixel are adjacent). A pixel none of whose rays
+/// does is not scored.
 fn cells(scene: &Scene, opts: &RenderOptions, max: usize) -> Vec<Cell> {
     let cam = &scene.camera;
+    let filter = Filter::new(scene.settings.filter);
     let (w, h) = (cam.width as usize, cam.height as usize);
     let stride = ((w * h) as f64 / max as f64).sqrt().ceil().max(1.0) as usize;
     let pixels: Vec<(usize, usize)> = (stride / 2..h)
         .step_by(stride)
         .flat_map(|y| (stride / 2..w).step_by(stride).map(move |x| (x, y)))
         .collect();
-    pixels
+    let per_pixel: Vec<Vec<Cell>> = pixels
         .par_iter()
-        .filter_map(|&(x, y)| {
-            let raster = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-            let ray = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
+        .map(|&(x, y)| {
             let mut sampler = Sampler::new(opts.sampler, opts.seed);
-            sampler.start_pixel_sample(x as u32, y as u32, 0);
-            let mut found = None;
-            walk_eye(
-                scene,
-                ray,
-                &mut sampler,
-                1,
-                &mut RenderStats::default(),
-                |event, _, _| {
-                    if let EyeEvent::Vertex { v, beta, .. } = event
-                        && v.bsdf.flags().is_smooth()
-                    {
-                        found = Some((v.clone(), beta));
-                    }
-                    Flow::Stop
-                },
-            );
-            found.map(|(v, beta)| Cell {
-                pixel: y * w + x,
-                v,
-                beta,
-            })
+            (0..RAYS_PER_PIXEL)
+                .filter_map(|k| {
+                    sampler.start_pixel_sample(x as u32, y as u32, k as u32);
+                    let offset = filter.sample(sampler.next_2d());
+                    let raster = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                    let ray = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
+                    let mut found = None;
+                    walk_eye(
+                        scene,
+                        ray,
+                        &mut sampler,
+                        1,
+                        &mut RenderStats::default(),
+                        |event, _, _| {
+                            if let EyeEvent::Vertex { v, beta, .. } = event
+                                && v.bsdf.flags().is_smooth()
+                            {
+                                found = Some((v.clone(), beta));
+                            }
+                            Flow::Stop
+                        },
+                    );
+                    found.map(|(v, beta)| Cell {
+                        pixel: y * w + x,
+                        v,
+                        beta,
+                    })
+                })
+                .collect()
         })
-        .collect()
+        .collect();
+    per_pixel.into_iter().flatten().collect()
 }
 
 /// The hold-out image: `paths` caustics-only light-tracer paths of [`HOLDOUT_STREAM`], or
@@ -336,10 +352,30 @@ fn holdout(
 fn score(cells: &[Cell], tilde: &[[f64; 3]], est: impl Fn(&Vertex) -> Spectrum + Sync) -> f64 {
     let values: Vec<Spectrum> = cells.par_iter().map(|c| c.beta * est(&c.v)).collect();
     let mut s = LscvScore::default();
-    for (c, l) in cells.iter().zip(&values) {
-        for (ch, lt) in l.c.iter().zip(&tilde[c.pixel]) {
-            s.add(f64::from(*ch), *lt);
+    // A pixel's estimate: the mean over its RAYS_PER_PIXEL rays (those without a cell add 0).
+    let mut add_pixel = |pixel: usize, sum: [f64; 3]| {
+        for (ch, lt) in sum.iter().zip(&tilde[pixel]) {
+            s.add(ch / RAYS_PER_PIXEL as f64, *lt);
         }
+    };
+    let mut current: Option<(usize, [f64; 3])> = None;
+    for (c, l) in cells.iter().zip(&values) {
+        match &mut current {
+            Some((p, sum)) if *p == c.pixel => {
+                for (a, v) in sum.iter_mut().zip(l.c) {
+                    *a += f64::from(v);
+                }
+            }
+            _ => {
+                if let Some((p, sum)) = current.take() {
+                    add_pixel(p, sum);
+                }
+                current = Some((c.pixel, l.c.map(f64::from)));
+            }
+        }
+    }
+    if let Some((p, sum)) = current {
+        add_pixel(p, sum);
     }
     s.value()
 }
@@ -446,6 +482,12 @@ fn run(
     if cells.is_empty() || seen <= 0.0 {
         return Err("no caustic the camera sees directly to score against".into());
     }
+    // Cells of a pixel are adjacent: count the pixels by their first cell.
+    let scored_pixels = cells
+        .iter()
+        .enumerate()
+        .filter(|(i, c)| *i == 0 || cells[i - 1].pixel != c.pixel)
+        .count();
     let how = |n: usize| {
         let pilot = if pilot_n < full_n {
             format!(" on a {records}-photon pilot, scaled to the full map at the AMISE rate")
@@ -453,7 +495,7 @@ fn run(
             String::new()
         };
         format!(
-            "least-squares cross-validation over {n} candidates{pilot}, {} pixels, {holdout_paths} hold-out light paths",
+            "least-squares cross-validation over {n} candidates{pilot}, {scored_pixels} pixels ({} camera rays), {holdout_paths} hold-out light paths",
             cells.len()
         )
     };
