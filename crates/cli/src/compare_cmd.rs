@@ -1,6 +1,6 @@
 //! `caustica compare IMAGE REFERENCE`: the numbers two images differ by.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use caustica_core::image_io::Image;
 use caustica_eval::metrics::CompareOptions;
 use caustica_eval::zscore::{T24_TAIL_2, T24_TAIL_3};
@@ -58,7 +58,16 @@ impl MetricArgs {
     /// The crop rectangle and mask (read here) for `width`×`height` images, checked.
     pub fn region(&self, width: usize, height: usize) -> Result<Region> {
         let mut region = match &self.crop {
-            Some(c) => Region::crop(width, height, parse_crop(c)?)?,
+            Some(c) => {
+                // The same X,Y,W,H rule as `render --crop`, checked against the images.
+                let win = caustica_render::CropWindow::parse(c, width as u32, height as u32)?;
+                let (x, y, w, h) = (win.x, win.y, win.width, win.height);
+                Region::crop(
+                    width,
+                    height,
+                    (x as usize, y as usize, w as usize, h as usize),
+                )?
+            }
             None => Region::full(width, height),
         };
         if let Some(m) = &self.mask {
@@ -76,21 +85,6 @@ impl MetricArgs {
         } else {
             region.clone()
         }
-    }
-}
-
-fn parse_crop(s: &str) -> Result<(usize, usize, usize, usize)> {
-    let v: Vec<usize> = s
-        .split(',')
-        .map(|p| p.trim().parse::<usize>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("--crop {s:?}: expected four non-negative integers X,Y,W,H"))?;
-    match v[..] {
-        [x, y, w, h] => Ok((x, y, w, h)),
-        _ => bail!(
-            "--crop {s:?}: expected four values X,Y,W,H, got {}",
-            v.len()
-        ),
     }
 }
 

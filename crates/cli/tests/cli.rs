@@ -343,7 +343,7 @@ fn compare_bad_input_fails_cleanly() {
     );
     assert_clean_failure(
         &caustica(&["compare", a, a, "--crop", "40,0,20,10"]),
-        &["does not fit"],
+        &["--crop", "outside"],
     );
     assert_clean_failure(
         &caustica(&["compare", a, a, "--crop", "1,2,x,4"]),

@@ -23,8 +23,6 @@
 //! minimises them over a geometric grid, and [`amise_rescale`] carries a bandwidth chosen on a
 //! pilot sample of `n` points to the full sample of `N` by the asymptotic (AMISE) rate.
 
-use crate::DensityError;
-
 /// The two `h`-dependent terms of the LSCV score over a set of cells: `Σ f̂²` and `Σ f̂ f̃`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LscvScore {
@@ -35,23 +33,6 @@ pub struct LscvScore {
 }
 
 impl LscvScore {
-    /// The score of `estimate` (one value per cell) against the hold-out estimate `holdout`
-    /// of the same cells, summed in cell order (so the result is a pure function of the
-    /// inputs). Errors: [`DensityError::LengthMismatch`] if the slices differ in length.
-    pub fn of(estimate: &[f64], holdout: &[f64]) -> Result<Self, DensityError> {
-        if estimate.len() != holdout.len() {
-            return Err(DensityError::LengthMismatch {
-                estimate: estimate.len(),
-                holdout: holdout.len(),
-            });
-        }
-        let mut s = LscvScore::default();
-        for (&e, &h) in estimate.iter().zip(holdout) {
-            s.add(e, h);
-        }
-        Ok(s)
-    }
-
     /// Adds one cell with estimate `e` and hold-out value `h`.
     pub fn add(&mut self, e: f64, h: f64) {
         self.squares += e * e;
@@ -208,6 +189,16 @@ mod tests {
     use super::*;
     use caustica_core::sampling::rng::Pcg32;
 
+    /// The score of `estimate` (one value per cell) against `holdout`, cell by cell.
+    fn score_of(estimate: &[f64], holdout: &[f64]) -> LscvScore {
+        assert_eq!(estimate.len(), holdout.len());
+        let mut s = LscvScore::default();
+        for (&e, &h) in estimate.iter().zip(holdout) {
+            s.add(e, h);
+        }
+        s
+    }
+
     /// Standard normal variates (Box–Muller).
     fn normals(rng: &mut Pcg32, n: usize) -> Vec<f64> {
         (0..n)
@@ -275,7 +266,7 @@ mod tests {
                 let est: Vec<f64> = xs.iter().map(|&x| kde_1d(&sample, h, x)).collect();
                 let e: f64 = est.iter().zip(&truth).map(|(a, b)| (a - b).powi(2)).sum();
                 ise.push((h, e * w));
-                Some(LscvScore::of(&est, &tilde).unwrap().value() * w)
+                Some(score_of(&est, &tilde).value() * w)
             },
         )
         .unwrap();
@@ -369,7 +360,7 @@ mod tests {
         let values: Vec<f64> = (0..runs)
             .map(|_| {
                 let tilde = histogram(&normals(&mut rng, 500), lo, w, m);
-                LscvScore::of(&g, &tilde).unwrap().cross * w
+                score_of(&g, &tilde).cross * w
             })
             .collect();
         let mean = values.iter().sum::<f64>() / runs as f64;
@@ -434,14 +425,8 @@ mod tests {
         )
         .unwrap();
         assert!((sel.value - 2f64.sqrt()).abs() < 1e-12);
-        assert_eq!(
-            LscvScore::of(&[1.0], &[]),
-            Err(DensityError::LengthMismatch {
-                estimate: 1,
-                holdout: 0
-            })
-        );
-        let s = LscvScore::of(&[1.0, 2.0], &[0.5, 1.0]).unwrap();
+        // Σ f̂² = 1 + 4, Σ f̂ f̃ = 0.5 + 2.
+        let s = score_of(&[1.0, 2.0], &[0.5, 1.0]);
         assert_eq!(s.value(), 5.0 - 2.0 * 2.5);
     }
 }

@@ -95,9 +95,4 @@ pub enum DensityError {
         "the {0} estimator is defined in a surface's tangent plane (seed 000 ch. 4) and cannot answer a volume query; use fixed, knn or variable for volume photons"
     )]
     SurfaceOnly(&'static str),
-    /// An LSCV score needs one hold-out value per estimated cell.
-    #[error(
-        "an LSCV score needs one hold-out value per cell: {estimate} estimates, {holdout} hold-out values"
-    )]
-    LengthMismatch { estimate: usize, holdout: usize },
 }

@@ -76,6 +76,25 @@ fn diffuse(r: f32, g: f32, b: f32) -> Material {
     }
 }
 
+/// A smooth dielectric of index of refraction `ior`, clear.
+fn dielectric(ior: f32) -> Material {
+    Material::Dielectric {
+        ior,
+        absorption: Spectrum::ZERO,
+    }
+}
+
+/// A smooth gold conductor (the `Au` preset's complex IOR).
+fn gold() -> Result<Material, SceneError> {
+    let (eta, k) = conductor_preset("Au")
+        .ok_or_else(|| SceneError::InvalidParameter("the Au conductor preset is missing".into()))?;
+    Ok(Material::Conductor {
+        eta,
+        k,
+        specular: Spectrum::ONE,
+    })
+}
+
 /// `translate · rotate(axis, degrees) · scale`, the order Mitsuba's chained transforms use.
 fn trs(t: Vec3, axis: Vec3, deg: f32, s: Vec3) -> Affine3A {
     Affine3A::from_translation(t)
@@ -132,24 +151,8 @@ fn caustic_box() -> Result<SceneBuilder, SceneError> {
     b.settings.smoothing = Some(CAUSTIC_BOX_SMOOTHING);
     b.settings.final_gather = Some(CAUSTIC_BOX_FINAL_GATHER);
     cornell_room(&mut b)?;
-    let glass = b.add_material(
-        "glass",
-        Material::Dielectric {
-            ior: 1.5,
-            absorption: Spectrum::ZERO,
-        },
-    )?;
-    let (eta, k) = conductor_preset("Au").ok_or(SceneError::Invalid(
-        "the conductor preset \"Au\" is missing".to_string(),
-    ))?;
-    let gold = b.add_material(
-        "gold",
-        Material::Conductor {
-            eta,
-            k,
-            specular: Spectrum::ONE,
-        },
-    )?;
+    let glass = b.add_material("glass", dielectric(1.5))?;
+    let gold = b.add_material("gold", gold()?)?;
     b.add_shape(
         ShapeGeometry::Sphere(Sphere {
             center: CAUSTIC_BOX_GLASS_CENTER,
@@ -263,13 +266,7 @@ fn glass_sphere() -> Result<SceneBuilder, SceneError> {
     b.settings.max_depth = Some(16);
     caustic_integrator(&mut b);
     let floor = b.add_material("floor", diffuse(0.8, 0.8, 0.8))?;
-    let glass = b.add_material(
-        "glass",
-        Material::Dielectric {
-            ior: 1.5,
-            absorption: Spectrum::ZERO,
-        },
-    )?;
+    let glass = b.add_material("glass", dielectric(1.5))?;
     b.add_shape(
         ShapeGeometry::Mesh(TriangleMesh::rectangle(&trs(
             Vec3::ZERO,
@@ -394,13 +391,7 @@ fn water_wave() -> Result<SceneBuilder, SceneError> {
     ));
     case_settings(&mut b);
     let floor = b.add_material("floor", diffuse(0.8, 0.8, 0.8))?;
-    let water = b.add_material(
-        "water",
-        Material::Dielectric {
-            ior: WATER_IOR,
-            absorption: Spectrum::ZERO,
-        },
-    )?;
+    let water = b.add_material("water", dielectric(WATER_IOR))?;
     add_floor(&mut b, WATER_WAVE.half_width, floor)?;
     b.add_shape(
         ShapeGeometry::Mesh(water_wave_mesh(&WATER_WAVE)),
@@ -468,16 +459,7 @@ fn gold_ring() -> Result<SceneBuilder, SceneError> {
     ));
     case_settings(&mut b);
     let floor = b.add_material("floor", diffuse(0.8, 0.8, 0.8))?;
-    let (eta, k) = conductor_preset("Au")
-        .ok_or_else(|| SceneError::InvalidParameter("the Au conductor preset is missing".into()))?;
-    let gold = b.add_material(
-        "gold",
-        Material::Conductor {
-            eta,
-            k,
-            specular: Spectrum::ONE,
-        },
-    )?;
+    let gold = b.add_material("gold", gold()?)?;
     let black = b.add_material("light-black", diffuse(0.0, 0.0, 0.0))?;
     add_floor(&mut b, 5.0, floor)?;
     b.add_shape(ShapeGeometry::Mesh(ring_mesh(&RING)), gold, None, false)?;

@@ -102,7 +102,7 @@ pub fn chooses(kind: IntegratorKind, p: &PhotonOptions) -> bool {
 }
 
 /// Bytes of one scored camera vertex.
-pub const CELL_BYTES: u64 = std::mem::size_of::<Cell>() as u64;
+pub const CELL_BYTES: u64 = std::mem::size_of::<(Vertex, Spectrum)>() as u64;
 
 fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
     let a = p.auto;
@@ -236,13 +236,13 @@ impl Values {
     }
 }
 
-/// A first camera vertex of a scored pixel.
-struct Cell {
+/// A scored pixel: the first vertices of those of its camera rays that meet a non-delta
+/// surface first (at least one).
+struct ScoredPixel {
     /// Pixel index (row-major).
     pixel: usize,
-    v: Vertex,
-    /// Throughput of the camera ray to `v` (transmittance).
-    beta: Spectrum,
+    /// Each vertex with the throughput of its camera ray (transmittance).
+    rays: Vec<(Vertex, Spectrum)>,
 }
 
 /// Camera rays per scored pixel, their offsets drawn from the pixel filter as the render's are:
@@ -252,10 +252,9 @@ struct Cell {
 pub const RAYS_PER_PIXEL: usize = 4;
 
 /// The pixels scored: a regular subgrid of at most `max` pixels, [`RAYS_PER_PIXEL`] camera rays
-/// each (one cell per ray that meets a non-delta surface first, its first vertex, as in the
-/// caustics-only light tracer; the cells of a pixel are adjacent). A pixel none of whose rays
-/// does is not scored.
-fn cells(scene: &Scene, opts: &RenderOptions, max: usize) -> Vec<Cell> {
+/// each; a ray counts if it meets a non-delta surface first (its first vertex, as in the
+/// caustics-only light tracer), a pixel if one of its rays does.
+fn scored_pixels(scene: &Scene, opts: &RenderOptions, max: usize) -> Vec<ScoredPixel> {
     let cam = &scene.camera;
     let filter = Filter::new(scene.settings.filter);
     let (w, h) = (cam.width as usize, cam.height as usize);
@@ -264,11 +263,11 @@ fn cells(scene: &Scene, opts: &RenderOptions, max: usize) -> Vec<Cell> {
         .step_by(stride)
         .flat_map(|y| (stride / 2..w).step_by(stride).map(move |x| (x, y)))
         .collect();
-    let per_pixel: Vec<Vec<Cell>> = pixels
+    pixels
         .par_iter()
-        .map(|&(x, y)| {
+        .filter_map(|&(x, y)| {
             let mut sampler = Sampler::new(opts.sampler, opts.seed);
-            (0..RAYS_PER_PIXEL)
+            let rays: Vec<(Vertex, Spectrum)> = (0..RAYS_PER_PIXEL)
                 .filter_map(|k| {
                     sampler.start_pixel_sample(x as u32, y as u32, k as u32);
                     let offset = filter.sample(sampler.next_2d());
@@ -290,16 +289,15 @@ fn cells(scene: &Scene, opts: &RenderOptions, max: usize) -> Vec<Cell> {
                             Flow::Stop
                         },
                     );
-                    found.map(|(v, beta)| Cell {
-                        pixel: y * w + x,
-                        v,
-                        beta,
-                    })
+                    found
                 })
-                .collect()
+                .collect();
+            (!rays.is_empty()).then_some(ScoredPixel {
+                pixel: y * w + x,
+                rays,
+            })
         })
-        .collect();
-    per_pixel.into_iter().flatten().collect()
+        .collect()
 }
 
 /// The hold-out image: `paths` caustics-only light-tracer paths of [`HOLDOUT_STREAM`], or
@@ -347,35 +345,31 @@ fn holdout(
     Some(film)
 }
 
-/// Scores caustic estimate `est` (radiance at a vertex) over `cells` against `tilde`: the
-/// per-pixel values are computed in parallel and summed in pixel order.
-fn score(cells: &[Cell], tilde: &[[f64; 3]], est: impl Fn(&Vertex) -> Spectrum + Sync) -> f64 {
-    let values: Vec<Spectrum> = cells.par_iter().map(|c| c.beta * est(&c.v)).collect();
+/// Scores caustic estimate `est` (radiance at a vertex) over `pixels` against `tilde`: a
+/// pixel's estimate is the mean over its [`RAYS_PER_PIXEL`] rays (those that met no surface
+/// add 0), computed in parallel and summed in pixel order.
+fn score(
+    pixels: &[ScoredPixel],
+    tilde: &[[f64; 3]],
+    est: impl Fn(&Vertex) -> Spectrum + Sync,
+) -> f64 {
+    let values: Vec<[f64; 3]> = pixels
+        .par_iter()
+        .map(|p| {
+            let mut sum = [0.0; 3];
+            for (v, beta) in &p.rays {
+                for (a, c) in sum.iter_mut().zip((*beta * est(v)).c) {
+                    *a += f64::from(c);
+                }
+            }
+            sum.map(|a| a / RAYS_PER_PIXEL as f64)
+        })
+        .collect();
     let mut s = LscvScore::default();
-    // A pixel's estimate: the mean over its RAYS_PER_PIXEL rays (those without a cell add 0).
-    let mut add_pixel = |pixel: usize, sum: [f64; 3]| {
-        for (ch, lt) in sum.iter().zip(&tilde[pixel]) {
-            s.add(ch / RAYS_PER_PIXEL as f64, *lt);
+    for (p, l) in pixels.iter().zip(&values) {
+        for (e, h) in l.iter().zip(&tilde[p.pixel]) {
+            s.add(*e, *h);
         }
-    };
-    let mut current: Option<(usize, [f64; 3])> = None;
-    for (c, l) in cells.iter().zip(&values) {
-        match &mut current {
-            Some((p, sum)) if *p == c.pixel => {
-                for (a, v) in sum.iter_mut().zip(l.c) {
-                    *a += f64::from(v);
-                }
-            }
-            _ => {
-                if let Some((p, sum)) = current.take() {
-                    add_pixel(p, sum);
-                }
-                current = Some((c.pixel, l.c.map(f64::from)));
-            }
-        }
-    }
-    if let Some((p, sum)) = current {
-        add_pixel(p, sum);
     }
     s.value()
 }
@@ -462,7 +456,7 @@ fn run(
         Target::Diffusion { .. } => SCORED_PIXELS_DIFFUSION,
         _ => SCORED_PIXELS,
     };
-    let cells = cells(scene, opts, max_cells);
+    let pixels = scored_pixels(scene, opts, max_cells);
     let holdout_paths = paths
         .saturating_mul(HOLDOUT_FACTOR)
         .min(HOLDOUT_MAX_PATHS.max(paths))
@@ -475,19 +469,14 @@ fn run(
         .iter()
         .map(|px| px.map(f64::from))
         .collect();
-    let seen: f64 = cells
+    let seen: f64 = pixels
         .iter()
         .map(|c| tilde[c.pixel].iter().sum::<f64>())
         .sum();
-    if cells.is_empty() || seen <= 0.0 {
+    if pixels.is_empty() || seen <= 0.0 {
         return Err("no caustic the camera sees directly to score against".into());
     }
-    // Cells of a pixel are adjacent: count the pixels by their first cell.
-    let scored_pixels = cells
-        .iter()
-        .enumerate()
-        .filter(|(i, c)| *i == 0 || cells[i - 1].pixel != c.pixel)
-        .count();
+    let rays: usize = pixels.iter().map(|p| p.rays.len()).sum();
     let how = |n: usize| {
         let pilot = if pilot_n < full_n {
             format!(" on a {records}-photon pilot, scaled to the full map at the AMISE rate")
@@ -495,8 +484,8 @@ fn run(
             String::new()
         };
         format!(
-            "least-squares cross-validation over {n} candidates{pilot}, {scored_pixels} pixels ({} camera rays), {holdout_paths} hold-out light paths",
-            cells.len()
+            "least-squares cross-validation over {n} candidates{pilot}, {} pixels ({rays} camera rays), {holdout_paths} hold-out light paths",
+            pixels.len()
         )
     };
     // Scoring progress: a rough count of candidates.
@@ -512,7 +501,7 @@ fn run(
                 let mut po = p.clone();
                 po.estimate.k = k as usize;
                 caustic.set_estimator(estimator, &po);
-                let s = score(&cells, &tilde, |v| caustic.radiance(v, &po));
+                let s = score(&pixels, &tilde, |v| caustic.radiance(v, &po));
                 tick(9.0).then_some(s)
             })
             .ok_or_else(|| INTERRUPTED.to_string())?;
@@ -558,7 +547,7 @@ fn run(
                         po.diffusion.q = q;
                     }
                     caustic.set_estimator(estimator, &po);
-                    let s = score(&cells, &tilde, |v| caustic.radiance(v, &po));
+                    let s = score(&pixels, &tilde, |v| caustic.radiance(v, &po));
                     tick(expected).then_some(s)
                 };
                 let (h, s) = if auto_h {
@@ -602,7 +591,7 @@ fn run(
                         scaled(&traced, s as f32),
                         filter,
                     ));
-                    let sc = score(&cells, &tilde, |v| map.radiance(v, p));
+                    let sc = score(&pixels, &tilde, |v| map.radiance(v, p));
                     tick(8.0).then_some(sc)
                 },
             )
