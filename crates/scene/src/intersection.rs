@@ -43,8 +43,8 @@ pub struct SurfaceInteraction {
     pub material: u32,
     /// Area light index into `Scene::lights`, or [`NONE`].
     pub light: u32,
-    /// Medium indices on the inside (−ng) and outside (+ng) side, or [`NONE`]. Unused until
-    /// participating media land.
+    /// Medium indices on the inside (−ng) and outside (+ng) side, or [`NONE`] (vacuum); both
+    /// [`NONE`] means the shape is not a medium boundary ([`SurfaceInteraction::medium_toward`]).
     pub medium_inside: u32,
     pub medium_outside: u32,
 }
@@ -65,6 +65,26 @@ impl SurfaceInteraction {
             self.ng
         } else {
             -self.ng
+        }
+    }
+
+    /// True if the hit shape separates media (names the medium on at least one side).
+    #[inline]
+    pub fn is_medium_transition(&self) -> bool {
+        self.medium_inside != NONE || self.medium_outside != NONE
+    }
+
+    /// The medium a ray leaving this hit in direction `w` travels in, when the ray that arrived
+    /// was in `current`: the outside medium for `w` on the +ng side, the inside one otherwise —
+    /// or `current` if the shape is not a medium boundary (Mitsuba 3 and pbrt-v4 behave alike).
+    #[inline]
+    pub fn medium_toward(&self, w: Vec3, current: u32) -> u32 {
+        if !self.is_medium_transition() {
+            current
+        } else if w.dot(self.ng) > 0.0 {
+            self.medium_outside
+        } else {
+            self.medium_inside
         }
     }
 

@@ -6,6 +6,8 @@
 //! * [`bsdf`] — scattering functions in the local shading frame; [`material`] builds a
 //!   [`bsdf::Bsdf`] at a hit from (textured) parameters; [`texture`] evaluates those.
 //! * [`light`] — lights for next-event estimation and for emitting photons.
+//! * [`medium`] — participating media (homogeneous, voxel grids) with their tracking
+//!   estimators; [`phase`] — their phase functions.
 //! * [`camera`] — perspective cameras with ray differentials.
 //! * [`scene`] — the assembled, immutable [`Scene`], put together by a [`SceneBuilder`]; the
 //!   `caustica-loader` crate fills builders from files and holds the built-in scenes.
@@ -35,6 +37,8 @@ pub mod geometry;
 pub mod intersection;
 pub mod light;
 pub mod material;
+pub mod medium;
+pub mod phase;
 pub mod scene;
 pub mod shape;
 pub mod texture;

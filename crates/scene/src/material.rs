@@ -37,6 +37,11 @@ pub enum Material {
         alpha: f32,
         absorption: Spectrum,
     },
+    /// An index-matched boundary (Mitsuba's `null`): rays pass through unchanged, only the
+    /// medium changes (a fog volume's box). The walkers skip these surfaces
+    /// (`transport::trace_segment`); should one be shaded anyway it acts as a dielectric of
+    /// IOR 1, which transmits everything straight on.
+    Null,
     /// Normalised Blinn–Phong glossy lobe (seed 001 eq. 4.1) plus a Lambertian term.
     Phong {
         diffuse: Texture,
@@ -59,6 +64,7 @@ impl Material {
             }
             Material::Mirror { reflectance } => Bsdf::Mirror(Mirror::new(*reflectance)),
             Material::Dielectric { ior, .. } => Bsdf::Dielectric(Dielectric::new(*ior)),
+            Material::Null => Bsdf::Dielectric(Dielectric::new(1.0)),
             Material::Conductor { eta, k, specular } => {
                 Bsdf::Conductor(Conductor::new(*eta, *k, *specular))
             }
@@ -89,6 +95,12 @@ impl Material {
         }
     }
 
+    /// True for the index-matched [`Material::Null`].
+    #[inline]
+    pub fn is_null(&self) -> bool {
+        matches!(self, Material::Null)
+    }
+
     /// Interior absorption coefficient σa (m⁻¹) for dielectrics with Beer–Lambert absorption.
     pub fn interior_absorption(&self) -> Option<Spectrum> {
         match self {
@@ -108,6 +120,7 @@ impl Material {
         match self {
             Material::Diffuse { reflectance } => check_texture("diffuse reflectance", reflectance),
             Material::Mirror { reflectance } => check_albedo("mirror reflectance", *reflectance),
+            Material::Null => Ok(()),
             Material::Dielectric { ior, absorption } => {
                 check_ior("dielectric ior", *ior)?;
                 check_colour("dielectric absorption", *absorption)

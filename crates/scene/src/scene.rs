@@ -3,9 +3,11 @@
 use crate::camera::PerspectiveCamera;
 use crate::error::SceneError;
 use crate::geometry::Geometry;
+use crate::intersection::NONE;
 use crate::intersection::SurfaceInteraction;
 use crate::light::{AreaLight, AreaShape, Light};
 use crate::material::Material;
+use crate::medium::{Medium, MediumInterface};
 use crate::shape::{Aabb, Shape, ShapeGeometry};
 use caustica_core::sampling::Distribution1D;
 use caustica_core::{Ray, Spectrum};
@@ -57,6 +59,18 @@ pub struct Scene {
     pub infinite_lights: Vec<u32>,
     /// Non-fatal problems found while building (skipped triangles, approximated materials).
     pub warnings: Vec<String>,
+    /// Participating media (indexed by the shapes' interfaces, `camera_medium`,
+    /// `light_media`).
+    pub media: Vec<Medium>,
+    pub medium_names: Vec<String>,
+    /// Medium the camera sits in, or [`NONE`] (vacuum).
+    pub camera_medium: u32,
+    /// Medium each light emits into (parallel to `lights`), or [`NONE`].
+    pub light_media: Vec<u32>,
+    /// True if some material is [`Material::Null`] or some medium exists: walkers must then
+    /// follow rays through index-matched boundaries and media (otherwise they take the fast
+    /// path of plain closest-hit and shadow rays).
+    pub has_media: bool,
 }
 
 impl Scene {
@@ -83,6 +97,35 @@ impl Scene {
             .as_ref()
             .map_or(0.0, |d| d.pmf(i as usize))
     }
+
+    /// The medium containing the point `p`, or [`NONE`] (vacuum): a ray from `p` in a fixed
+    /// direction finds the first medium boundary and takes the medium on its near side.
+    /// Shapes that are not boundaries are passed through. Assumes closed boundaries.
+    pub fn medium_at(&self, p: caustica_core::Vec3) -> u32 {
+        medium_at(&self.geometry, p)
+    }
+}
+
+/// [`Scene::medium_at`] over the geometry alone (also used while building).
+fn medium_at(geometry: &Geometry, p: caustica_core::Vec3) -> u32 {
+    // An irrational direction, unlikely to graze edges of axis-aligned boxes.
+    let d = caustica_core::Vec3::new(0.285_619_4, 0.518_421_7, 0.806_027_3).normalize();
+    let mut ray = Ray::new(p, d);
+    for _ in 0..4096 {
+        let Some(si) = geometry.intersect(&ray) else {
+            return NONE;
+        };
+        if si.is_medium_transition() {
+            // Leaving through the +ng side means p is on the inside.
+            return if d.dot(si.ng) > 0.0 {
+                si.medium_inside
+            } else {
+                si.medium_outside
+            };
+        }
+        ray = si.spawn_ray(d);
+    }
+    NONE
 }
 
 /// Collects materials, shapes, lights and the camera, validates them and builds a [`Scene`].
@@ -97,6 +140,11 @@ pub struct SceneBuilder {
     pub settings: SceneSettings,
     pub warnings: Vec<String>,
     skipped_triangles: usize,
+    media: Vec<Medium>,
+    medium_names: Vec<String>,
+    camera_medium: Option<u32>,
+    /// Explicit media of lights (light index, medium).
+    light_media: Vec<(usize, u32)>,
 }
 
 impl SceneBuilder {
@@ -122,6 +170,61 @@ impl SceneBuilder {
             .iter()
             .rposition(|n| n == name)
             .map(|i| i as u32)
+    }
+
+    /// Adds a named medium after checking it; returns its index.
+    pub fn add_medium(&mut self, name: &str, m: Medium) -> Result<u32, SceneError> {
+        m.validate()
+            .map_err(|e| SceneError::InvalidParameter(format!("medium '{name}': {e}")))?;
+        self.media.push(m);
+        self.medium_names.push(name.to_string());
+        Ok((self.media.len() - 1) as u32)
+    }
+    /// Index of the medium called `name`.
+    pub fn medium_index(&self, name: &str) -> Option<u32> {
+        self.medium_names
+            .iter()
+            .rposition(|n| n == name)
+            .map(|i| i as u32)
+    }
+    /// Media added so far.
+    pub fn media(&self) -> &[Medium] {
+        &self.media
+    }
+    /// Puts the camera in medium `m` (otherwise the medium at the camera's position is found
+    /// when the scene is built).
+    pub fn set_camera_medium(&mut self, m: u32) {
+        self.camera_medium = Some(m);
+    }
+    /// Says that light `light` (index into [`SceneBuilder::lights`]) emits into medium `m`
+    /// (otherwise it is found from the light's position when the scene is built).
+    pub fn set_light_medium(&mut self, light: usize, m: u32) {
+        self.light_media.push((light, m));
+    }
+
+    /// [`SceneBuilder::add_shape`] with the media on the shape's two sides.
+    pub fn add_shape_with_media(
+        &mut self,
+        geometry: ShapeGeometry,
+        material: u32,
+        emission: Option<Spectrum>,
+        flip_normals: bool,
+        media: MediumInterface,
+    ) -> Result<(), SceneError> {
+        for m in [media.inside, media.outside] {
+            if m != NONE && m as usize >= self.media.len() {
+                return Err(SceneError::Invalid(format!(
+                    "medium index {m} does not exist"
+                )));
+            }
+        }
+        let before = self.shapes.len();
+        self.add_shape(geometry, material, emission, flip_normals)?;
+        if let Some(s) = self.shapes.get_mut(before) {
+            s.medium_inside = media.inside;
+            s.medium_outside = media.outside;
+        }
+        Ok(())
     }
 
     /// Adds a shape with material `material`; with `emission` (radiance, W/m²/sr) it also
@@ -303,7 +406,23 @@ impl SceneBuilder {
                 camera.width, camera.height
             )));
         }
+        let has_media = !self.media.is_empty() || self.materials.iter().any(|m| m.is_null());
+        let light_origins: Vec<Option<caustica_core::Vec3>> =
+            self.lights.iter().map(|l| l.medium_probe_point()).collect();
         let geometry = Geometry::build(self.shapes);
+        let locate = |p: Option<caustica_core::Vec3>| match p {
+            Some(p) if has_media => medium_at(&geometry, p),
+            _ => NONE,
+        };
+        let camera_medium = self
+            .camera_medium
+            .unwrap_or_else(|| locate(Some(camera.position())));
+        let mut light_media: Vec<u32> = light_origins.iter().map(|&p| locate(p)).collect();
+        for &(l, m) in &self.light_media {
+            if let Some(slot) = light_media.get_mut(l) {
+                *slot = m;
+            }
+        }
         let (center, radius) = geometry.bounds().bounding_sphere();
         let mut lights = self.lights;
         for l in &mut lights {
@@ -332,6 +451,11 @@ impl SceneBuilder {
             light_distribution,
             infinite_lights,
             warnings,
+            media: self.media,
+            medium_names: self.medium_names,
+            camera_medium,
+            light_media,
+            has_media,
         })
     }
 }

@@ -197,6 +197,23 @@ impl Light {
     pub fn emission_extent(&self) -> (f32, f32) {
         dispatch!(self, l => l.emission_extent())
     }
+    /// A point from which the medium a light emits into can be found (`Scene::medium_at`):
+    /// the emission origin of a middle emission sample, moved off an emitting surface to its
+    /// emitting side; `None` for lights at infinity (they shine in from vacuum).
+    pub fn medium_probe_point(&self) -> Option<Vec3> {
+        if self.is_infinite() {
+            return None;
+        }
+        let es = self.sample_emission(Vec2::splat(0.5), Vec2::splat(0.5));
+        let p = es.ray.o;
+        if !p.is_finite() {
+            return None;
+        }
+        Some(match es.normal {
+            Some(n) => p + n * (n.dot(es.ray.d).signum() * 1e-3 * (1.0 + p.abs().max_element())),
+            None => p,
+        })
+    }
     /// See [`LightSource::fixed_emission_direction`].
     pub fn fixed_emission_direction(&self) -> Option<(Vec3, Option<Vec3>)> {
         dispatch!(self, l => l.fixed_emission_direction())

@@ -35,7 +35,8 @@ pub struct Shape {
     pub light: u32,
     /// Reverse geometric and shading normals (swaps inside and outside).
     pub flip_normals: bool,
-    /// Media inside/outside (reserved for participating media), or `NONE`.
+    /// Media inside (−ng) and outside (+ng), or `NONE` (vacuum); both `NONE`: not a medium
+    /// boundary (`crate::medium::MediumInterface`).
     pub medium_inside: u32,
     pub medium_outside: u32,
 }
