@@ -1,6 +1,7 @@
 //! Light tracer: follows paths from the lights and connects every non-delta vertex to the camera
 //! (the unbiased reference for caustics from delta lights seen directly, L S+ D E, like
-//! Mitsuba's `ptracer`). Splats are importance-weighted so the image is in the same units as the
+//! Mitsuba's `ptracer`), and every scattering event in a medium too (volume caustics from
+//! delta lights, L S+ M E, which a path tracer cannot find). Splats are importance-weighted so the image is in the same units as the
 //! path tracer's (radiance averaged over each pixel).
 
 use crate::film::SplatBuffer;
@@ -8,11 +9,13 @@ use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{LightEvent, walk_light_path};
+use crate::transport::medium::shadow_transmittance;
 use crate::transport::vertex::offset_origin;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
+use caustica_scene::phase::Phase;
 
 /// Traces one light path and splats its camera connections into `out` (unnormalised: the film
 /// divides by the number of paths).
@@ -56,10 +59,11 @@ pub fn trace_light_path(
                             let o = offset_origin(es.ray.o, n, cs.wi);
                             let shadow =
                                 Ray::with_t_max(o, cs.wi, (cs.lens_p - o).length() * (1.0 - 1e-4));
-                            stats.rays += 1;
-                            if !scene.occluded(&shadow) {
+                            let tr =
+                                shadow_transmittance(scene, &shadow, start.medium, sampler, stats);
+                            if !tr.is_black() {
                                 let w = n.dot(cs.wi).abs() / (es.pdf_pos * start.pmf);
-                                splat(out, cs.raster, le * w * cs.weight, stats);
+                                splat(out, cs.raster, le * w * cs.weight * tr, stats);
                             }
                         }
                     }
@@ -81,16 +85,34 @@ pub fn trace_light_path(
                         let f = v.bsdf.eval(v.wo, wi_local, TransportMode::Importance);
                         if !f.is_black() && v.same_side_consistent(lv.wo, cs.wi, wi_local) {
                             let shadow = v.si.spawn_ray_to(cs.lens_p);
-                            stats.rays += 1;
-                            if !scene.occluded(&shadow) {
+                            let medium = v.si.medium_toward(shadow.d, lv.medium);
+                            let tr = shadow_transmittance(scene, &shadow, medium, sampler, stats);
+                            if !tr.is_black() {
                                 let corr = v.shading_normal_correction(
                                     lv.wo,
                                     cs.wi,
                                     TransportMode::Importance,
                                 );
-                                let c = lv.beta * f * (wi_local.z.abs() * corr) * cs.weight;
+                                let c = lv.beta * f * (wi_local.z.abs() * corr) * cs.weight * tr;
                                 splat(out, cs.raster, c, stats);
                             }
+                        }
+                    }
+                }
+                // A scattering in a medium seen by the camera (paths … M E, the volume
+                // caustics L S+ M E among them): β p(wo, ω_cam) T W.
+                LightEvent::Medium(lm) => {
+                    let mv = lm.v;
+                    if !opts.caustics_only
+                        && lm.depth < opts.limits.max_depth
+                        && let Some(cs) = camera.sample_wi(mv.p, u_lens)
+                        && out.reaches(filter, cs.raster)
+                    {
+                        let shadow = mv.ray_to(cs.lens_p);
+                        let tr = shadow_transmittance(scene, &shadow, mv.medium, sampler, stats);
+                        if !tr.is_black() {
+                            let c = lm.beta * mv.phase.eval(mv.wo, cs.wi) * cs.weight * tr;
+                            splat(out, cs.raster, c, stats);
                         }
                     }
                 }

@@ -186,11 +186,13 @@ pub(crate) fn radiance_with(
     walk_eye(
         scene,
         ray,
+        scene.camera_medium,
         sampler,
         u32::MAX,
         stats,
         |event, sampler, stats| {
-            let (v, wo, beta, depth) = match event {
+            let (v, medium, wo, beta, depth) = match event {
+                EyeEvent::Medium { .. } => return Flow::Continue,
                 // Every earlier vertex was delta: the environment is seen through them.
                 EyeEvent::Escaped { ray, beta } => {
                     for &li in &scene.infinite_lights {
@@ -198,7 +200,13 @@ pub(crate) fn radiance_with(
                     }
                     return Flow::Stop;
                 }
-                EyeEvent::Vertex { v, wo, beta, depth } => (v, wo, beta, depth),
+                EyeEvent::Vertex {
+                    v,
+                    medium,
+                    wo,
+                    beta,
+                    depth,
+                } => (v, medium, wo, beta, depth),
             };
             let smooth = v.bsdf.flags().is_smooth();
             if opts.caustics_only {
@@ -215,7 +223,7 @@ pub(crate) fn radiance_with(
                 return Flow::Stop;
             }
             if smooth {
-                l += beta * shade(scene, maps, v, sampler, opts, stats);
+                l += beta * shade(scene, maps, v, medium, sampler, opts, stats);
                 if opts.photons.final_gather > 0 {
                     l += caustic(v, beta);
                 }
@@ -233,6 +241,7 @@ fn shade(
     scene: &Scene,
     maps: &PhotonMaps,
     v: &Vertex,
+    medium: u32,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
@@ -241,7 +250,7 @@ fn shade(
     if gather_rays == 0 {
         return global_radiance(&maps.global, v, &opts.photons);
     }
-    let direct = sample_direct(scene, v, sampler, stats, false);
+    let direct = sample_direct(scene, v, medium, sampler, stats, false);
     let mut indirect = Spectrum::ZERO;
     if !maps.global.is_empty() {
         let wo_world = v.frame.to_world(v.wo);
@@ -255,7 +264,9 @@ fn shade(
             if !v.same_side_consistent(wo_world, wi, bs.wi) {
                 continue;
             }
-            indirect += bs.weight * gather(scene, maps, v.si.spawn_ray(wi), sampler, opts, stats);
+            let gather_ray = v.si.spawn_ray(wi);
+            let m = v.si.medium_toward(wi, medium);
+            indirect += bs.weight * gather(scene, maps, gather_ray, m, sampler, opts, stats);
         }
         indirect /= gather_rays as f32;
     }
@@ -269,6 +280,7 @@ fn gather(
     scene: &Scene,
     maps: &PhotonMaps,
     ray: Ray,
+    medium: u32,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
@@ -277,6 +289,7 @@ fn gather(
     walk_eye(
         scene,
         ray,
+        medium,
         sampler,
         MAX_GATHER_CHAIN,
         stats,

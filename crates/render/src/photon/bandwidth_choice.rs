@@ -277,6 +277,7 @@ fn scored_pixels(scene: &Scene, opts: &RenderOptions, max: usize) -> Vec<ScoredP
                     walk_eye(
                         scene,
                         ray,
+                        scene.camera_medium,
                         &mut sampler,
                         1,
                         &mut RenderStats::default(),

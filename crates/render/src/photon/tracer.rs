@@ -13,7 +13,9 @@
 use crate::options::RenderOptions;
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::stats::RenderStats;
-use crate::transport::light_walk::{LightEvent, LightScatter, LightVisitor, walk_light_path_with};
+use crate::transport::light_walk::{
+    LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_with,
+};
 use crate::transport::limits::PathLimits;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec3};
@@ -43,6 +45,9 @@ pub enum MapKind {
     Caustic,
     /// Every non-delta hit, L (S|D)* D.
     Global,
+    /// Every real scattering event in a participating medium, L (S|D|M)* M (seed 000 sec.
+    /// 8.2: position, incident direction and flux, `n` zero).
+    Volume,
 }
 
 /// Photons of one map and how they were made.
@@ -85,6 +90,7 @@ pub fn trace_photons(
     let what = match kind {
         MapKind::Caustic => "caustic",
         MapKind::Global => "global",
+        MapKind::Volume => "volume",
     };
     let warning = shortfall(what, photons.len(), paths, budget).map(|w| {
         if photons.is_empty() {
@@ -93,6 +99,7 @@ pub fn trace_photons(
                 match kind {
                     MapKind::Caustic => NO_CAUSTIC_PATHS,
                     MapKind::Global => "the scene has no non-specular surface lit by its lights",
+                    MapKind::Volume => "no light scatters in a participating medium",
                 }
             )
         } else {
@@ -149,12 +156,29 @@ fn trace_one(
     }
     impl LightVisitor for Store<'_> {
         fn event(&mut self, event: LightEvent, _: &mut Sampler, stats: &mut RenderStats) {
-            let LightEvent::Vertex(lv) = event else {
-                return;
+            let lv = match event {
+                LightEvent::Vertex(lv) => lv,
+                LightEvent::Medium(lm) if self.kind == MapKind::Volume => {
+                    if !lm.beta.is_finite() {
+                        stats.nonfinite += 1;
+                        return;
+                    }
+                    self.out.push(Photon {
+                        p: lm.v.p,
+                        wi: lm.v.wo,
+                        n: Vec3::ZERO,
+                        flux: lm.beta,
+                        depth: lm.depth.min(u16::MAX as u32) as u16,
+                        caustic: lm.after_specular_chain,
+                    });
+                    return;
+                }
+                _ => return,
             };
             let stored = match self.kind {
                 MapKind::Caustic => lv.is_caustic(),
                 MapKind::Global => lv.v.bsdf.flags().is_smooth(),
+                MapKind::Volume => false,
             };
             if !stored {
                 return;
@@ -174,7 +198,10 @@ fn trace_one(
             });
         }
         fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
-            self.kind == MapKind::Global || sc.keeps_caustic()
+            self.kind != MapKind::Caustic || sc.keeps_caustic()
+        }
+        fn scatter_in_medium(&mut self, _: &LightMediumVertex, _: Vec3) -> bool {
+            self.kind != MapKind::Caustic
         }
     }
     walk_light_path_with(scene, sampler, limits, stats, &mut Store { kind, out });

@@ -1,21 +1,39 @@
-//! Next-event estimation: direct light at a vertex by sampling a light, with MIS against BSDF
-//! sampling (power heuristic, Veach 1997).
+//! Next-event estimation: direct light at a surface or medium vertex by sampling a light, with
+//! MIS against BSDF or phase sampling (power heuristic, Veach 1997), through media and
+//! index-matched boundaries ([`shadow_transmittance`]).
 
 use crate::stats::RenderStats;
-use crate::transport::vertex::Vertex;
+use crate::transport::medium::shadow_transmittance;
+use crate::transport::vertex::{Scatterer, Vertex};
+use caustica_core::Spectrum;
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
-use caustica_core::{Ray, Spectrum};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 
-/// Reflected radiance (W/m²/sr) at `v` toward `wo` due to one light sample, MIS-weighted
-/// against BSDF sampling when `mis` is true (the caller then also counts emission found by BSDF
-/// sampling), unweighted otherwise (light sampling alone). Consumes exactly three sampler
-/// dimensions.
+/// Reflected radiance (W/m²/sr) at the surface vertex `v` (reached by a ray in `medium`, or
+/// `NONE` for vacuum) toward `wo` due to one light sample, MIS-weighted against BSDF sampling when
+/// `mis` is true (the caller then also counts emission found by BSDF sampling), unweighted
+/// otherwise (light sampling alone). Consumes three sampler dimensions, and two more for the
+/// shadow ray in scenes with media.
+#[inline]
 pub fn sample_direct(
     scene: &Scene,
     v: &Vertex,
+    medium: u32,
+    sampler: &mut Sampler,
+    stats: &mut RenderStats,
+    mis: bool,
+) -> Spectrum {
+    sample_direct_at(scene, Scatterer::Surface { v, medium }, sampler, stats, mis)
+}
+
+/// [`sample_direct`] at any scattering vertex: a surface (BSDF) or a medium point (phase
+/// function; radiance per unit scattering coefficient, W/m²/sr·sr⁻¹·sr — the in-scattered
+/// radiance before σ_s, which the free flight's weight supplies).
+pub fn sample_direct_at(
+    scene: &Scene,
+    at: Scatterer,
     sampler: &mut Sampler,
     stats: &mut RenderStats,
     mis: bool,
@@ -23,41 +41,37 @@ pub fn sample_direct(
     let u_light = sampler.next_1d();
     let u = sampler.next_2d();
     let Some(dist) = &scene.light_distribution else {
+        if scene.has_media {
+            sampler.next_2d();
+        }
         return Spectrum::ZERO;
     };
     let (li, pmf, _) = dist.sample(u_light);
     let light = &scene.lights[li];
-    let Some(ls) = light.sample_li(v.si.p, u) else {
+    let p = at.p();
+    let sample = light.sample_li(p, u).filter(|ls| ls.pdf > 0.0 && !ls.weight.is_black());
+    let f = sample
+        .as_ref()
+        .map_or(Spectrum::ZERO, |ls| at.eval(ls.wi, TransportMode::Radiance));
+    let (Some(ls), false) = (sample, f.is_black()) else {
+        if scene.has_media {
+            sampler.next_2d();
+        }
         return Spectrum::ZERO;
     };
-    if ls.pdf <= 0.0 || ls.weight.is_black() {
-        return Spectrum::ZERO;
-    }
-    let wi_local = v.frame.to_local(ls.wi);
-    let f = v.bsdf.eval(v.wo, wi_local, TransportMode::Radiance) * wi_local.z.abs();
-    if f.is_black() {
-        return Spectrum::ZERO;
-    }
-    // Reject directions on the wrong geometric side (light leaks through shading normals).
-    if !v.same_side_consistent(v.frame.to_world(v.wo), ls.wi, wi_local) {
-        return Spectrum::ZERO;
-    }
-    let shadow: Ray = if ls.dist.is_finite() {
-        v.si.spawn_ray_to(ls.p)
+    let (shadow, medium) = if ls.dist.is_finite() {
+        at.ray_to(ls.p)
     } else {
-        v.si.spawn_ray(ls.wi)
+        at.ray_toward(ls.wi)
     };
-    stats.rays += 1;
-    if scene.occluded(&shadow) {
+    let tr = shadow_transmittance(scene, &shadow, medium, sampler, stats);
+    if tr.is_black() {
         return Spectrum::ZERO;
     }
     let mis = if ls.delta || !mis {
         1.0
     } else {
-        power_heuristic(
-            pmf * ls.pdf,
-            v.bsdf.pdf(v.wo, wi_local, TransportMode::Radiance),
-        )
+        power_heuristic(pmf * ls.pdf, at.pdf(ls.wi, TransportMode::Radiance))
     };
-    f * ls.weight * (mis / pmf)
+    f * tr * ls.weight * (mis / pmf)
 }

@@ -11,7 +11,7 @@
 //! chain always ends at its first non-delta vertex.
 
 use crate::stats::RenderStats;
-use crate::transport::medium::{Segment, trace_segment};
+use crate::transport::medium::{MediumSpan, Segment, trace_transmitted};
 use crate::transport::vertex::Vertex;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum, Vec3};
@@ -23,9 +23,16 @@ pub enum EyeEvent<'a> {
     /// The ray `ray` left the scene; every earlier vertex was delta, so whatever lies beyond (an
     /// environment light) is seen through them with throughput `beta`.
     Escaped { ray: &'a Ray, beta: Spectrum },
+    /// A medium span the ray crossed before its next vertex (or escape): the visitor may add
+    /// in-scattered light there (the volume photon estimates); `beta` is the throughput at the
+    /// span's start. The walker does not sample scattering: the chain's segments are weighted
+    /// by their transmittance. Its [`Flow`] is ignored.
+    Medium { span: MediumSpan<'a>, beta: Spectrum },
     /// A surface vertex, delta or not.
     Vertex {
         v: &'a Vertex,
+        /// The medium of the ray that reached the vertex (`NONE` = vacuum).
+        medium: u32,
         /// Unit direction back along the incoming ray (world space), −ray direction.
         wo: Vec3,
         /// Throughput of the chain up to this vertex, including the transmittance of the
@@ -45,12 +52,15 @@ pub enum Flow {
     Stop,
 }
 
-/// Follows `ray` through delta vertices, at most `max_vertices` of them in all, calling `visit`
-/// at each vertex and at the escape. Sampler use: what the visitor draws, then 3 dimensions per
-/// delta vertex the chain continues through.
+/// Follows `ray`, starting in medium `medium`, through delta vertices, at most `max_vertices`
+/// of them in all, calling `visit` at each medium span, each vertex and at the escape. Sampler
+/// use: what the visitor draws, 2 dimensions per medium span, then 3 per delta vertex the chain
+/// continues through.
+#[allow(clippy::too_many_arguments)]
 pub fn walk_eye(
     scene: &Scene,
     mut ray: Ray,
+    mut medium: u32,
     sampler: &mut Sampler,
     max_vertices: u32,
     stats: &mut RenderStats,
@@ -59,12 +69,41 @@ pub fn walk_eye(
     let mut beta = Spectrum::ONE;
     let mut depth = 0u32;
     while depth < max_vertices {
-        let (si, transmittance) = match trace_segment(scene, &ray, stats) {
+        let mut spans = Vec::new();
+        let seg = trace_transmitted(scene, &ray, &mut medium, sampler, stats, |span, _| {
+            spans.push((*span.ray, span.t_max, span.medium, span.tr));
+        });
+        for (r, t_max, m, tr) in spans {
+            let span = MediumSpan {
+                ray: &r,
+                t_max,
+                medium: m,
+                tr,
+            };
+            let _ = visit(
+                EyeEvent::Medium {
+                    span,
+                    beta: beta * tr,
+                },
+                sampler,
+                stats,
+            );
+        }
+        let (si, transmittance) = match seg {
             Segment::Surface { si, transmittance } => (si, transmittance),
-            Segment::Escaped => {
-                visit(EyeEvent::Escaped { ray: &ray, beta }, sampler, stats);
+            Segment::Escaped { transmittance } => {
+                visit(
+                    EyeEvent::Escaped {
+                        ray: &ray,
+                        beta: beta * transmittance,
+                    },
+                    sampler,
+                    stats,
+                );
                 return;
             }
+            // trace_transmitted samples no scattering.
+            Segment::Medium { .. } => return,
         };
         depth += 1;
         beta *= transmittance;
@@ -72,6 +111,7 @@ pub fn walk_eye(
         let flow = visit(
             EyeEvent::Vertex {
                 v: &v,
+                medium,
                 wo: -ray.d,
                 beta,
                 depth,
@@ -85,6 +125,7 @@ pub fn walk_eye(
         let Some((weight, next)) = scatter_delta(&v, sampler) else {
             return;
         };
+        medium = v.si.medium_toward(next.d, medium);
         beta *= weight;
         if beta.is_black() {
             return;

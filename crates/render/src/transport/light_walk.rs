@@ -8,12 +8,14 @@
 use crate::stats::RenderStats;
 use crate::transport::limits::{PathLimits, russian_roulette};
 use crate::transport::medium::{Segment, trace_segment};
-use crate::transport::vertex::{Vertex, emission_ray};
+use crate::transport::vertex::{MediumVertex, Vertex, emission_ray};
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum, Vec3};
 use caustica_scene::Scene;
+use caustica_scene::intersection::NONE;
 use caustica_scene::bsdf::{BsdfSample, TransportMode};
 use caustica_scene::light::EmissionSample;
+use caustica_scene::phase::Phase;
 
 /// The start of a light path.
 pub struct LightStart<'a> {
@@ -24,6 +26,8 @@ pub struct LightStart<'a> {
     /// The ray the walker traces first: the emission ray with its origin moved off the
     /// emitting surface ([`emission_ray`]).
     pub ray: Ray,
+    /// The medium the light emits into (`Scene::light_media`), or `NONE`.
+    pub medium: u32,
 }
 
 /// A surface vertex of a light path, as seen by the visitor.
@@ -38,6 +42,21 @@ pub struct LightVertex<'a> {
     pub depth: u32,
     /// True when every earlier scattering vertex of the path was delta (mirror or glass) and
     /// there was at least one: the vertex receives caustic light, L S+ x.
+    pub after_specular_chain: bool,
+    /// The medium of the ray that reached the vertex (`NONE` = vacuum).
+    pub medium: u32,
+}
+
+/// A real scattering event of a light path inside a medium, as seen by the visitor.
+pub struct LightMediumVertex<'a> {
+    pub v: &'a MediumVertex,
+    /// Path throughput into the vertex including the free flight's weight σ_s T / p: the flux
+    /// (W) this path carries into the scattering, before dividing by the number of paths.
+    pub beta: Spectrum,
+    /// Edges from the light to this vertex.
+    pub depth: u32,
+    /// True when every earlier scattering vertex was delta and there was at least one: the
+    /// vertex is lit by a volume caustic, L S+ M.
     pub after_specular_chain: bool,
 }
 
@@ -67,6 +86,8 @@ pub enum LightEvent<'a> {
     Start(&'a LightStart<'a>),
     /// At every surface hit, delta or not (the visitor decides what to do with it).
     Vertex(&'a LightVertex<'a>),
+    /// At every real scattering event in a medium.
+    Medium(&'a LightMediumVertex<'a>),
 }
 
 /// The scattering the walker sampled at a vertex, shown to [`LightVisitor::scatter`] before the
@@ -91,6 +112,12 @@ pub trait LightVisitor {
     fn event(&mut self, event: LightEvent, sampler: &mut Sampler, stats: &mut RenderStats);
     fn scatter(&mut self, scatter: &LightScatter, stats: &mut RenderStats) -> bool {
         let _ = (scatter, stats);
+        true
+    }
+    /// After the phase function was sampled at a medium vertex (new direction `wi`): false ends
+    /// the path there. A scattering in a medium is not delta, so caustic tracers end here.
+    fn scatter_in_medium(&mut self, v: &LightMediumVertex, wi: Vec3) -> bool {
+        let _ = (v, wi);
         true
     }
 }
@@ -140,12 +167,14 @@ pub fn walk_light_path_with(
         return;
     }
     let mut ray = emission_ray(&es);
+    let mut medium = scene.light_media.get(li).copied().unwrap_or(NONE);
     visitor.event(
         LightEvent::Start(&LightStart {
             light: li,
             pmf,
             emission: &es,
             ray,
+            medium,
         }),
         sampler,
         stats,
@@ -153,7 +182,44 @@ pub fn walk_light_path_with(
     let mut beta = es.weight / pmf;
     let mut depth = 1u32; // edges of the path including the one being traced
     let mut all_delta = true; // every scattering vertex so far was delta
-    while let Segment::Surface { si, transmittance } = trace_segment(scene, &ray, stats) {
+    loop {
+        let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats) {
+            Segment::Surface { si, transmittance } => (si, transmittance),
+            Segment::Escaped { .. } => break,
+            Segment::Medium { p, medium: m, weight } => {
+                beta *= weight;
+                if beta.is_black() {
+                    break;
+                }
+                let mv = MediumVertex::new(scene, p, &ray, m);
+                let lmv = LightMediumVertex {
+                    v: &mv,
+                    beta,
+                    depth,
+                    after_specular_chain: all_delta && depth >= 2,
+                };
+                visitor.event(LightEvent::Medium(&lmv), sampler, stats);
+                let u = sampler.next_2d();
+                let u_rr = sampler.next_1d();
+                if depth + 1 >= limits.max_depth {
+                    break;
+                }
+                let Some(ps) = mv.phase.sample(mv.wo, u) else {
+                    break;
+                };
+                if !visitor.scatter_in_medium(&lmv, ps.wi) {
+                    break;
+                }
+                beta *= ps.weight;
+                all_delta = false;
+                depth += 1;
+                if !russian_roulette(&mut beta, depth, limits.rr_depth, u_rr) {
+                    break;
+                }
+                ray = Ray::new(p, ps.wi);
+                continue;
+            }
+        };
         beta *= transmittance;
         let v = Vertex::new(scene, si, &ray);
         let wo = -ray.d;
@@ -164,6 +230,7 @@ pub fn walk_light_path_with(
                 beta,
                 depth,
                 after_specular_chain: all_delta && depth >= 2,
+                medium,
             }),
             sampler,
             stats,
@@ -199,6 +266,7 @@ pub fn walk_light_path_with(
         if !russian_roulette(&mut beta, depth, limits.rr_depth, u_rr) {
             break;
         }
+        medium = v.si.medium_toward(wi, medium);
         ray = v.si.spawn_ray(wi);
     }
 }

@@ -1,39 +1,221 @@
 //! Where a ray segment meets what lies between surfaces: the one hook every walker calls to
-//! advance a ray ([`trace_segment`]).
+//! advance a ray ([`trace_segment`], [`trace_transmitted`]) and to test a connection
+//! ([`shadow_transmittance`]).
 //!
-//! Today the only medium is the absorbing interior of a dielectric (Beer–Lambert,
-//! `Material::interior_absorption`): a segment that ends on a surface hit from its inside (−ng
-//! side) is attenuated by exp(−σ_a t). Participating media replace this with free-flight
-//! sampling (a scattering event inside the medium becomes a third [`Segment`] variant), and
-//! every walker — the light walker, the eye walker and the path tracer — must then handle it.
+//! * In a scene without media (`Scene::has_media` false) a segment is one closest-hit ray; the
+//!   only attenuation is the Beer–Lambert interior of absorbing dielectrics
+//!   (`Material::interior_absorption`), and no sampler dimension is drawn.
+//! * With media, a walker carries the index of the medium its ray is in. [`trace_segment`]
+//!   samples a free flight in that medium (delta tracking with spectral MIS,
+//!   `caustica_scene::medium::tracking`): the segment ends at a real scattering event
+//!   ([`Segment::Medium`]) or at the next surface, with the flight's weight. Index-matched
+//!   (`null`) boundaries are crossed inside the call, changing the medium; they are not path
+//!   vertices. [`trace_transmitted`] does not sample scattering: it reaches the next surface
+//!   weighted by the transmittance and shows each medium span it crossed to a callback, where a
+//!   density estimator adds in-scattered light (photon mapping's camera rays).
+//! * Each medium span draws two sampler dimensions (a [`TrackingSampler`]); a shadow ray in a
+//!   scene with media draws two (for ratio tracking), whether or not it meets a medium, so the
+//!   dimension layout of a path depends only on its vertices.
 
 use crate::stats::RenderStats;
-use caustica_core::{Ray, Spectrum};
+use caustica_core::sampling::Sampler;
+use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_scene::intersection::NONE;
+use caustica_scene::medium::{FreeFlight, TrackingSampler};
 use caustica_scene::{Scene, SurfaceInteraction};
 
 /// Where a traced ray segment ended.
 pub enum Segment {
-    /// The ray reached a surface; `transmittance` (dimensionless, per channel) is the weight of
-    /// the segment to multiply the path throughput by.
+    /// The ray reached a surface (never a `null` one); `transmittance` (dimensionless, per
+    /// channel) is the weight of the segment to multiply the path throughput by.
     Surface {
         si: SurfaceInteraction,
         transmittance: Spectrum,
     },
-    /// The ray left the scene.
-    Escaped,
+    /// A real scattering event at `p` (m) in medium `medium`; multiply the throughput by
+    /// `weight` (σ_s T / p of the free flight) and scatter with the medium's phase function.
+    /// The incoming direction is the ray's.
+    Medium {
+        p: Vec3,
+        medium: u32,
+        weight: Spectrum,
+    },
+    /// The ray left the scene; `transmittance` as for a surface.
+    Escaped { transmittance: Spectrum },
 }
 
-/// Traces `ray` to the next surface (one closest-hit ray, counted in `stats`).
+/// One medium span a [`trace_transmitted`] ray crossed: `ray` from its origin to `t_max` in
+/// medium `medium`, reached with transmittance `tr` from the start of the whole segment.
+pub struct MediumSpan<'a> {
+    pub ray: &'a Ray,
+    pub t_max: f32,
+    pub medium: u32,
+    pub tr: Spectrum,
+}
+
+/// Largest number of `null` boundaries one segment crosses (a safety bound for broken meshes).
+const MAX_NULL_CROSSINGS: u32 = 256;
+
+/// Traces `ray` (origin off any surface) from medium `*medium` to the next scattering event or
+/// non-null surface, crossing index-matched boundaries and updating `*medium` as it goes.
 #[inline]
-pub fn trace_segment(scene: &Scene, ray: &Ray, stats: &mut RenderStats) -> Segment {
-    stats.rays += 1;
-    match scene.intersect(ray) {
-        Some(si) => Segment::Surface {
-            transmittance: interior_transmittance(scene, &si, ray),
-            si,
-        },
-        None => Segment::Escaped,
+pub fn trace_segment(
+    scene: &Scene,
+    ray: &Ray,
+    medium: &mut u32,
+    sampler: &mut Sampler,
+    stats: &mut RenderStats,
+) -> Segment {
+    if !scene.has_media {
+        stats.rays += 1;
+        return match scene.intersect(ray) {
+            Some(si) => Segment::Surface {
+                transmittance: interior_transmittance(scene, &si, ray),
+                si,
+            },
+            None => Segment::Escaped {
+                transmittance: Spectrum::ONE,
+            },
+        };
     }
+    let mut ray = *ray;
+    let mut weight = Spectrum::ONE;
+    for _ in 0..MAX_NULL_CROSSINGS {
+        stats.rays += 1;
+        let hit = scene.intersect(&ray);
+        let t_end = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
+        if *medium != NONE {
+            let m = &scene.media[*medium as usize];
+            let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
+            match m.sample_free_flight(&ray, t_end, &mut ts) {
+                FreeFlight::Scatter { t, weight: w } => {
+                    return Segment::Medium {
+                        p: ray.at(t),
+                        medium: *medium,
+                        weight: weight * w,
+                    };
+                }
+                FreeFlight::Pass { weight: w } => weight *= w,
+            }
+        }
+        let Some(si) = hit else {
+            return Segment::Escaped {
+                transmittance: weight,
+            };
+        };
+        if !scene.materials[si.material as usize].is_null() {
+            return Segment::Surface {
+                transmittance: weight * interior_transmittance(scene, &si, &ray),
+                si,
+            };
+        }
+        *medium = si.medium_toward(ray.d, *medium);
+        ray = si.spawn_ray(ray.d);
+    }
+    Segment::Escaped {
+        transmittance: Spectrum::ZERO,
+    }
+}
+
+/// [`trace_segment`] without scattering: the ray goes on to the next non-null surface (or out),
+/// weighted by the transmittance of the media it crossed, and `span` sees each medium span on
+/// the way (with the transmittance up to its start). Never returns [`Segment::Medium`].
+pub fn trace_transmitted(
+    scene: &Scene,
+    ray: &Ray,
+    medium: &mut u32,
+    sampler: &mut Sampler,
+    stats: &mut RenderStats,
+    mut span: impl FnMut(MediumSpan, &mut RenderStats),
+) -> Segment {
+    if !scene.has_media {
+        return trace_segment(scene, ray, medium, sampler, stats);
+    }
+    let mut ray = *ray;
+    let mut tr = Spectrum::ONE;
+    for _ in 0..MAX_NULL_CROSSINGS {
+        stats.rays += 1;
+        let hit = scene.intersect(&ray);
+        let t_end = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
+        if *medium != NONE {
+            let m = &scene.media[*medium as usize];
+            span(
+                MediumSpan {
+                    ray: &ray,
+                    t_max: t_end,
+                    medium: *medium,
+                    tr,
+                },
+                stats,
+            );
+            let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
+            tr *= m.transmittance(&ray, t_end, &mut ts);
+        }
+        let Some(si) = hit else {
+            return Segment::Escaped { transmittance: tr };
+        };
+        if !scene.materials[si.material as usize].is_null() {
+            return Segment::Surface {
+                transmittance: tr * interior_transmittance(scene, &si, &ray),
+                si,
+            };
+        }
+        *medium = si.medium_toward(ray.d, *medium);
+        ray = si.spawn_ray(ray.d);
+    }
+    Segment::Escaped {
+        transmittance: Spectrum::ZERO,
+    }
+}
+
+/// Transmittance of the connection `shadow` (a ray with `t_max` just short of its target) that
+/// starts in medium `medium`: 0 if a non-null surface blocks it, else the product of the
+/// media's transmittances along it (ratio tracking in grids). Draws two sampler dimensions in
+/// scenes with media, none otherwise.
+pub fn shadow_transmittance(
+    scene: &Scene,
+    shadow: &Ray,
+    medium: u32,
+    sampler: &mut Sampler,
+    stats: &mut RenderStats,
+) -> Spectrum {
+    if !scene.has_media {
+        stats.rays += 1;
+        return if scene.occluded(shadow) {
+            Spectrum::ZERO
+        } else {
+            Spectrum::ONE
+        };
+    }
+    let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
+    let mut ray = *shadow;
+    let mut medium = medium;
+    let mut tr = Spectrum::ONE;
+    for _ in 0..MAX_NULL_CROSSINGS {
+        stats.rays += 1;
+        let hit = scene.intersect(&ray);
+        let t_end = hit.as_ref().map_or(ray.t_max, |si| si.t);
+        if medium != NONE {
+            tr *= scene.media[medium as usize].transmittance(&ray, t_end, &mut ts);
+            if tr.is_black() {
+                return tr;
+            }
+        }
+        let Some(si) = hit else {
+            return tr;
+        };
+        if !scene.materials[si.material as usize].is_null() {
+            return Spectrum::ZERO;
+        }
+        medium = si.medium_toward(ray.d, medium);
+        let next = si.spawn_ray(ray.d);
+        let left = ray.t_max - (next.o - ray.o).dot(ray.d);
+        if left <= 0.0 {
+            return tr;
+        }
+        ray = Ray::with_t_max(next.o, ray.d, left);
+    }
+    Spectrum::ZERO
 }
 
 /// Beer–Lambert transmittance exp(−σa t) of the segment that ended at `si`, if that segment ran

@@ -1,8 +1,10 @@
-//! The scattering state at a surface vertex, shared by every walker and integrator, and rays
-//! spawned off surfaces.
+//! The scattering state at a surface vertex ([`Vertex`]) or a medium vertex ([`MediumVertex`]),
+//! shared by every walker and integrator, both seen through [`Scatterer`] where the code is the
+//! same; and rays spawned off surfaces.
 
-use caustica_core::{Frame, Ray, Vec3};
+use caustica_core::{Frame, Ray, Spectrum, Vec3};
 use caustica_scene::bsdf::{Bsdf, TransportMode};
+use caustica_scene::phase::{Phase, PhaseFunction};
 use caustica_scene::light::EmissionSample;
 use caustica_scene::{Scene, SurfaceInteraction};
 
@@ -74,5 +76,114 @@ pub fn emission_ray(es: &EmissionSample) -> Ray {
     match es.normal {
         Some(n) => Ray::new(offset_origin(es.ray.o, n, es.ray.d), es.ray.d),
         None => es.ray,
+    }
+}
+
+/// A scattering vertex inside a participating medium: a real scattering event of a free flight
+/// ([`crate::transport::Segment::Medium`]).
+#[derive(Clone, Copy, Debug)]
+pub struct MediumVertex {
+    /// Position (m).
+    pub p: Vec3,
+    /// Unit direction back along the incoming ray (world space).
+    pub wo: Vec3,
+    /// The medium's index in `Scene::media`.
+    pub medium: u32,
+    pub phase: PhaseFunction,
+}
+
+impl MediumVertex {
+    /// The vertex at `p` reached along `ray` in medium `medium` of `scene`.
+    #[inline]
+    pub fn new(scene: &Scene, p: Vec3, ray: &Ray, medium: u32) -> Self {
+        Self {
+            p,
+            wo: -ray.d,
+            medium,
+            phase: scene.media[medium as usize].phase,
+        }
+    }
+
+    /// Connection from this vertex toward `target`, stopping just short of it.
+    #[inline]
+    pub fn ray_to(&self, target: Vec3) -> Ray {
+        let to = target - self.p;
+        let dist = to.length();
+        Ray::with_t_max(self.p, to / dist, dist * (1.0 - 1e-4))
+    }
+}
+
+/// Where a path scatters: at a surface (its BSDF) or in a medium (its phase function). Next-event
+/// estimation and camera connections are written once over this.
+#[derive(Clone, Copy)]
+pub enum Scatterer<'a> {
+    /// A surface vertex; `medium` is the medium of the ray that reached it.
+    Surface { v: &'a Vertex, medium: u32 },
+    Medium(&'a MediumVertex),
+}
+
+impl Scatterer<'_> {
+    /// Position (m).
+    #[inline]
+    pub fn p(&self) -> Vec3 {
+        match self {
+            Scatterer::Surface { v, .. } => v.si.p,
+            Scatterer::Medium(m) => m.p,
+        }
+    }
+    /// Unit direction back toward the previous vertex (world space).
+    #[inline]
+    pub fn wo(&self) -> Vec3 {
+        match self {
+            Scatterer::Surface { v, .. } => v.frame.to_world(v.wo),
+            Scatterer::Medium(m) => m.wo,
+        }
+    }
+    /// The scattering factor toward `wi` (world, unit): f(wo, wi) |cos θi| (sr⁻¹) with the
+    /// shading-normal correction in importance mode, or p(wo, wi) (sr⁻¹) in a medium; 0 on the
+    /// wrong geometric side of a surface.
+    #[inline]
+    pub fn eval(&self, wi: Vec3, mode: TransportMode) -> Spectrum {
+        match self {
+            Scatterer::Surface { v, .. } => {
+                let wi_local = v.frame.to_local(wi);
+                let f = v.bsdf.eval(v.wo, wi_local, mode);
+                let wo = v.frame.to_world(v.wo);
+                if f.is_black() || !v.same_side_consistent(wo, wi, wi_local) {
+                    return Spectrum::ZERO;
+                }
+                f * (wi_local.z.abs() * v.shading_normal_correction(wo, wi, mode))
+            }
+            Scatterer::Medium(m) => Spectrum::splat(m.phase.eval(m.wo, wi)),
+        }
+    }
+    /// Solid-angle density (sr⁻¹) with which the vertex samples `wi` itself.
+    #[inline]
+    pub fn pdf(&self, wi: Vec3, mode: TransportMode) -> f32 {
+        match self {
+            Scatterer::Surface { v, .. } => v.bsdf.pdf(v.wo, v.frame.to_local(wi), mode),
+            Scatterer::Medium(m) => m.phase.pdf(m.wo, wi),
+        }
+    }
+    /// Connection toward the point `target` and the medium it starts in.
+    #[inline]
+    pub fn ray_to(&self, target: Vec3) -> (Ray, u32) {
+        match self {
+            Scatterer::Surface { v, medium } => {
+                let r = v.si.spawn_ray_to(target);
+                (r, v.si.medium_toward(r.d, *medium))
+            }
+            Scatterer::Medium(m) => (m.ray_to(target), m.medium),
+        }
+    }
+    /// Connection in direction `wi` (to a light at infinity) and the medium it starts in.
+    #[inline]
+    pub fn ray_toward(&self, wi: Vec3) -> (Ray, u32) {
+        match self {
+            Scatterer::Surface { v, medium } => {
+                (v.si.spawn_ray(wi), v.si.medium_toward(wi, *medium))
+            }
+            Scatterer::Medium(m) => (Ray::new(m.p, wi), m.medium),
+        }
     }
 }

@@ -5,7 +5,9 @@
 use super::trace::is_caustic_landing;
 use crate::photon::plan::{PathStream, trace_paths};
 use crate::stats::RenderStats;
-use crate::transport::light_walk::{LightEvent, LightScatter, LightVisitor, walk_light_path_with};
+use crate::transport::light_walk::{
+    LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_with,
+};
 use crate::transport::limits::PathLimits;
 use caustica_core::sampling::Sampler;
 use caustica_scene::Scene;
@@ -99,5 +101,8 @@ impl<P: Copy> LightVisitor for Count<'_, P> {
     }
     fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
         sc.keeps_caustic() // as the photon-differential tracer
+    }
+    fn scatter_in_medium(&mut self, _: &LightMediumVertex, _: caustica_core::Vec3) -> bool {
+        false
     }
 }

@@ -9,7 +9,7 @@ use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::photon::tracer::{NO_CAUSTIC_PATHS, shortfall};
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
-    LightEvent, LightScatter, LightVertex, LightVisitor, walk_light_path_with,
+    LightMediumVertex,    LightEvent, LightScatter, LightVertex, LightVisitor, walk_light_path_with,
 };
 use crate::transport::limits::PathLimits;
 use crate::transport::vertex::Vertex;
@@ -220,6 +220,7 @@ impl<const N: usize> LightVisitor for DiffVisitor<'_, N> {
                 self.emission = (start.ray, es.normal, start.light);
                 self.ray = None;
             }
+            LightEvent::Medium(_) => {}
             LightEvent::Vertex(lv) => {
                 // Non-finite throughputs are skipped (the photon tracer counts them).
                 if !is_caustic_landing(lv) {
@@ -237,6 +238,10 @@ impl<const N: usize> LightVisitor for DiffVisitor<'_, N> {
                 });
             }
         }
+    }
+
+    fn scatter_in_medium(&mut self, _: &LightMediumVertex, _: Vec3) -> bool {
+        false // not delta: no later vertex receives caustic light
     }
 
     fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
