@@ -62,6 +62,7 @@
 #![forbid(unsafe_code)]
 
 pub mod bandwidth_selection;
+pub mod beam;
 pub mod diffusion;
 pub mod estimate;
 pub mod estimator;
@@ -95,4 +96,10 @@ pub enum DensityError {
         "the {0} estimator is defined in a surface's tangent plane (seed 000 ch. 4) and cannot answer a volume query; use fixed, knn or variable for volume photons"
     )]
     SurfaceOnly(&'static str),
+    /// The beam radiance estimate integrates its kernel along the eye ray in closed form
+    /// (seed 000 eq. 8.11, 8.13, 8.15), which [`beam`] does for two kernels only.
+    #[error(
+        "the beam radiance estimate integrates the uniform and epanechnikov kernels only, not '{0}'"
+    )]
+    UnsupportedBeamKernel(String),
 }
