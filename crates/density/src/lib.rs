@@ -69,6 +69,7 @@ pub mod estimator;
 pub mod kdtree;
 pub mod kernel;
 pub mod radius_buckets;
+pub mod sphere_bvh;
 
 pub use diffusion::{DiffusionEstimator, DiffusionParams, DiffusionTensor};
 pub use estimate::{disc_test, project_to_tangent_plane};
@@ -78,6 +79,7 @@ pub use estimator::{
 pub use kdtree::{KdTree, Neighbor};
 pub use kernel::{Dim, Kernel};
 pub use radius_buckets::RadiusBuckets;
+pub use sphere_bvh::SphereBvh;
 
 /// Errors of the density crate.
 #[derive(Debug, thiserror::Error, PartialEq)]
