@@ -62,12 +62,14 @@
 #![forbid(unsafe_code)]
 
 pub mod bandwidth_selection;
+pub mod beam;
 pub mod diffusion;
 pub mod estimate;
 pub mod estimator;
 pub mod kdtree;
 pub mod kernel;
 pub mod radius_buckets;
+pub mod sphere_bvh;
 
 pub use diffusion::{DiffusionEstimator, DiffusionParams, DiffusionTensor};
 pub use estimate::{disc_test, project_to_tangent_plane};
@@ -77,6 +79,7 @@ pub use estimator::{
 pub use kdtree::{KdTree, Neighbor};
 pub use kernel::{Dim, Kernel};
 pub use radius_buckets::RadiusBuckets;
+pub use sphere_bvh::SphereBvh;
 
 /// Errors of the density crate.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -95,4 +98,10 @@ pub enum DensityError {
         "the {0} estimator is defined in a surface's tangent plane (seed 000 ch. 4) and cannot answer a volume query; use fixed, knn or variable for volume photons"
     )]
     SurfaceOnly(&'static str),
+    /// The beam radiance estimate integrates its kernel along the eye ray in closed form
+    /// (seed 000 eq. 8.11, 8.13, 8.15), which [`beam`] does for two kernels only.
+    #[error(
+        "the beam radiance estimate integrates the uniform and epanechnikov kernels only, not '{0}'"
+    )]
+    UnsupportedBeamKernel(String),
 }
