@@ -499,7 +499,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         | IntegratorKind::PhotonMapping
         | IntegratorKind::DiffusionPhotonMapping
         | IntegratorKind::PhotonDifferentialMapping
-        | IntegratorKind::PhotonDifferentialSplatting => {
+        | IntegratorKind::PhotonDifferentialSplatting
+        | IntegratorKind::VolumetricPhotonMapping
+        | IntegratorKind::BeamRadianceEstimate => {
             format!("{:.1} spp", out.film.mean_samples())
         }
         IntegratorKind::LightTrace => format!("{} light paths", out.film.light_paths()),

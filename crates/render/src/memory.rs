@@ -132,8 +132,14 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         m.add("global map", p.global_photons as u64, photon);
     }
     let caustic = photon_count(p.caustic_budget(), 1);
+    if !opts.caustics_only && scene.media.iter().any(|m| !m.sigma_s.is_black()) {
+        // Photon, radius, k-d tree node and about two BVH nodes per photon.
+        m.add("volume map", p.volume.photons as u64, photon + 4 + 2 * 32);
+    }
     match kind {
-        IntegratorKind::PhotonMapping => m.add("caustic map", caustic, photon),
+        IntegratorKind::PhotonMapping
+        | IntegratorKind::VolumetricPhotonMapping
+        | IntegratorKind::BeamRadianceEstimate => m.add("caustic map", caustic, photon),
         IntegratorKind::DiffusionPhotonMapping => m.add(
             "caustic map with diffusion data",
             caustic,

@@ -13,6 +13,7 @@ use crate::film::Film;
 use crate::filter::Filter;
 use crate::memory;
 use crate::options::{CausticEstimator, RenderOptions};
+use crate::photon::volume_map::VolumeEstimate;
 use crate::stats::RenderStats;
 use caustica_scene::Scene;
 use caustica_scene::material::Material;
@@ -39,10 +40,25 @@ pub enum IntegratorKind {
     /// splatting each caustic photon's footprint onto an eye-path map built first; no photon
     /// map is stored.
     PhotonDifferentialSplatting,
+    /// Volumetric photon mapping (Jensen and Christensen 1998; seed 000 eq. 8.3): `pm` with
+    /// the volume photons gathered by ray marching camera rays, a k-NN estimate per step.
+    VolumetricPhotonMapping,
+    /// `pm` with the volume photons gathered by the beam radiance estimate (Jarosz et al. 2008;
+    /// seed 000 eq. 8.4): one query per camera ray, exact chord integrals of the kernels.
+    BeamRadianceEstimate,
 }
 
 impl IntegratorKind {
-    pub const NAMES: &'static [&'static str] = &["path", "lighttrace", "pm", "dpm", "pdm", "pds"];
+    pub const NAMES: &'static [&'static str] = &[
+        "path",
+        "lighttrace",
+        "pm",
+        "dpm",
+        "pdm",
+        "pds",
+        "vpm",
+        "beam",
+    ];
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Path => "path",
@@ -51,6 +67,8 @@ impl IntegratorKind {
             IntegratorKind::DiffusionPhotonMapping => "dpm",
             IntegratorKind::PhotonDifferentialMapping => "pdm",
             IntegratorKind::PhotonDifferentialSplatting => "pds",
+            IntegratorKind::VolumetricPhotonMapping => "vpm",
+            IntegratorKind::BeamRadianceEstimate => "beam",
         }
     }
 
@@ -62,6 +80,8 @@ impl IntegratorKind {
                 | IntegratorKind::DiffusionPhotonMapping
                 | IntegratorKind::PhotonDifferentialMapping
                 | IntegratorKind::PhotonDifferentialSplatting
+                | IntegratorKind::VolumetricPhotonMapping
+                | IntegratorKind::BeamRadianceEstimate
         )
     }
 
@@ -84,17 +104,25 @@ impl IntegratorKind {
             IntegratorKind::PhotonDifferentialSplatting => {
                 "photon differential splatting (seed 002 sec. 3.3)"
             }
+            IntegratorKind::VolumetricPhotonMapping => {
+                "volumetric photon mapping: pm with ray-marched volume photons (seed 000 eq. 8.3)"
+            }
+            IntegratorKind::BeamRadianceEstimate => {
+                "pm with the beam radiance estimate of volume photons (seed 000 eq. 8.4)"
+            }
         }
     }
 
     /// Every integrator, in the order of [`IntegratorKind::NAMES`].
-    pub const ALL: [IntegratorKind; 6] = [
+    pub const ALL: [IntegratorKind; 8] = [
         IntegratorKind::Path,
         IntegratorKind::LightTrace,
         IntegratorKind::PhotonMapping,
         IntegratorKind::DiffusionPhotonMapping,
         IntegratorKind::PhotonDifferentialMapping,
         IntegratorKind::PhotonDifferentialSplatting,
+        IntegratorKind::VolumetricPhotonMapping,
+        IntegratorKind::BeamRadianceEstimate,
     ];
 
     /// Checks that this integrator can render with `opts` (the values themselves are valid by
@@ -189,6 +217,8 @@ impl std::str::FromStr for IntegratorKind {
             "dpm" => Ok(Self::DiffusionPhotonMapping),
             "pdm" => Ok(Self::PhotonDifferentialMapping),
             "pds" => Ok(Self::PhotonDifferentialSplatting),
+            "vpm" => Ok(Self::VolumetricPhotonMapping),
+            "beam" | "bre" => Ok(Self::BeamRadianceEstimate),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -267,6 +297,18 @@ pub fn render(
         | IntegratorKind::PhotonDifferentialMapping => {
             photon_mapping::render(scene, opts, &stage, &mut film, &filter, &mut notes, |p| {
                 PhotonMaps::for_integrator(scene, kind, opts, p)
+            })
+        }
+        IntegratorKind::VolumetricPhotonMapping | IntegratorKind::BeamRadianceEstimate => {
+            let mut o = opts.clone();
+            o.photons.volume.estimate = if kind == IntegratorKind::VolumetricPhotonMapping {
+                VolumeEstimate::March
+            } else {
+                VolumeEstimate::Beam
+            };
+            let o = &o;
+            photon_mapping::render(scene, o, &stage, &mut film, &filter, &mut notes, |p| {
+                PhotonMaps::for_integrator(scene, IntegratorKind::PhotonMapping, o, p)
             })
         }
     };

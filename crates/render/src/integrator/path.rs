@@ -61,7 +61,11 @@ pub fn radiance(
                 }
                 break;
             }
-            Segment::Medium { p, medium: m, weight } => {
+            Segment::Medium {
+                p,
+                medium: m,
+                weight,
+            } => {
                 depth += 1;
                 beta *= weight;
                 if depth >= opts.limits.max_depth || beta.is_black() {

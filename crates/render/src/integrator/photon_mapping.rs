@@ -18,6 +18,7 @@ use crate::options::{CausticEstimator, RenderOptions};
 use crate::photon::caustic::{CausticEstimate, global_radiance};
 use crate::photon::map::PhotonMap;
 use crate::photon::tracer::{MapKind, TracedPhotons, trace_photons};
+use crate::photon::volume_map::VolumeMap;
 use crate::stats::RenderStats;
 use crate::transport::direct::sample_direct;
 use crate::transport::eye_walk::{EyeEvent, Flow, walk_eye};
@@ -31,6 +32,8 @@ use caustica_scene::intersection::NONE;
 /// Random-number stream of the global map (the caustic map's is
 /// [`crate::photon::caustic::CAUSTIC_STREAM`]; the camera pass uses pixel streams).
 const GLOBAL_STREAM: u64 = 0x610B;
+/// Random-number stream of the volume map.
+const VOLUME_STREAM: u64 = 0x7601;
 /// Longest specular chain a final-gather ray follows.
 const MAX_GATHER_CHAIN: u32 = 16;
 
@@ -38,6 +41,9 @@ const MAX_GATHER_CHAIN: u32 = 16;
 pub struct PhotonMaps {
     pub caustic: CausticEstimate,
     pub global: PhotonMap,
+    /// Volume photons, in scenes with scattering media: in-scattered light along camera and
+    /// final-gather rays (seed 000 eq. 8.3 or 8.4).
+    pub volume: Option<VolumeMap>,
     /// Photon-tracing work.
     pub stats: RenderStats,
     /// Messages for the user (e.g. fewer photons than requested).
@@ -99,16 +105,38 @@ impl PhotonMaps {
         ) -> (CausticEstimate, Option<String>, RenderStats),
     ) -> Self {
         let has_global = Self::wants_global(opts);
-        let share = if has_global { 0.5 } else { 1.0 };
+        let has_volume = Self::wants_volume(scene, opts);
+        let share = 1.0 / (1 + has_global as u32 + has_volume as u32) as f64;
         let (caustic, warning, mut stats) = caustic(&mut |f| progress(share * f));
-        let g = Self::trace_global(scene, opts, &mut |f| progress(share + (1.0 - share) * f));
+        let g = Self::trace_global(scene, opts, &mut |f| progress(share + share * f));
         stats += g.stats;
+        let mut warnings: Vec<String> = warning.into_iter().chain(g.warning).collect();
+        let start = if has_global { 2.0 * share } else { share };
+        let volume = has_volume.then(|| {
+            let v = trace_photons(
+                scene,
+                crate::photon::plan::PhotonBudget::Records(opts.photons.volume.photons),
+                MapKind::Volume,
+                VOLUME_STREAM,
+                opts,
+                &mut |f| progress(start + share * f),
+            );
+            stats += v.stats;
+            warnings.extend(v.warning);
+            VolumeMap::new(v.photons, v.paths, opts.photons.volume)
+        });
         Self {
             caustic,
             global: PhotonMap::new(g.photons, g.paths),
+            volume,
             stats,
-            warnings: warning.into_iter().chain(g.warning).collect(),
+            warnings,
         }
+    }
+
+    /// True when the render needs volume photons: the scene has a scattering medium.
+    fn wants_volume(scene: &Scene, opts: &RenderOptions) -> bool {
+        !opts.caustics_only && scene.media.iter().any(|m| !m.sigma_s.is_black())
     }
 
     /// True when the render needs the global map (indirect light; caustics alone need none).
@@ -149,9 +177,28 @@ impl PhotonMaps {
             self.caustic.paths(),
             self.global.len(),
             self.global.paths,
-            (self.caustic.paths() + self.global.paths) as f64 / secs / 1e6,
-            (self.caustic.memory_bytes() + self.global.memory_bytes()) as f64 / 1e6,
-        )
+            (self.caustic.paths() + self.global.paths + self.volume.as_ref().map_or(0, |v| v.paths))
+                as f64
+                / secs
+                / 1e6,
+            (self.caustic.memory_bytes()
+                + self.global.memory_bytes()
+                + self.volume.as_ref().map_or(0, |v| v.memory_bytes())) as f64
+                / 1e6,
+        ) + &self.volume.as_ref().map_or(String::new(), |v| {
+            format!(
+                "; volume {} from {} paths ({} estimate, median radius {:.4} m{})",
+                v.len(),
+                v.paths,
+                v.settings().estimate.name(),
+                v.median_radius(),
+                if v.settings().estimate == crate::photon::volume_map::VolumeEstimate::March {
+                    format!(", step {:.4} m", v.step())
+                } else {
+                    String::new()
+                }
+            )
+        })
     }
 }
 
@@ -192,7 +239,13 @@ pub(crate) fn radiance_with(
         stats,
         |event, sampler, stats| {
             let (v, medium, wo, beta, depth) = match event {
-                EyeEvent::Medium { .. } => return Flow::Continue,
+                EyeEvent::Medium { span, beta } => {
+                    if let Some(vm) = &maps.volume {
+                        let u = sampler.next_1d();
+                        l += beta * vm.radiance(scene, &span, u);
+                    }
+                    return Flow::Continue;
+                }
                 // Every earlier vertex was delta: the environment is seen through them.
                 EyeEvent::Escaped { ray, beta } => {
                     for &li in &scene.infinite_lights {
@@ -293,11 +346,18 @@ fn gather(
         sampler,
         MAX_GATHER_CHAIN,
         stats,
-        |event, _, _| {
-            if let EyeEvent::Vertex { v, beta, .. } = event
-                && v.bsdf.flags().is_smooth()
-            {
-                l = beta * global_radiance(&maps.global, v, &opts.photons);
+        |event, sampler, _| {
+            match event {
+                EyeEvent::Vertex { v, beta, .. } if v.bsdf.flags().is_smooth() => {
+                    l += beta * global_radiance(&maps.global, v, &opts.photons);
+                }
+                EyeEvent::Medium { span, beta } => {
+                    if let Some(vm) = &maps.volume {
+                        let u = sampler.next_1d();
+                        l += beta * vm.radiance(scene, &span, u);
+                    }
+                }
+                _ => {}
             }
             Flow::Continue
         },

@@ -6,6 +6,7 @@ use crate::options::value::{
 };
 use crate::photon::map::EstimateOptions;
 use crate::photon::plan::PhotonBudget;
+use crate::photon::volume_map::VolumeSettings;
 use caustica_density::kernel::Kernel;
 
 /// Settings of the photon-mapping integrators.
@@ -43,6 +44,9 @@ pub struct PhotonOptions {
     /// a library caller gets exactly the values it sets; the command line turns each on when
     /// neither it nor the scene gives that value.
     pub auto: AutoBandwidth,
+    /// The volume photon map of scenes with scattering media (every photon method): how many
+    /// photons, which estimate along camera rays, its k, radius, kernel and step.
+    pub volume: VolumeSettings,
 }
 
 /// Bandwidths chosen automatically, by least-squares cross-validation of the image
@@ -89,6 +93,7 @@ impl Default for PhotonOptions {
             diffusion: DiffusionSettings::default(),
             footprints: FootprintSettings::default(),
             auto: AutoBandwidth::default(),
+            volume: VolumeSettings::default(),
         }
     }
 }
@@ -136,6 +141,31 @@ impl PhotonOptions {
                 "the photons per estimate of the global map (--global-k)",
                 k as u64,
             )?;
+        }
+        at_least_one(
+            "the number of volume photons (--volume-photons)",
+            self.volume.photons as u64,
+        )?;
+        at_least_one(
+            "the photons per volume estimate (--volume-k)",
+            self.volume.k as u64,
+        )?;
+        for (what, v) in [
+            (
+                "the volume photon radius (--volume-radius)",
+                self.volume.radius,
+            ),
+            ("the march step (--march-step)", self.volume.step),
+        ] {
+            if let Some(r) = v
+                && !(r.is_finite() && r > 0.0)
+            {
+                return Err(OptionError::Invalid {
+                    what,
+                    rule: "a positive finite length",
+                    got: r.to_string(),
+                });
+            }
         }
         if let Some(r) = self.estimate.max_radius
             && !(r.is_finite() && r > 0.0)

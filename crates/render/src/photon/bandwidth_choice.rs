@@ -111,7 +111,9 @@ fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
         q: a.q,
     });
     match kind {
-        IntegratorKind::PhotonMapping => match p.caustic_estimator.unwrap_or_default() {
+        IntegratorKind::PhotonMapping
+        | IntegratorKind::VolumetricPhotonMapping
+        | IntegratorKind::BeamRadianceEstimate => match p.caustic_estimator.unwrap_or_default() {
             e @ (CausticEstimator::Knn | CausticEstimator::Variable) => a.k.then_some(Target::K(e)),
             CausticEstimator::Fixed => a.bandwidth.then_some(Target::H),
             CausticEstimator::Diffusion => diffusion,

@@ -10,6 +10,8 @@
 //! * [`map`] — a photon map with its k-d tree and the radiance estimate of seed 000 eq. 3.2.
 //! * [`caustic`] — the caustic estimate of a photon method, one enum over the density
 //!   estimators of `pm`/`dpm`, the footprints of `pdm` and the splatting of `pds`.
+//! * [`volume_map`] — volume photons and their two estimates along camera rays: ray marching
+//!   (seed 000 eq. 8.3) and the beam radiance estimate (eq. 8.4).
 //! * [`eye_map`] — the eye-path vertices of a camera pass, in spatial tiles.
 //! * [`differential`] — photon differentials: tracing, footprints, the `pdm` map, counting.
 
@@ -20,3 +22,4 @@ pub mod eye_map;
 pub mod map;
 pub mod plan;
 pub mod tracer;
+pub mod volume_map;

@@ -49,7 +49,9 @@ pub fn sample_direct_at(
     let (li, pmf, _) = dist.sample(u_light);
     let light = &scene.lights[li];
     let p = at.p();
-    let sample = light.sample_li(p, u).filter(|ls| ls.pdf > 0.0 && !ls.weight.is_black());
+    let sample = light
+        .sample_li(p, u)
+        .filter(|ls| ls.pdf > 0.0 && !ls.weight.is_black());
     let f = sample
         .as_ref()
         .map_or(Spectrum::ZERO, |ls| at.eval(ls.wi, TransportMode::Radiance));

@@ -27,7 +27,10 @@ pub enum EyeEvent<'a> {
     /// in-scattered light there (the volume photon estimates); `beta` is the throughput at the
     /// span's start. The walker does not sample scattering: the chain's segments are weighted
     /// by their transmittance. Its [`Flow`] is ignored.
-    Medium { span: MediumSpan<'a>, beta: Spectrum },
+    Medium {
+        span: MediumSpan<'a>,
+        beta: Spectrum,
+    },
     /// A surface vertex, delta or not.
     Vertex {
         v: &'a Vertex,

@@ -12,8 +12,8 @@ use crate::transport::vertex::{MediumVertex, Vertex, emission_ray};
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum, Vec3};
 use caustica_scene::Scene;
-use caustica_scene::intersection::NONE;
 use caustica_scene::bsdf::{BsdfSample, TransportMode};
+use caustica_scene::intersection::NONE;
 use caustica_scene::light::EmissionSample;
 use caustica_scene::phase::Phase;
 
@@ -186,7 +186,11 @@ pub fn walk_light_path_with(
         let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats) {
             Segment::Surface { si, transmittance } => (si, transmittance),
             Segment::Escaped { .. } => break,
-            Segment::Medium { p, medium: m, weight } => {
+            Segment::Medium {
+                p,
+                medium: m,
+                weight,
+            } => {
                 beta *= weight;
                 if beta.is_black() {
                     break;

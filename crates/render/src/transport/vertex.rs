@@ -4,8 +4,8 @@
 
 use caustica_core::{Frame, Ray, Spectrum, Vec3};
 use caustica_scene::bsdf::{Bsdf, TransportMode};
-use caustica_scene::phase::{Phase, PhaseFunction};
 use caustica_scene::light::EmissionSample;
+use caustica_scene::phase::{Phase, PhaseFunction};
 use caustica_scene::{Scene, SurfaceInteraction};
 
 /// The scattering state at a path vertex.
@@ -118,7 +118,10 @@ impl MediumVertex {
 #[derive(Clone, Copy)]
 pub enum Scatterer<'a> {
     /// A surface vertex; `medium` is the medium of the ray that reached it.
-    Surface { v: &'a Vertex, medium: u32 },
+    Surface {
+        v: &'a Vertex,
+        medium: u32,
+    },
     Medium(&'a MediumVertex),
 }
 

@@ -9,7 +9,7 @@ use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::photon::tracer::{NO_CAUSTIC_PATHS, shortfall};
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
-    LightMediumVertex,    LightEvent, LightScatter, LightVertex, LightVisitor, walk_light_path_with,
+    LightEvent, LightMediumVertex, LightScatter, LightVertex, LightVisitor, walk_light_path_with,
 };
 use crate::transport::limits::PathLimits;
 use crate::transport::vertex::Vertex;

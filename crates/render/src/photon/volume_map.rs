@@ -1,0 +1,315 @@
+//! The volume photon map and its two radiance estimates along a camera ray (seed 000 ch. 8):
+//! ray marching with a k-NN estimate at each step (eq. 8.3, Jensen and Christensen 1998), and
+//! the beam radiance estimate, one query per ray against every photon sphere it crosses with the
+//! exact chord integral of the kernel (eq. 8.4, 8.9–8.13 with the misprints corrected:
+//! `caustica_density::beam`; Jarosz et al. 2008).
+//!
+//! Volume photons are stored at real scattering events (`MapKind::Volume`) with flux
+//! Φ = β/N (W), where β already holds the free flight's σ_s T/p. Their density per volume is
+//! therefore the scattered flux density, and Σ p Φ / V over a region is in-scattered radiance per
+//! metre of ray (W/m²/sr/m): no σ_s factor appears in eq. 8.3 or 8.4 (seed notes §2.1).
+//!
+//! Both estimates give the radiance (W/m²/sr) a span of a camera ray collects, measured at the
+//! span's start:
+//!
+//! ```text
+//! march (8.3):  L = Σ_i T_r(x, x_i) (Σ_{p ≤ k} p(x_i, ω, ω_p) ΔΦ_p / V_i) Δ_i,  V_i = 4π r_i³/3
+//! beam  (8.4):  L = Σ_i T_r(x, x_i) p(x_i, ω_i, ω) (ΔΦ_i / V_i) w_i,          w_i = ∫ K dt
+//! ```
+//!
+//! The phase function takes `wo` = toward the eye (−ray direction) and `wi` = the photon's
+//! incident direction (toward where its light came from), the convention of
+//! `caustica_scene::phase`. With a fixed radius and the uniform kernel the marched sum tends to
+//! the beam estimate as the step shrinks (Σ Δ 1{|x_i − p| < h} → chord length, test TM4).
+
+use crate::photon::tracer::Photon;
+use crate::transport::medium::MediumSpan;
+use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_density::beam::{BeamKernel, Clip, RaySegment, ball_volume, ball_weight};
+use caustica_density::kdtree::{KdTree, Neighbor};
+use caustica_density::sphere_bvh::SphereBvh;
+use caustica_scene::Scene;
+use caustica_scene::medium::MediumKind;
+use caustica_scene::phase::Phase;
+use caustica_scene::shape::Aabb;
+use rayon::prelude::*;
+
+/// How a camera ray collects the volume photons.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum VolumeEstimate {
+    /// The beam radiance estimate (eq. 8.4): one query per ray segment.
+    #[default]
+    Beam,
+    /// Ray marching (eq. 8.3) with steps of at most `VolumeSettings::step` metres, jittered by
+    /// one random number per span.
+    March,
+}
+
+impl VolumeEstimate {
+    pub fn name(&self) -> &'static str {
+        match self {
+            VolumeEstimate::Beam => "beam",
+            VolumeEstimate::March => "march",
+        }
+    }
+}
+
+/// Settings of the volume photon map.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VolumeSettings {
+    /// Volume photons to store (light paths are emitted until the map holds this many).
+    pub photons: usize,
+    pub estimate: VolumeEstimate,
+    /// Photons per k-NN estimate (march) and per pilot radius (beam); ≥ 1.
+    pub k: usize,
+    /// A fixed photon radius (m) for both estimates instead of the k-NN one.
+    pub radius: Option<f32>,
+    /// Kernel of the beam estimate (the march uses the uniform kernel of eq. 8.3).
+    pub kernel: BeamKernel,
+    /// Step (m) of the march; `None` = half the median photon radius.
+    pub step: Option<f32>,
+}
+
+impl Default for VolumeSettings {
+    fn default() -> Self {
+        Self {
+            photons: 100_000,
+            estimate: VolumeEstimate::Beam,
+            k: 32,
+            radius: None,
+            kernel: BeamKernel::Epanechnikov,
+            step: None,
+        }
+    }
+}
+
+/// Volume photons with a k-d tree (k-NN queries) and a BVH over their spheres (beam queries).
+pub struct VolumeMap {
+    pub photons: Vec<Photon>,
+    /// Radius (m) of each photon's sphere in the beam estimate.
+    pub radii: Vec<f32>,
+    tree: KdTree,
+    bvh: SphereBvh,
+    /// Box around every photon sphere (rays are clipped to it).
+    bounds: Aabb,
+    /// Light paths whose photons the map holds.
+    pub paths: u64,
+    settings: VolumeSettings,
+    /// The march's step (m), resolved.
+    step: f32,
+}
+
+impl VolumeMap {
+    /// The map of `photons` (fluxes already divided by `paths`), with each photon's radius the
+    /// fixed one or the distance to its k-th nearest neighbour (the pilot of Jarosz et al.
+    /// 2008).
+    pub fn new(mut photons: Vec<Photon>, paths: u64, settings: VolumeSettings) -> Self {
+        photons.shrink_to_fit();
+        let positions: Vec<Vec3> = photons.iter().map(|p| p.p).collect();
+        let tree = KdTree::build(&positions);
+        let radii: Vec<f32> = match settings.radius {
+            Some(r) => vec![r; photons.len()],
+            None => positions
+                .par_iter()
+                .map_init(Vec::new, |nn: &mut Vec<Neighbor>, &p| {
+                    tree.knn_unsorted(p, settings.k + 1, f32::INFINITY, nn);
+                    nn.iter().map(|n| n.dist2).fold(0.0f32, f32::max).sqrt()
+                })
+                .collect(),
+        };
+        let radii: Vec<f32> = radii.into_iter().map(|r| r.max(1e-6)).collect();
+        let bvh = SphereBvh::build(&positions, &radii);
+        let mut bounds = Aabb::default();
+        for (p, r) in positions.iter().zip(&radii) {
+            bounds.grow(*p - Vec3::splat(*r));
+            bounds.grow(*p + Vec3::splat(*r));
+        }
+        let mut map = Self {
+            photons,
+            radii,
+            tree,
+            bvh,
+            bounds,
+            paths,
+            settings,
+            step: 0.0,
+        };
+        map.step = settings.step.unwrap_or(0.5 * map.median_radius()).max(1e-6);
+        map
+    }
+
+    /// The march's step (m).
+    pub fn step(&self) -> f32 {
+        self.step
+    }
+
+    pub fn len(&self) -> usize {
+        self.photons.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.photons.is_empty()
+    }
+    pub fn settings(&self) -> &VolumeSettings {
+        &self.settings
+    }
+    /// Bytes held by the photons, radii, tree and BVH.
+    pub fn memory_bytes(&self) -> usize {
+        self.photons.capacity() * std::mem::size_of::<Photon>()
+            + self.radii.capacity() * 4
+            + self.tree.memory_bytes()
+            + self.bvh.memory_bytes()
+    }
+    /// Median photon radius (m).
+    pub fn median_radius(&self) -> f32 {
+        let mut r = self.radii.clone();
+        if r.is_empty() {
+            return 0.0;
+        }
+        let mid = r.len() / 2;
+        *r.select_nth_unstable_by(mid, f32::total_cmp).1
+    }
+
+    /// The span's parameter range inside the photons' box, or `None` if it misses it.
+    fn clip(&self, ray: &Ray, t_max: f32) -> Option<(f32, f32)> {
+        let (mut lo, mut hi) = (0.0f32, t_max);
+        for a in 0..3 {
+            let inv = 1.0 / ray.d[a];
+            let (t0, t1) = (
+                (self.bounds.min[a] - ray.o[a]) * inv,
+                (self.bounds.max[a] - ray.o[a]) * inv,
+            );
+            let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+            if t0.is_nan() || t1.is_nan() {
+                if ray.o[a] < self.bounds.min[a] || ray.o[a] > self.bounds.max[a] {
+                    return None;
+                }
+                continue;
+            }
+            lo = lo.max(t0);
+            hi = hi.min(t1);
+        }
+        (lo < hi).then_some((lo, hi))
+    }
+
+    /// In-scattered radiance (W/m²/sr) that the span collects, at the span's start, by the map's
+    /// estimate; `u` jitters the march's sample points.
+    pub fn radiance(&self, scene: &Scene, span: &MediumSpan, u: f32) -> Spectrum {
+        if self.is_empty() {
+            return Spectrum::ZERO;
+        }
+        match self.settings.estimate {
+            VolumeEstimate::Beam => self.beam(scene, span),
+            VolumeEstimate::March => self.march(scene, span, self.step, u),
+        }
+    }
+
+    /// Eq. 8.4: every photon sphere the span crosses, weighted by its kernel's chord integral.
+    pub fn beam(&self, scene: &Scene, span: &MediumSpan) -> Spectrum {
+        let Some((t0, t1)) = self.clip(span.ray, span.t_max) else {
+            return Spectrum::ZERO;
+        };
+        let medium = &scene.media[span.medium as usize];
+        let tr = Transmittance::new(medium, span.ray, t1);
+        let seg = RaySegment::new(span.ray.o, span.ray.d, t0, t1);
+        let wo = -span.ray.d;
+        let kernel = self.settings.kernel;
+        let mut l = Spectrum::ZERO;
+        self.bvh.for_each_crossing(&seg, |i| {
+            let i = i as usize;
+            let ph = &self.photons[i];
+            let r = self.radii[i];
+            if let Some(hit) = ball_weight(kernel, &seg, ph.p, r, Clip::Exact) {
+                let p = medium.phase.eval(wo, ph.wi);
+                l += ph.flux * (tr.at(hit.t) * (p * hit.weight / ball_volume(r)));
+            }
+        });
+        l
+    }
+
+    /// Eq. 8.3: k-NN estimates (or fixed-radius ones) at jittered points every `step` metres.
+    pub fn march(&self, scene: &Scene, span: &MediumSpan, step: f32, u: f32) -> Spectrum {
+        let Some((t0, t1)) = self.clip(span.ray, span.t_max) else {
+            return Spectrum::ZERO;
+        };
+        let medium = &scene.media[span.medium as usize];
+        let tr = Transmittance::new(medium, span.ray, t1);
+        let n = (((t1 - t0) / step.max(1e-6)).ceil() as usize).clamp(1, 1 << 20);
+        let dt = (t1 - t0) / n as f32;
+        let wo = -span.ray.d;
+        let mut nn = Vec::new();
+        let mut l = Spectrum::ZERO;
+        for i in 0..n {
+            let t = t0 + (i as f32 + u) * dt;
+            let x = span.ray.at(t);
+            let mut sum = Spectrum::ZERO;
+            let volume = match self.settings.radius {
+                Some(h) => {
+                    self.tree.range(x, h * h, |j, _| {
+                        let ph = &self.photons[j as usize];
+                        sum += ph.flux * medium.phase.eval(wo, ph.wi);
+                    });
+                    ball_volume(h)
+                }
+                None => {
+                    self.tree
+                        .knn_unsorted(x, self.settings.k, f32::INFINITY, &mut nn);
+                    let r2 = nn.iter().map(|n| n.dist2).fold(0.0f32, f32::max);
+                    // Sum in index order: the same estimate whatever order the tree returns.
+                    nn.sort_unstable_by_key(|n| n.index);
+                    for n in &nn {
+                        let ph = &self.photons[n.index as usize];
+                        sum += ph.flux * medium.phase.eval(wo, ph.wi);
+                    }
+                    ball_volume(r2.sqrt().max(1e-6))
+                }
+            };
+            l += sum * (tr.at(t) * dt / volume);
+        }
+        l
+    }
+}
+
+/// T_r from a span's start to a point on it: exact in homogeneous media, interpolated in a table
+/// of optical depths (the midpoint rule of `Medium::optical_depth`) in grids — deterministic,
+/// as a density estimate must be (seed notes Q-M7).
+enum Transmittance {
+    Homogeneous(Spectrum),
+    Table { depth: Vec<Spectrum>, dt: f32 },
+}
+
+/// Entries of a grid's optical-depth table per span.
+const DEPTH_TABLE: usize = 64;
+
+impl Transmittance {
+    fn new(medium: &caustica_scene::medium::Medium, ray: &Ray, t_max: f32) -> Self {
+        match &medium.kind {
+            MediumKind::Homogeneous(_) => Transmittance::Homogeneous(medium.sigma_t()),
+            MediumKind::Grid(_) => {
+                let t_max = if t_max.is_finite() { t_max } else { 1e4 };
+                let dt = t_max / DEPTH_TABLE as f32;
+                let mut depth = Vec::with_capacity(DEPTH_TABLE + 1);
+                let mut acc = Spectrum::ZERO;
+                depth.push(acc);
+                for i in 0..DEPTH_TABLE {
+                    acc += medium.optical_depth(ray, i as f32 * dt, (i + 1) as f32 * dt);
+                    depth.push(acc);
+                }
+                Transmittance::Table { depth, dt }
+            }
+        }
+    }
+
+    #[inline]
+    fn at(&self, t: f32) -> Spectrum {
+        match self {
+            Transmittance::Homogeneous(sigma_t) => (*sigma_t * -t).exp(),
+            Transmittance::Table { depth, dt } => {
+                let x = (t / dt).clamp(0.0, DEPTH_TABLE as f32);
+                let i = (x as usize).min(DEPTH_TABLE - 1);
+                let f = x - i as f32;
+                let od = depth[i] * (1.0 - f) + depth[i + 1] * f;
+                (od * -1.0).exp()
+            }
+        }
+    }
+}
