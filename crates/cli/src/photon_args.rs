@@ -1,6 +1,7 @@
 //! Command-line settings of the photon-mapping integrators (`--integrator pm`).
 
 use anyhow::Result;
+use caustica_density::beam::BeamKernel;
 use caustica_density::kernel::Kernel;
 use caustica_render::{
     AutoBandwidth, Bandwidth, CausticEstimator, Diffusivity, NoiseScale, NormalDistance,
@@ -118,6 +119,22 @@ pub struct PhotonArgs {
     /// 50th nearest photon and q 0.2, pdm's and pds's s 1 (or the scene's smoothing).
     #[arg(long, help_heading = "Photon mapping")]
     pub no_auto_bandwidth: bool,
+    /// Volume photons stored in scenes with scattering media (every photon method; default
+    /// 100000; at least 1).
+    #[arg(long, allow_negative_numbers = true, help_heading = "Participating media")]
+    pub volume_photons: Option<usize>,
+    /// Photons per k-NN volume estimate (vpm) and per pilot radius (beam estimate; default 32).
+    #[arg(long, allow_negative_numbers = true, help_heading = "Participating media")]
+    pub volume_k: Option<usize>,
+    /// A fixed radius (m) for every volume photon instead of the k-NN one.
+    #[arg(long, allow_negative_numbers = true, help_heading = "Participating media")]
+    pub volume_radius: Option<f32>,
+    /// Step (m) of vpm's ray marching (default: half the median photon radius).
+    #[arg(long, allow_negative_numbers = true, help_heading = "Participating media")]
+    pub march_step: Option<f32>,
+    /// Kernel of the beam estimate: epanechnikov (default) or uniform.
+    #[arg(long, help_heading = "Participating media")]
+    pub beam_kernel: Option<String>,
 }
 
 impl PhotonArgs {
@@ -160,6 +177,23 @@ impl PhotonArgs {
         if let Some(t) = self.normal_distance {
             o.footprints.normal_distance = t;
         }
+        if let Some(n) = self.volume_photons {
+            o.volume.photons = n;
+        }
+        if let Some(k) = self.volume_k {
+            o.volume.k = k;
+        }
+        o.volume.radius = self.volume_radius;
+        o.volume.step = self.march_step;
+        if let Some(k) = &self.beam_kernel {
+            o.volume.kernel = match k.as_str() {
+                "epanechnikov" => BeamKernel::Epanechnikov,
+                "uniform" => BeamKernel::Uniform,
+                _ => anyhow::bail!(
+                    "unknown beam kernel '{k}' (expected 'epanechnikov' or 'uniform')"
+                ),
+            };
+        }
         // What neither the command line nor (see `RenderSettings::resolve`) the scene gives is
         // chosen automatically.
         let auto = !self.no_auto_bandwidth;
@@ -194,5 +228,10 @@ impl PhotonArgs {
             || self.smoothing.is_some()
             || self.normal_distance.is_some()
             || self.no_auto_bandwidth
+            || self.volume_photons.is_some()
+            || self.volume_k.is_some()
+            || self.volume_radius.is_some()
+            || self.march_step.is_some()
+            || self.beam_kernel.is_some()
     }
 }
