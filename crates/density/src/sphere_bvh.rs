@@ -30,10 +30,10 @@
 //!
 //! [`SphereBvh::for_each_crossing`] calls `f(i, centre, radius)` for each sphere `i` whose open
 //! ball the closed segment `{o + tω : t0 <= t <= t1}` meets (closest point of the segment to the
-//! centre at distance `< r`), each exactly once, in **tree order**: a fixed permutation of the spheres that
-//! depends only on the build input, not on the segment (subtrees are always visited left
-//! before right). A renderer that sums f32 contributions in callback order is therefore
-//! reproducible for a fixed photon map. Spheres whose centre or radius is not finite, or whose
+//! centre at distance `< r`), each exactly once, in **tree order**: a fixed permutation of the
+//! spheres that depends only on the build input, not on the segment (subtrees are always
+//! visited left before right). A renderer that sums f32 contributions in callback order is
+//! therefore reproducible for a fixed photon map. Spheres whose centre or radius is not finite, or whose
 //! radius is not positive, are left out.
 //!
 //! Box tests use the slab method with the far distance enlarged by `2γ₃` (Pharr, Jakob and
