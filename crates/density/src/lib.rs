@@ -15,6 +15,13 @@
 //!   over any [`PointSet`] (the testbed's samples, a photon map).
 //! * [`radius_buckets`] — [`RadiusBuckets`]: points with their own support radius, searched by
 //!   "whose ball contains x" (variable bandwidths, photon-differential footprints).
+//! * [`beam`] — the beam radiance estimate's geometry (seed 000 sec. 8.3, eq. 8.4–8.16, with
+//!   8.5's factor 2 and 8.13's `y` for `y_s` corrected): a [`beam::BeamKernel`]'s weight along
+//!   an eye-ray segment for a ball or a filter-matrix ellipsoid, clipped to the segment or the
+//!   whole chord, the closest point where `T_r` and the phase function are evaluated, the
+//!   kernels' volumes and bounding radii.
+//! * [`sphere_bvh`] — [`SphereBvh`]: a BVH over spheres with their own radii, calling back for
+//!   every sphere a ray segment crosses, in a fixed order (the beam estimate's photon gather).
 //! * [`bandwidth_selection`] — automatic bandwidths: least-squares cross-validation with a
 //!   hold-out cross term ([`bandwidth_selection::LscvScore`]) over a geometric grid, and the
 //!   AMISE rate that carries a pilot sample's choice to the full sample.

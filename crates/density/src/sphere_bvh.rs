@@ -28,12 +28,12 @@
 //!
 //! # Query and order
 //!
-//! [`SphereBvh::for_each_crossing`] calls `f(i)` for each sphere `i` whose open ball the closed
-//! segment `{o + tω : t0 <= t <= t1}` meets (closest point of the segment to the centre at
-//! distance `< r`), each exactly once, in **tree order**: a fixed permutation of the spheres that
-//! depends only on the build input, not on the segment (subtrees are always visited left
-//! before right). A renderer that sums f32 contributions in callback order is therefore
-//! reproducible for a fixed photon map. Spheres whose centre or radius is not finite, or whose
+//! [`SphereBvh::for_each_crossing`] calls `f(i, centre, radius)` for each sphere `i` whose open
+//! ball the closed segment `{o + tω : t0 <= t <= t1}` meets (closest point of the segment to the
+//! centre at distance `< r`), each exactly once, in **tree order**: a fixed permutation of the
+//! spheres that depends only on the build input, not on the segment (subtrees are always
+//! visited left before right). A renderer that sums f32 contributions in callback order is
+//! therefore reproducible for a fixed photon map. Spheres whose centre or radius is not finite, or whose
 //! radius is not positive, are left out.
 //!
 //! Box tests use the slab method with the far distance enlarged by `2γ₃` (Pharr, Jakob and
@@ -190,11 +190,12 @@ impl SphereBvh {
             + self.index.capacity() * std::mem::size_of::<u32>()
     }
 
-    /// Calls `f(i)` once for every sphere `i` (its position in the slices given to
-    /// [`SphereBvh::build`]) whose open ball the segment meets, in tree order (see the
-    /// [module docs](self#query-and-order)). `seg.dir` need not be unit length here; a
-    /// segment with `t0 > t1` or a NaN meets nothing.
-    pub fn for_each_crossing(&self, seg: &RaySegment, mut f: impl FnMut(u32)) {
+    /// Calls `f(i, centre, radius)` once for every sphere `i` (its position in the slices given
+    /// to [`SphereBvh::build`]) whose open ball the segment meets, in tree order (see the
+    /// [module docs](self#query-and-order)). The centre and radius come from the tree's own
+    /// copy, which is in cache (looking them up by `i` is a random access). `seg.dir` need not
+    /// be unit length here; a segment with `t0 > t1` or a NaN meets nothing.
+    pub fn for_each_crossing(&self, seg: &RaySegment, mut f: impl FnMut(u32, Vec3, f32)) {
         // False for NaN bounds.
         let ordered = seg.t0 <= seg.t1;
         if self.nodes.is_empty() || !ordered {
@@ -221,8 +222,9 @@ impl SphereBvh {
                 }
                 let first = n.offset as usize;
                 for k in first..first + n.count as usize {
-                    if segment_meets_ball(&self.spheres[k], &o, &w, inv_w2, seg.t0, seg.t1) {
-                        f(self.index[k]);
+                    let s = &self.spheres[k];
+                    if segment_meets_ball(s, &o, &w, inv_w2, seg.t0, seg.t1) {
+                        f(self.index[k], Vec3::new(s[0], s[1], s[2]), s[3]);
                     }
                 }
             }
@@ -488,9 +490,12 @@ mod tests {
                 }
             };
             let mut got = Vec::new();
-            bvh.for_each_crossing(&seg, |i| got.push(i));
+            bvh.for_each_crossing(&seg, |i, c, r| {
+                assert_eq!((c, r), (centres[i as usize], radii[i as usize]));
+                got.push(i)
+            });
             let mut again = Vec::new();
-            bvh.for_each_crossing(&seg, |i| again.push(i));
+            bvh.for_each_crossing(&seg, |i, _, _| again.push(i));
             assert_eq!(got, again, "order changed between identical queries");
             got.sort_unstable();
             let want = brute_force(&centres, &radii, &seg);
@@ -500,10 +505,10 @@ mod tests {
         assert!(total > 5000, "too few crossings to test: {total}");
         // Reversed and NaN segments meet nothing; an empty hierarchy answers nothing.
         let seg = RaySegment::new(Vec3::ZERO, Vec3::X, 1.0, 0.0);
-        bvh.for_each_crossing(&seg, |_| panic!("reversed segment"));
+        bvh.for_each_crossing(&seg, |_, _, _| panic!("reversed segment"));
         let seg = RaySegment::new(Vec3::ZERO, Vec3::X, f32::NAN, 1.0);
-        bvh.for_each_crossing(&seg, |_| panic!("NaN segment"));
-        SphereBvh::build(&[], &[]).for_each_crossing(&seg, |_| panic!("empty"));
+        bvh.for_each_crossing(&seg, |_, _, _| panic!("NaN segment"));
+        SphereBvh::build(&[], &[]).for_each_crossing(&seg, |_, _, _| panic!("empty"));
     }
 
     /// The tree is a function of the input alone: two builds give the same nodes, and a query
