@@ -214,11 +214,9 @@ impl VolumeMap {
         let wo = -span.ray.d;
         let kernel = self.settings.kernel;
         let mut l = Spectrum::ZERO;
-        self.bvh.for_each_crossing(&seg, |i| {
-            let i = i as usize;
-            let ph = &self.photons[i];
-            let r = self.radii[i];
-            if let Some(hit) = ball_weight(kernel, &seg, ph.p, r, Clip::Exact) {
+        self.bvh.for_each_crossing(&seg, |i, centre, r| {
+            let ph = &self.photons[i as usize];
+            if let Some(hit) = ball_weight(kernel, &seg, centre, r, Clip::Exact) {
                 let p = medium.phase.eval(wo, ph.wi);
                 l += ph.flux * (tr.at(hit.t) * (p * hit.weight / ball_volume(r)));
             }
