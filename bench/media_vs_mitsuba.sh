@@ -11,13 +11,17 @@
 #   bash bench/media_vs_mitsuba.sh [spp (default 256)] [out dir (default ~/.cache/caustica/media-peers)]
 # Environment: CAUSTICA_BIN=path (default: cargo build --release, ./target/release/caustica),
 # SKIP_CAUSTICA=1 (Mitsuba only), NULL_TEST=1 (also two more Mitsuba renders, seeds 3 and 4, and
-# a Mitsuba-vs-Mitsuba block test: checks the test's calibration, rms z should be about 1).
+# a Mitsuba-vs-Mitsuba block test: checks the test's calibration, rms z should be about 1),
+# MITSUBA_KAPPA (default 3.13: the noise correlation of Mitsuba's gaussian pixel filter, see
+# block_compare.py; caustica's is estimated from its two renders unless CAUSTICA_KAPPA is set).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 spp="${1:-256}"
 out="${2:-$HOME/.cache/caustica/media-peers}"
 mkdir -p "$out"
 venv=$(bash tools/peers/venv.sh)
+mk="${MITSUBA_KAPPA:-3.13}"
+ck=(); [ -n "${CAUSTICA_KAPPA:-}" ] && ck=(--kappa-a "$CAUSTICA_KAPPA")
 py="$venv/bin/python"
 bin="${CAUSTICA_BIN:-./target/release/caustica}"
 use_caustica=1
@@ -40,7 +44,7 @@ for scene in fog-box fog-box-hg smoke-plume; do
   done
   if [ "${NULL_TEST:-0}" = 1 ]; then
     echo "-- null test, Mitsuba seeds 1, 2 vs 3, 4:"
-    "$py" tools/peers/block_compare.py --names mitsuba-12 mitsuba-34 \
+    "$py" tools/peers/block_compare.py --names mitsuba-12 mitsuba-34 --kappa-a "$mk" --kappa-b "$mk" \
       --a "$out/$scene-mitsuba-1.exr" "$out/$scene-mitsuba-2.exr" \
       --b "$out/$scene-mitsuba-3.exr" "$out/$scene-mitsuba-4.exr" | sed 's/^/   /' || true
   fi
@@ -59,7 +63,7 @@ for scene in fog-box fog-box-hg smoke-plume; do
       printf 'caustica: %.2f s (whole process), seed %s -> %s\n' "${ct[-1]}" "$seed" "$out/$scene-caustica-$seed.exr"
     done
     if [ "$ok" = 1 ]; then
-      if "$py" tools/peers/block_compare.py --names caustica mitsuba \
+      if "$py" tools/peers/block_compare.py --names caustica mitsuba "${ck[@]}" --kappa-b "$mk" \
           --a "$out/$scene-caustica-1.exr" "$out/$scene-caustica-2.exr" \
           --b "$out/$scene-mitsuba-1.exr" "$out/$scene-mitsuba-2.exr" | tee "$out/$scene-compare.txt"; then
         result="agree"

@@ -17,7 +17,8 @@
 #        (default 4 x pbrt spp)] [out dir (default ~/.cache/caustica/media-peers/volume-caustic)]
 # Environment: PBRT_BUILD (default ~/.cache/pbrt-v3), PBRT_V3_GIT (a git dir of mmp/pbrt-v3 for the
 # build, e.g. the `fetch github:mmp/pbrt-v3` mirror), CAUSTICA_BIN, SKIP_CAUSTICA=1, CHECK=1,
-# CHECK_MITSUBA_SPP (default 16 x pbrt spp).
+# CHECK_MITSUBA_SPP (default 16 x pbrt spp), CAUSTICA_KAPPA (noise correlation factor of caustica's
+# renders for block_compare.py, default estimated; pbrt's and Mitsuba's box-filtered renders: 1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 spp="${1:-256}"
@@ -52,7 +53,7 @@ if [ "${CHECK:-0}" = 1 ]; then
         --out "$out/$check-mitsuba-$seed.exr"); echo "$line"
       mt+=("$(echo "$line" | secs)")
     done
-    if "$py" tools/peers/block_compare.py --names pbrt mitsuba \
+    if "$py" tools/peers/block_compare.py --names pbrt mitsuba --kappa-a 1 --kappa-b 1 \
         --a "$out/$check-pbrt-1.pfm" "$out/$check-pbrt-2.pfm" \
         --b "$out/$check-mitsuba-1.exr" "$out/$check-mitsuba-2.exr" | tee "$out/$check-compare.txt"; then
       r=agree
@@ -94,7 +95,8 @@ if [ "$use_caustica" = 1 ]; then
     printf 'caustica light tracer: %.2f s (whole process), %s paths/pixel, seed %s\n' "${ct[-1]}" "$lt_spp" "$seed"
   done
   if [ "$ok" = 1 ]; then
-    if "$py" tools/peers/block_compare.py --names caustica pbrt \
+    ck=(); [ -n "${CAUSTICA_KAPPA:-}" ] && ck=(--kappa-a "$CAUSTICA_KAPPA")
+    if "$py" tools/peers/block_compare.py --names caustica pbrt "${ck[@]}" --kappa-b 1 \
         --a "$out/volume-caustic-caustica-1.exr" "$out/volume-caustic-caustica-2.exr" \
         --b "$out/volume-caustic-pbrt-1.pfm" "$out/volume-caustic-pbrt-2.pfm" | tee "$out/volume-caustic-compare.txt"; then
       result=agree
