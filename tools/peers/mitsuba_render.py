@@ -3,11 +3,14 @@
 
   mitsuba_render.py cornell-box --spp 64 --out mitsuba.exr [--integrator path|ptracer]
   mitsuba_render.py scene.xml --spp 64 --out mitsuba.exr [--box]
+  mitsuba_render.py scene.xml ... [-D name=value ...]    (XML <default>s, e.g. -D res=64)
 
-`cornell-box` is Mitsuba's own `mi.cornell_box()`. Prints one line with the wall time of the
+`cornell-box` is Mitsuba's own `mi.cornell_box()`. `--box` replaces the pixel filter by a box
+(for an XML scene: its `<rfilter type="gaussian"/>`), e.g. to match pbrt-v3's box-filtered BDPT. Prints one line with the wall time of the
 render call alone and of scene loading, in seconds.
 """
 import argparse
+import os
 import time
 
 import mitsuba as mi
@@ -25,6 +28,7 @@ def main():
     ap.add_argument("--box", action="store_true", help="use a box pixel filter")
     ap.add_argument("--threads", type=int, default=None)
     ap.add_argument("--out", required=True)
+    ap.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
     a = ap.parse_args()
     if a.threads:
         mi.Thread.thread().set_thread_count(a.threads) if hasattr(mi.Thread, "set_thread_count") else None
@@ -36,7 +40,18 @@ def main():
         d["sensor"]["sampler"]["sample_count"] = a.spp
         scene = mi.load_dict(d)
     else:
-        scene = mi.load_file(a.scene)
+        params = dict(d.split("=", 1) for d in a.defines)
+        if a.box:
+            text = open(a.scene).read()
+            if '<rfilter type="gaussian"/>' not in text:
+                raise SystemExit(f"{a.scene}: no <rfilter type=\"gaussian\"/> to replace")
+            text = text.replace('<rfilter type="gaussian"/>', '<rfilter type="box"/>')
+            # relative file names (e.g. a .vol grid) resolve against the scene's directory
+            fr = mi.file_resolver() if hasattr(mi, "file_resolver") else mi.Thread.thread().file_resolver()
+            fr.prepend(os.path.dirname(os.path.abspath(a.scene)))
+            scene = mi.load_string(text, **params)
+        else:
+            scene = mi.load_file(a.scene, **params)
     integrator = scene.integrator()
     if a.integrator:
         spec = {"type": a.integrator}
