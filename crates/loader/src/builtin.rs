@@ -6,8 +6,11 @@ use crate::toml::look_at_transform;
 use caustica_core::{Affine3A, Spectrum, Vec3};
 use caustica_scene::SceneError;
 use caustica_scene::camera::{FovAxis, PerspectiveCamera};
-use caustica_scene::light::{DirectionalLight, Light, PointLight};
+use caustica_scene::intersection::NONE;
+use caustica_scene::light::{DirectionalLight, Light, PointLight, SpotLight};
 use caustica_scene::material::{Material, conductor_preset};
+use caustica_scene::medium::{DensityGrid, Medium, MediumInterface};
+use caustica_scene::phase::PhaseFunction;
 use caustica_scene::scene::{FilterKind, SceneBuilder};
 use caustica_scene::shape::{
     RingParams, ShapeGeometry, Sphere, TriangleMesh, WaveParams, ring_mesh, water_wave_mesh,
@@ -25,6 +28,10 @@ const NAMES: &[&str] = &[
     "water-wave",
     "metal-ring",
     "gold-ring",
+    "fog-box",
+    "fog-box-hg",
+    "smoke-plume",
+    "volume-caustic",
 ];
 
 /// Names accepted by [`builtin_scene`].
@@ -41,6 +48,12 @@ pub fn builtin_scene(name: &str) -> Option<SceneBuilder> {
         "water-wave" => water_wave().ok(),
         "metal-ring" => metal_ring().ok(),
         "gold-ring" => gold_ring().ok(),
+        "fog-box" => fog_box("fog-box", PhaseFunction::default()).ok(),
+        "fog-box-hg" => PhaseFunction::henyey_greenstein(FOG_BOX_HG_G)
+            .ok()
+            .and_then(|p| fog_box("fog-box-hg", p).ok()),
+        "smoke-plume" => smoke_plume().ok(),
+        "volume-caustic" => volume_caustic().ok(),
         _ => None,
     }
 }
@@ -108,7 +121,13 @@ fn cornell_box() -> Result<SceneBuilder, SceneError> {
     let mut b = SceneBuilder::new("cornell-box");
     b.settings.spp = Some(64);
     b.settings.max_depth = Some(8);
-    let white = cornell_room(&mut b)?;
+    cornell_room_and_boxes(&mut b)?;
+    Ok(b)
+}
+
+/// The room, light and both boxes of [`cornell_box`].
+fn cornell_room_and_boxes(b: &mut SceneBuilder) -> Result<(), SceneError> {
+    let white = cornell_room(b)?;
     let cube = |t: Affine3A| ShapeGeometry::Mesh(TriangleMesh::cube(&t));
     // Small box.
     b.add_shape(
@@ -134,7 +153,7 @@ fn cornell_box() -> Result<SceneBuilder, SceneError> {
         None,
         false,
     )?;
-    Ok(b)
+    Ok(())
 }
 
 /// The default scene of `caustica render`: the room of [`cornell_box`] with a glass ball
@@ -473,6 +492,178 @@ fn gold_ring() -> Result<SceneBuilder, SceneError> {
         Some(Spectrum::splat(1500.0)),
         false,
     )?;
+    Ok(b)
+}
+
+/// Mean cosine of the Henyey–Greenstein phase function of `fog-box-hg`.
+pub const FOG_BOX_HG_G: f32 = 0.6;
+/// Voxels per axis of the `smoke-plume` grid.
+pub const SMOKE_PLUME_RES: u32 = 32;
+/// Extinction of the `smoke-plume` medium at density 1 (m⁻¹, Mitsuba's `scale`).
+pub const SMOKE_PLUME_SCALE: f32 = 6.0;
+
+/// The dimensionless density of `smoke-plume` (and of TOML's `density = "plume"`) at the
+/// grid-space point `u` ∈ [0, 1]³ (y up): a Gaussian column whose axis wanders with height v,
+/// cx = 0.5 + 0.08 sin 6v, cz = 0.5 + 0.08 cos 5v, widening as rad = 0.12 + 0.25 v, thinning
+/// as 1 − v and modulated by 1 − 0.3 sin 11u sin 13w; never negative.
+pub fn plume_density(u: Vec3) -> f32 {
+    let (x, v, w) = (u.x, u.y, u.z);
+    let cx = 0.5 + 0.08 * (6.0 * v).sin();
+    let cz = 0.5 + 0.08 * (5.0 * v).cos();
+    let rad = 0.12 + 0.25 * v;
+    let r2 = (x - cx).powi(2) + (w - cz).powi(2);
+    let d = (-r2 / (2.0 * rad * rad)).exp()
+        * (1.0 - v)
+        * (1.0 - 0.3 * (11.0 * x).sin() * (13.0 * w).sin());
+    d.max(0.0)
+}
+
+/// The affine map of the unit cube [0, 1]³ onto the box [`min`, `max`] (a grid's placement).
+pub fn unit_cube_to_box(min: Vec3, max: Vec3) -> Affine3A {
+    Affine3A::from_translation(min) * Affine3A::from_scale(max - min)
+}
+
+/// Mitsuba's `cube` ([−1, 1]³, outward faces) scaled and moved onto the box [`min`, `max`].
+fn box_mesh(min: Vec3, max: Vec3) -> ShapeGeometry {
+    let t = Affine3A::from_translation((min + max) * 0.5) * Affine3A::from_scale((max - min) * 0.5);
+    ShapeGeometry::Mesh(TriangleMesh::cube(&t))
+}
+
+/// Adds the index-matched (`null`) box [`min`, `max`] with `medium` inside, and its material
+/// `boundary`.
+fn add_medium_box(
+    b: &mut SceneBuilder,
+    min: Vec3,
+    max: Vec3,
+    medium: u32,
+) -> Result<(), SceneError> {
+    let boundary = b.add_material("boundary", Material::Null)?;
+    b.add_shape_with_media(
+        box_mesh(min, max),
+        boundary,
+        None,
+        false,
+        MediumInterface {
+            inside: medium,
+            outside: NONE,
+        },
+    )
+}
+
+/// Settings of the medium scenes rendered with the path tracer.
+fn media_path_settings(b: &mut SceneBuilder) {
+    b.settings.spp = Some(64);
+    b.settings.max_depth = Some(64);
+    b.settings.integrator = Some("path".to_string());
+}
+
+/// `fog-box` and `fog-box-hg`: [`cornell_box`] filled with homogeneous fog (σ_s = (0.4, 0.5,
+/// 0.6), σ_a = 0.05 m⁻¹, i.e. σ_t = (0.45, 0.55, 0.65)) inside a null box just inside the walls
+/// (x, y ∈ [−0.998, 0.998], z ∈ [−0.998, 1]: the area light and both boxes are in the fog, the
+/// camera is not).
+fn fog_box(name: &str, phase: PhaseFunction) -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new(name);
+    media_path_settings(&mut b);
+    cornell_room_and_boxes(&mut b)?;
+    let fog = b.add_medium(
+        "fog",
+        Medium::homogeneous(Spectrum::splat(0.05), Spectrum::new(0.4, 0.5, 0.6), phase),
+    )?;
+    add_medium_box(
+        &mut b,
+        Vec3::new(-0.998, -0.998, -0.998),
+        Vec3::new(0.998, 0.998, 1.0),
+        fog,
+    )?;
+    Ok(b)
+}
+
+/// Box of the `smoke-plume` grid and of its null boundary: from the floor (1 mm above) to 0.4 m
+/// below the ceiling light.
+pub const SMOKE_PLUME_BOX: [Vec3; 2] = [Vec3::new(-0.6, -0.999, -0.6), Vec3::new(0.6, 0.6, 0.6)];
+
+/// `smoke-plume`: the Cornell room ([`cornell_room`], no boxes) with a rising plume of smoke:
+/// a [`SMOKE_PLUME_RES`]³ grid of [`plume_density`] filling [`SMOKE_PLUME_BOX`], σ_t =
+/// [`SMOKE_PLUME_SCALE`] × density, albedo (0.9, 0.8, 0.7), isotropic.
+fn smoke_plume() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("smoke-plume");
+    media_path_settings(&mut b);
+    cornell_room(&mut b)?;
+    let [min, max] = SMOKE_PLUME_BOX;
+    let r = SMOKE_PLUME_RES;
+    let grid = DensityGrid::from_fn([r; 3], unit_cube_to_box(min, max), plume_density)
+        .map_err(SceneError::InvalidParameter)?;
+    let (sigma_a, sigma_s) = Medium::coefficients_from_albedo(
+        Spectrum::ONE * SMOKE_PLUME_SCALE,
+        Spectrum::new(0.9, 0.8, 0.7),
+    );
+    let smoke = b.add_medium(
+        "smoke",
+        Medium::grid(grid, sigma_a, sigma_s, PhaseFunction::default()),
+    )?;
+    add_medium_box(&mut b, min, max, smoke)?;
+    Ok(b)
+}
+
+/// `volume-caustic`: a glass ball (IOR 1.5, radius 0.5 m, centre 1.2 m above the floor) under
+/// a hard-edged spot light (20° cone, 60 W/sr, 3 m up, pointing down) in homogeneous fog
+/// (σ_s = 0.15, σ_a = 0.01 m⁻¹, isotropic; the ball's outside is the fog, its inside vacuum)
+/// filling a null box [−4, 4] × [−0.001, 5] × [−4, 6] around an 8 × 8 m grey floor. The ball
+/// focuses the cone into a bright beam and a caustic on the floor, L S+ M E and L S+ D E paths;
+/// the light tracer renders them.
+fn volume_caustic() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("volume-caustic");
+    b.set_camera(camera(
+        Vec3::new(0.0, 1.1, 4.5),
+        Vec3::new(0.0, 0.8, 0.0),
+        40.0,
+        128,
+        96,
+    ));
+    b.settings.filter = FilterKind::Gaussian {
+        stddev: 0.5,
+        radius: 2.0,
+    };
+    b.settings.spp = Some(16);
+    b.settings.max_depth = Some(64);
+    b.settings.integrator = Some("lighttrace".to_string());
+    let floor = b.add_material("floor", diffuse(0.5, 0.5, 0.5))?;
+    let glass = b.add_material("glass", dielectric(1.5))?;
+    let fog = b.add_medium(
+        "fog",
+        Medium::homogeneous(
+            Spectrum::splat(0.01),
+            Spectrum::splat(0.15),
+            PhaseFunction::default(),
+        ),
+    )?;
+    add_floor(&mut b, 4.0, floor)?;
+    b.add_shape_with_media(
+        ShapeGeometry::Sphere(Sphere {
+            center: Vec3::new(0.0, 1.2, 0.0),
+            radius: 0.5,
+        }),
+        glass,
+        None,
+        false,
+        MediumInterface {
+            inside: NONE,
+            outside: fog,
+        },
+    )?;
+    add_medium_box(
+        &mut b,
+        Vec3::new(-4.0, -0.001, -4.0),
+        Vec3::new(4.0, 5.0, 6.0),
+        fog,
+    )?;
+    b.add_light(Light::Spot(SpotLight::new(
+        Vec3::new(0.0, 3.0, 0.0),
+        Vec3::NEG_Y,
+        Spectrum::splat(60.0),
+        20.0,
+        20.0,
+    )));
     Ok(b)
 }
 
