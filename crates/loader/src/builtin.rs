@@ -673,6 +673,7 @@ mod tests {
     use crate::parse_scene_file;
     use caustica_core::Ray;
     use caustica_scene::light::AreaShape;
+    use caustica_scene::medium::MediumKind;
     use std::path::Path;
 
     #[test]
@@ -729,8 +730,14 @@ mod tests {
             assert_eq!(a.settings.integrator, b.settings.integrator, "{name}");
             assert_eq!(a.settings.smoothing, b.settings.smoothing, "{name}");
             assert_eq!(a.settings.photons, b.settings.photons, "{name}");
+            assert_same_media(name, &a, &b);
             for (sa, sb) in a.shapes().iter().zip(b.shapes()) {
                 assert_eq!(sa.material, sb.material, "{name}");
+                assert_eq!(
+                    (sa.medium_inside, sa.medium_outside),
+                    (sb.medium_inside, sb.medium_outside),
+                    "{name}: shape media"
+                );
                 assert_eq!(
                     sa.light == caustica_scene::intersection::NONE,
                     sb.light == caustica_scene::intersection::NONE
@@ -743,6 +750,159 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Same media (names, kinds, coefficients, phase functions, densities on a lattice of
+    /// points spanning the scene) and materials.
+    fn assert_same_media(name: &str, a: &SceneBuilder, b: &SceneBuilder) {
+        for (ma, mb) in a.materials().iter().zip(b.materials()) {
+            assert_eq!(format!("{ma:?}"), format!("{mb:?}"), "{name}: materials");
+        }
+        assert_eq!(a.media().len(), b.media().len(), "{name}: media");
+        for (x, y) in a.media().iter().zip(b.media()) {
+            assert_eq!(x.phase, y.phase, "{name}");
+            assert_eq!(
+                std::mem::discriminant(&x.kind),
+                std::mem::discriminant(&y.kind),
+                "{name}"
+            );
+            for (p, q) in [(x.sigma_a, y.sigma_a), (x.sigma_s, y.sigma_s)] {
+                for i in 0..3 {
+                    assert!(
+                        (p.c[i] - q.c[i]).abs() <= 1e-6 * p.c[i].abs().max(1.0),
+                        "{name}: {p:?} vs {q:?}"
+                    );
+                }
+            }
+            if let (MediumKind::Grid(g), MediumKind::Grid(h)) = (&x.kind, &y.kind) {
+                assert_eq!(g.resolution(), h.resolution(), "{name}");
+                for i in 0..=20 {
+                    for j in 0..=20 {
+                        for k in 0..=20 {
+                            let p = Vec3::new(i as f32, j as f32, k as f32) / 10.0 - 1.0;
+                            let (dg, dh) = (g.density(p), h.density(p));
+                            assert!((dg - dh).abs() < 1e-5, "{name}: density at {p}: {dg} vs {dh}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn media_scenes_put_camera_lights_and_shapes_in_the_right_media() {
+        for name in ["fog-box", "fog-box-hg"] {
+            let b = builtin_scene(name).unwrap();
+            let boxes = builtin_scene("cornell-box").unwrap();
+            // Exactly cornell-box plus the fog's box.
+            assert_eq!(b.shape_count(), boxes.shape_count() + 1);
+            for (s, r) in b.shapes().iter().zip(boxes.shapes()) {
+                assert_eq!(format!("{:?}", s.geometry), format!("{:?}", r.geometry));
+                assert_eq!(s.material, r.material);
+                assert_eq!((s.medium_inside, s.medium_outside), (NONE, NONE));
+            }
+            let [fog] = b.media() else {
+                panic!("{name}: one medium")
+            };
+            assert!(matches!(fog.kind, MediumKind::Homogeneous(_)));
+            let st = fog.sigma_t();
+            for (c, want) in [0.45f32, 0.55, 0.65].into_iter().enumerate() {
+                assert!((st.c[c] - want).abs() < 1e-6);
+                assert!((fog.sigma_a.c[c] - 0.05).abs() < 1e-6);
+            }
+            assert_eq!(fog.sigma_s, Spectrum::new(0.4, 0.5, 0.6));
+            if name == "fog-box" {
+                assert_eq!(fog.phase, PhaseFunction::default());
+            } else {
+                assert_eq!(fog.phase, PhaseFunction::henyey_greenstein(0.6).unwrap());
+            }
+            let cube = b.shapes().last().unwrap();
+            assert_eq!((cube.medium_inside, cube.medium_outside), (0, NONE));
+            assert!(b.materials()[cube.material as usize].is_null());
+            let ShapeGeometry::Mesh(m) = &cube.geometry else {
+                panic!()
+            };
+            let (lo, hi) = m.positions.iter().fold(
+                (Vec3::INFINITY, Vec3::NEG_INFINITY),
+                |(a, b), p| (a.min(*p), b.max(*p)),
+            );
+            assert!(lo.abs_diff_eq(Vec3::splat(-0.998), 1e-6), "{lo}");
+            assert!(hi.abs_diff_eq(Vec3::new(0.998, 0.998, 1.0), 1e-6), "{hi}");
+            assert_eq!(
+                (b.settings.integrator.as_deref(), b.settings.spp, b.settings.max_depth),
+                (Some("path"), Some(64), Some(64))
+            );
+            let scene = b.build().unwrap();
+            assert!(scene.has_media && scene.warnings.is_empty(), "{:?}", scene.warnings);
+            assert_eq!(scene.camera_medium, NONE, "{name}: the camera is outside the fog");
+            assert_eq!(scene.light_media, vec![0], "{name}: the area light is in the fog");
+            assert_eq!(scene.medium_at(Vec3::ZERO), 0);
+            assert_eq!(scene.medium_at(Vec3::new(0.0, 0.0, 2.0)), NONE);
+        }
+
+        let b = builtin_scene("smoke-plume").unwrap();
+        assert_eq!(b.shape_count(), 7);
+        let [smoke] = b.media() else { panic!() };
+        let MediumKind::Grid(g) = &smoke.kind else {
+            panic!("smoke-plume: a grid")
+        };
+        assert_eq!(g.resolution(), [32, 32, 32]);
+        assert_eq!(smoke.phase, PhaseFunction::default());
+        for (c, a) in [0.9f32, 0.8, 0.7].into_iter().enumerate() {
+            assert!((smoke.sigma_t().c[c] - 6.0).abs() < 1e-5);
+            assert!((smoke.sigma_s.c[c] - 6.0 * a).abs() < 1e-5);
+        }
+        // The grid fills the box: density at a voxel centre is plume_density there.
+        let [lo, hi] = SMOKE_PLUME_BOX;
+        for (i, j, k) in [(16u32, 3u32, 15u32), (0, 0, 0), (20, 31, 9)] {
+            let u = (Vec3::new(i as f32, j as f32, k as f32) + 0.5) / 32.0;
+            let p = lo + (hi - lo) * u;
+            assert!((g.density(p) - plume_density(u)).abs() < 1e-5, "{u}");
+        }
+        assert!(g.density(hi + 0.01) == 0.0 && g.max_density() > 0.5);
+        let scene = b.build().unwrap();
+        assert_eq!((scene.camera_medium, scene.light_media.clone()), (NONE, vec![NONE]));
+        assert_eq!(scene.medium_at(Vec3::new(0.0, -0.5, 0.0)), 0);
+        assert_eq!(scene.medium_at(Vec3::new(0.0, 0.8, 0.0)), NONE);
+
+        let b = builtin_scene("volume-caustic").unwrap();
+        let [fog] = b.media() else { panic!() };
+        assert_eq!(
+            (fog.sigma_a, fog.sigma_s),
+            (Spectrum::splat(0.01), Spectrum::splat(0.15))
+        );
+        let sphere = &b.shapes()[1];
+        assert!(matches!(sphere.geometry, ShapeGeometry::Sphere(s) if s.radius == 0.5 && s.center == Vec3::new(0.0, 1.2, 0.0)));
+        assert_eq!((sphere.medium_inside, sphere.medium_outside), (NONE, 0));
+        let [Light::Spot(spot)] = b.lights() else {
+            panic!("one spot light")
+        };
+        assert_eq!(spot.position, Vec3::new(0.0, 3.0, 0.0));
+        assert!((spot.cutoff_angle.to_degrees() - 20.0).abs() < 1e-4);
+        assert_eq!(spot.cutoff_angle, spot.beam_width);
+        assert_eq!(b.settings.integrator.as_deref(), Some("lighttrace"));
+        let scene = b.build().unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        assert_eq!(scene.camera_medium, 0, "the camera is in the fog");
+        assert_eq!(scene.light_media, vec![0], "the spot light is in the fog");
+        assert_eq!(scene.medium_at(Vec3::new(0.0, 1.2, 0.0)), NONE, "vacuum in the ball");
+        assert_eq!(scene.medium_at(Vec3::new(0.0, 0.5, 0.0)), 0);
+    }
+
+    #[test]
+    fn plume_density_follows_its_formula() {
+        // On the axis at the bottom the Gaussian is 1: density = 1 − 0.3 sin(11u) sin(13w).
+        let u = Vec3::new(0.5, 0.0, 0.5 + 0.08);
+        let want = 1.0 - 0.3 * (11.0f32 * 0.5).sin() * (13.0f32 * 0.58).sin();
+        assert!((plume_density(u) - want).abs() < 1e-6);
+        // At the top it vanishes; off axis it falls off as a Gaussian of width rad.
+        assert_eq!(plume_density(Vec3::new(0.5, 1.0, 0.5)), 0.0);
+        let v = 0.5f32;
+        let (cx, cz, rad) = (0.5 + 0.08 * (3.0f32).sin(), 0.5 + 0.08 * 2.5f32.cos(), 0.245);
+        let p = Vec3::new(cx + rad, v, cz);
+        let want = (-0.5f32).exp() * 0.5 * (1.0 - 0.3 * (11.0 * p.x).sin() * (13.0 * p.z).sin());
+        assert!((plume_density(p) - want).abs() < 1e-6);
+        assert!(plume_density(Vec3::new(0.0, 0.0, 0.0)) >= 0.0);
     }
 
     /// The meshes of the case scenes as shipped in `scenes/meshes/`: file name, mesh, header
