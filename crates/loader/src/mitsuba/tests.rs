@@ -952,6 +952,7 @@ fn homogeneous_media_take_every_parameter_form() {
 fn shapes_sensor_and_emitters_refer_to_media() {
     let body = format!(
         r#"<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.5"/></medium>
+<medium type="homogeneous" id="haze"><float name="sigma_t" value="0.1"/></medium>
 <bsdf type="null" id="pass"/>
 <shape type="cube"><ref id="pass"/><ref name="interior" id="fog"/></shape>
 <shape type="sphere"><float name="radius" value="0.2"/><point name="center" x="3" y="0" z="0"/>
@@ -964,25 +965,25 @@ fn shapes_sensor_and_emitters_refer_to_media() {
 <emitter type="spot"><ref id="fog"/><transform name="to_world"><lookat origin="5,5,5" target="0,0,0"/></transform></emitter>
 <emitter type="point"><point name="position" x="9" y="0" z="0"/>
   <medium type="homogeneous"><float name="sigma_t" value="7"/></medium></emitter>
-<sensor type="perspective"><float name="fov" value="40"/><ref id="fog"/>
+<sensor type="perspective"><float name="fov" value="40"/><ref id="haze"/>
 <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#
     );
     let b = parse(&body).unwrap();
     assert!(b.pending_warnings().is_empty(), "{:?}", b.pending_warnings());
-    assert_eq!(b.media().len(), 3);
+    assert_eq!(b.media().len(), 4);
     assert!(b.materials()[b.shapes()[0].material as usize].is_null());
     let faces = |i: usize| (b.shapes()[i].medium_inside, b.shapes()[i].medium_outside);
     assert_eq!(faces(0), (0, NONE), "cube: interior fog");
-    assert_eq!(faces(1), (1, 0), "sphere: inline interior, exterior fog");
+    assert_eq!(faces(1), (2, 0), "sphere: inline interior, exterior fog");
     assert_eq!(faces(2), (NONE, NONE), "not a boundary");
-    assert!(close3(b.media()[1].sigma_t(), [2.0; 3]));
+    assert!(close3(b.media()[2].sigma_t(), [2.0; 3]));
     let scene = b.build().unwrap();
-    // The camera at the origin would be found in the fog anyway; the explicit ref says so too.
-    assert_eq!(scene.camera_medium, 0);
+    // The camera at the origin is in the fog's cube, but its ref puts it in the haze.
+    assert_eq!(scene.camera_medium, 1);
     // Point light inside the cube: found; spot light outside it but given; the last one given
     // inline.
-    assert_eq!(scene.light_media, vec![0, 0, 2]);
-    assert_eq!(scene.medium_at(Vec3::new(3.0, 0.0, 0.0)), 1);
+    assert_eq!(scene.light_media, vec![0, 0, 3]);
+    assert_eq!(scene.medium_at(Vec3::new(3.0, 0.0, 0.0)), 2);
     assert_eq!(scene.medium_at(Vec3::new(-5.0, 0.0, 0.0)), NONE);
 }
 

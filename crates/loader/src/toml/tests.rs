@@ -488,7 +488,7 @@ fn close3(a: caustica_core::Spectrum, b: [f32; 3]) -> bool {
 #[test]
 fn media_parse_every_parameter_form() {
     let text = format!(
-        r#"{CAMERA}medium = "fog"
+        r#"{CAMERA}medium = "thick"
 
 [[medium]]
 name = "fog"
@@ -597,12 +597,14 @@ irradiance = 1
     assert_eq!(sides(1), (1, 0));
     assert_eq!(sides(2), (NONE, NONE));
     let scene = b.build().unwrap();
-    assert_eq!(scene.camera_medium, 0);
+    assert_eq!(scene.camera_medium, 1, "given");
     // Found (in the fog cube), given, at infinity (vacuum).
     assert_eq!(scene.light_media, vec![0, 2, NONE]);
     // Without `medium` the camera (at z = 4.1, inside the cube of half-size 5) is found in the
-    // fog anyway; outside it would be in vacuum.
-    let text = text.replacen("medium = \"fog\"\n", "", 1).replacen("scale = 5", "scale = 3", 1);
+    // fog; outside the cube it is in vacuum.
+    let text = text.replacen("medium = \"thick\"\n", "", 1);
+    assert_eq!(parse(&text).unwrap().build().unwrap().camera_medium, 0);
+    let text = text.replacen("scale = 5", "scale = 3", 1);
     assert_eq!(parse(&text).unwrap().build().unwrap().camera_medium, NONE);
 }
 
