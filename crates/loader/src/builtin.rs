@@ -781,7 +781,10 @@ mod tests {
                         for k in 0..=20 {
                             let p = Vec3::new(i as f32, j as f32, k as f32) / 10.0 - 1.0;
                             let (dg, dh) = (g.density(p), h.density(p));
-                            assert!((dg - dh).abs() < 1e-5, "{name}: density at {p}: {dg} vs {dh}");
+                            assert!(
+                                (dg - dh).abs() < 1e-5,
+                                "{name}: density at {p}: {dg} vs {dh}"
+                            );
                         }
                     }
                 }
@@ -822,20 +825,37 @@ mod tests {
             let ShapeGeometry::Mesh(m) = &cube.geometry else {
                 panic!()
             };
-            let (lo, hi) = m.positions.iter().fold(
-                (Vec3::INFINITY, Vec3::NEG_INFINITY),
-                |(a, b), p| (a.min(*p), b.max(*p)),
-            );
+            let (lo, hi) = m
+                .positions
+                .iter()
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| {
+                    (a.min(*p), b.max(*p))
+                });
             assert!(lo.abs_diff_eq(Vec3::splat(-0.998), 1e-6), "{lo}");
             assert!(hi.abs_diff_eq(Vec3::new(0.998, 0.998, 1.0), 1e-6), "{hi}");
             assert_eq!(
-                (b.settings.integrator.as_deref(), b.settings.spp, b.settings.max_depth),
+                (
+                    b.settings.integrator.as_deref(),
+                    b.settings.spp,
+                    b.settings.max_depth
+                ),
                 (Some("path"), Some(64), Some(64))
             );
             let scene = b.build().unwrap();
-            assert!(scene.has_media && scene.warnings.is_empty(), "{:?}", scene.warnings);
-            assert_eq!(scene.camera_medium, NONE, "{name}: the camera is outside the fog");
-            assert_eq!(scene.light_media, vec![0], "{name}: the area light is in the fog");
+            assert!(
+                scene.has_media && scene.warnings.is_empty(),
+                "{:?}",
+                scene.warnings
+            );
+            assert_eq!(
+                scene.camera_medium, NONE,
+                "{name}: the camera is outside the fog"
+            );
+            assert_eq!(
+                scene.light_media,
+                vec![0],
+                "{name}: the area light is in the fog"
+            );
             assert_eq!(scene.medium_at(Vec3::ZERO), 0);
             assert_eq!(scene.medium_at(Vec3::new(0.0, 0.0, 2.0)), NONE);
         }
@@ -861,7 +881,10 @@ mod tests {
         }
         assert!(g.density(hi + 0.01) == 0.0 && g.max_density() > 0.5);
         let scene = b.build().unwrap();
-        assert_eq!((scene.camera_medium, scene.light_media.clone()), (NONE, vec![NONE]));
+        assert_eq!(
+            (scene.camera_medium, scene.light_media.clone()),
+            (NONE, vec![NONE])
+        );
         assert_eq!(scene.medium_at(Vec3::new(0.0, -0.5, 0.0)), 0);
         assert_eq!(scene.medium_at(Vec3::new(0.0, 0.8, 0.0)), NONE);
 
@@ -872,7 +895,9 @@ mod tests {
             (Spectrum::splat(0.01), Spectrum::splat(0.15))
         );
         let sphere = &b.shapes()[1];
-        assert!(matches!(sphere.geometry, ShapeGeometry::Sphere(s) if s.radius == 0.5 && s.center == Vec3::new(0.0, 1.2, 0.0)));
+        assert!(
+            matches!(sphere.geometry, ShapeGeometry::Sphere(s) if s.radius == 0.5 && s.center == Vec3::new(0.0, 1.2, 0.0))
+        );
         assert_eq!((sphere.medium_inside, sphere.medium_outside), (NONE, 0));
         let [Light::Spot(spot)] = b.lights() else {
             panic!("one spot light")
@@ -885,7 +910,11 @@ mod tests {
         assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
         assert_eq!(scene.camera_medium, 0, "the camera is in the fog");
         assert_eq!(scene.light_media, vec![0], "the spot light is in the fog");
-        assert_eq!(scene.medium_at(Vec3::new(0.0, 1.2, 0.0)), NONE, "vacuum in the ball");
+        assert_eq!(
+            scene.medium_at(Vec3::new(0.0, 1.2, 0.0)),
+            NONE,
+            "vacuum in the ball"
+        );
         assert_eq!(scene.medium_at(Vec3::new(0.0, 0.5, 0.0)), 0);
     }
 
@@ -898,7 +927,11 @@ mod tests {
         // At the top it vanishes; off axis it falls off as a Gaussian of width rad.
         assert_eq!(plume_density(Vec3::new(0.5, 1.0, 0.5)), 0.0);
         let v = 0.5f32;
-        let (cx, cz, rad) = (0.5 + 0.08 * (3.0f32).sin(), 0.5 + 0.08 * 2.5f32.cos(), 0.245);
+        let (cx, cz, rad) = (
+            0.5 + 0.08 * (3.0f32).sin(),
+            0.5 + 0.08 * 2.5f32.cos(),
+            0.245,
+        );
         let p = Vec3::new(cx + rad, v, cz);
         let want = (-0.5f32).exp() * 0.5 * (1.0 - 0.3 * (11.0 * p.x).sin() * (13.0 * p.z).sin());
         assert!((plume_density(p) - want).abs() < 1e-6);

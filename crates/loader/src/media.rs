@@ -66,7 +66,10 @@ mod tests {
             Vec3::new(0.1, -0.2, 0.3),
         );
         let cube = TriangleMesh::cube(&t);
-        assert_eq!(open_boundary_reason(&ShapeGeometry::Mesh(cube.clone())), None);
+        assert_eq!(
+            open_boundary_reason(&ShapeGeometry::Mesh(cube.clone())),
+            None
+        );
         let r = open_boundary_reason(&ShapeGeometry::Mesh(TriangleMesh::rectangle(&t))).unwrap();
         assert!(r.contains("4 of its 5 edges"), "{r}");
         assert!(

@@ -50,10 +50,7 @@ pub fn parse_vol(b: &[u8]) -> Result<VolGrid, String> {
         return Err("not a Mitsuba volume: it does not start with the bytes 'VOL'".into());
     }
     if b[3] != 3 {
-        return Err(format!(
-            "unsupported .vol version {} (expected 3)",
-            b[3]
-        ));
+        return Err(format!("unsupported .vol version {} (expected 3)", b[3]));
     }
     if b.len() < VOL_HEADER_BYTES {
         return Err(format!(
@@ -81,7 +78,9 @@ pub fn parse_vol(b: &[u8]) -> Result<VolGrid, String> {
         ));
     }
     let res = r.map(|x| x as u32);
-    let voxels = res.iter().try_fold(1u64, |acc, &x| acc.checked_mul(u64::from(x)));
+    let voxels = res
+        .iter()
+        .try_fold(1u64, |acc, &x| acc.checked_mul(u64::from(x)));
     let need = voxels
         .and_then(|v| v.checked_mul(channels as u64 * 4))
         .and_then(|d| d.checked_add(VOL_HEADER_BYTES as u64));
@@ -199,8 +198,13 @@ mod tests {
 
     #[test]
     fn three_channels_are_averaged() {
-        let g = parse_vol(&encode_vol([2, 1, 1], 3, bbox(), &[1.0, 2.0, 6.0, 0.0, 0.0, 3.0]))
-            .unwrap();
+        let g = parse_vol(&encode_vol(
+            [2, 1, 1],
+            3,
+            bbox(),
+            &[1.0, 2.0, 6.0, 0.0, 0.0, 3.0],
+        ))
+        .unwrap();
         assert_eq!(g.channels, 3);
         assert_eq!(g.data, vec![3.0, 1.0]);
     }
@@ -215,7 +219,10 @@ mod tests {
         v2[3] = 2;
         assert!(err(&v2).contains("version 2"));
         let e = err(&good[..good.len() - 3]);
-        assert!(e.contains("truncated") && e.contains("64 bytes") && e.contains("has 61"), "{e}");
+        assert!(
+            e.contains("truncated") && e.contains("64 bytes") && e.contains("has 61"),
+            "{e}"
+        );
         let e = err(&good[..20]);
         assert!(e.contains("truncated") && e.contains("48"), "{e}");
         let mut long = good.clone();
@@ -231,10 +238,21 @@ mod tests {
         assert!(err(&neg).contains("zero-size"));
         let e = err(&encode_vol([1, 1, 1], 6, bbox(), &[0.0; 6]));
         assert!(e.contains("6 channels"), "{e}");
-        let e = err(&encode_vol([2, 2, 1], 1, bbox(), &[0.0, 1.0, f32::NAN, 3.0]));
-        assert!(e.contains("voxel (x 0, y 1, z 0)") && e.contains("NaN"), "{e}");
+        let e = err(&encode_vol(
+            [2, 2, 1],
+            1,
+            bbox(),
+            &[0.0, 1.0, f32::NAN, 3.0],
+        ));
+        assert!(
+            e.contains("voxel (x 0, y 1, z 0)") && e.contains("NaN"),
+            "{e}"
+        );
         let e = err(&encode_vol([2, 2, 1], 1, bbox(), &[0.0, -1.0, 0.0, 3.0]));
-        assert!(e.contains("voxel (x 1, y 0, z 0)") && e.contains("-1"), "{e}");
+        assert!(
+            e.contains("voxel (x 1, y 0, z 0)") && e.contains("-1"),
+            "{e}"
+        );
         // Sizes whose byte count overflows do not panic.
         let mut huge = good.clone();
         for a in [8, 12, 16] {

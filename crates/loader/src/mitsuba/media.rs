@@ -124,7 +124,11 @@ fn coefficient(
         }
     };
     for c in std::mem::take(&mut vp.children) {
-        lo.unsupported(d, c, format!("<{}> inside {}", c.tag_name().name(), vp.desc));
+        lo.unsupported(
+            d,
+            c,
+            format!("<{}> inside {}", c.tag_name().name(), vp.desc),
+        );
     }
     lo.leftovers(d, vp);
     Ok(Some(out))
@@ -156,17 +160,25 @@ fn grid_volume(
     };
     if vp.bool(d, "use_grid_bbox")? == Some(true) {
         let [lo_, hi] = g.bbox;
-        to_world = to_world * Affine3A::from_scale_rotation_translation(hi - lo_, glam::Quat::IDENTITY, lo_);
+        to_world *= crate::builtin::unit_cube_to_box(lo_, hi);
     }
     if let Some((f, _)) = vp.string(d, "filter_type")?
         && f != "trilinear"
     {
-        lo.approximated(d, v, format!("gridvolume filter_type '{f}' replaced by trilinear"));
+        lo.approximated(
+            d,
+            v,
+            format!("gridvolume filter_type '{f}' replaced by trilinear"),
+        );
     }
     if let Some((w, _)) = vp.string(d, "wrap_mode")?
         && w != "clamp"
     {
-        lo.approximated(d, v, format!("gridvolume wrap_mode '{w}' replaced by clamp"));
+        lo.approximated(
+            d,
+            v,
+            format!("gridvolume wrap_mode '{w}' replaced by clamp"),
+        );
     }
     for k in ["raw", "accel"] {
         let _ = vp.bool(d, k)?;
@@ -209,7 +221,11 @@ fn phase(lo: &mut Loader, d: &Doc, p: &mut Props) -> Result<PhaseFunction, LoadE
         }
     };
     for c in std::mem::take(&mut pp.children) {
-        lo.unsupported(d, c, format!("<{}> inside {}", c.tag_name().name(), pp.desc));
+        lo.unsupported(
+            d,
+            c,
+            format!("<{}> inside {}", c.tag_name().name(), pp.desc),
+        );
     }
     lo.leftovers(d, pp);
     Ok(out)
@@ -243,15 +259,15 @@ fn medium(lo: &mut Loader, d: &Doc, n: Node) -> Result<Medium, LoadError> {
     let (sigma_a, sigma_s) = if heterogeneous {
         (None, None)
     } else {
-        (constant(d, &mut p, "sigma_a")?, constant(d, &mut p, "sigma_s")?)
+        (
+            constant(d, &mut p, "sigma_a")?,
+            constant(d, &mut p, "sigma_s")?,
+        )
     };
     let albedo = match albedo {
         Some(Coef::Const(a, pos)) => {
             if a.max_component() > 1.0 {
-                return Err(d.err_at(
-                    pos,
-                    format!("'albedo' must lie in [0, 1], got {:?}", a.c),
-                ));
+                return Err(d.err_at(pos, format!("'albedo' must lie in [0, 1], got {:?}", a.c)));
             }
             Some(a)
         }
@@ -259,10 +275,16 @@ fn medium(lo: &mut Loader, d: &Doc, n: Node) -> Result<Medium, LoadError> {
     };
     let medium = match (sigma_t, albedo, sigma_a, sigma_s) {
         (_, _, Some(_), None) | (_, _, None, Some(_)) => {
-            return Err(d.err_at(d.pos(n), "medium: give both 'sigma_a' and 'sigma_s', or 'sigma_t' and 'albedo'"));
+            return Err(d.err_at(
+                d.pos(n),
+                "medium: give both 'sigma_a' and 'sigma_s', or 'sigma_t' and 'albedo'",
+            ));
         }
         (Some(_), _, Some(_), Some(_)) | (_, Some(_), Some(_), Some(_)) => {
-            return Err(d.err_at(d.pos(n), "medium: give either 'sigma_a' and 'sigma_s', or 'sigma_t' and 'albedo', not both"));
+            return Err(d.err_at(
+                d.pos(n),
+                "medium: give either 'sigma_a' and 'sigma_s', or 'sigma_t' and 'albedo', not both",
+            ));
         }
         (None, None, Some((sa, _)), Some((ss, _))) => {
             Medium::homogeneous(sa * scale, ss * scale, phase)

@@ -624,8 +624,10 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
             Some(id) => format!("shape '{id}' {desc} ({})", d.loc(n)),
             None => format!("shape {desc} ({})", d.loc(n)),
         };
-        lo.b.warnings
-            .push(format!("Mitsuba scene: {}", open_boundary_warning(&shape, &reason)));
+        lo.b.warnings.push(format!(
+            "Mitsuba scene: {}",
+            open_boundary_warning(&shape, &reason)
+        ));
     }
     lo.b.add_shape_with_media(geometry, material, emission, flip, media)
         .map_err(|e| d.err_at(d.pos(n), e.to_string()))

@@ -1,11 +1,11 @@
 use super::*;
+use caustica_core::Spectrum;
 use caustica_scene::camera::FovAxis;
 use caustica_scene::light::Light;
 use caustica_scene::material::{Material, conductor_preset};
 use caustica_scene::scene::FilterKind;
 use caustica_scene::shape::ShapeGeometry;
 use caustica_scene::texture::Texture;
-use caustica_core::Spectrum;
 
 const CAM: &str = r#"<sensor type="perspective"><float name="fov" value="40"/>
 <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
@@ -925,7 +925,11 @@ fn homogeneous_media_take_every_parameter_form() {
   <float name="albedo" value="0.5"/>
 </medium>"#;
     let b = parse(body).unwrap();
-    assert!(b.pending_warnings().is_empty(), "{:?}", b.pending_warnings());
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
     assert_eq!(b.media().len(), 5);
     // scale multiplies sigma_t: sigma_s = albedo * scale * sigma_t.
     let a = medium_of(&b, 0);
@@ -950,8 +954,7 @@ fn homogeneous_media_take_every_parameter_form() {
 
 #[test]
 fn shapes_sensor_and_emitters_refer_to_media() {
-    let body = format!(
-        r#"<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.5"/></medium>
+    let body = r#"<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.5"/></medium>
 <medium type="homogeneous" id="haze"><float name="sigma_t" value="0.1"/></medium>
 <bsdf type="null" id="pass"/>
 <shape type="cube"><ref id="pass"/><ref name="interior" id="fog"/></shape>
@@ -966,10 +969,13 @@ fn shapes_sensor_and_emitters_refer_to_media() {
 <emitter type="point"><point name="position" x="9" y="0" z="0"/>
   <medium type="homogeneous"><float name="sigma_t" value="7"/></medium></emitter>
 <sensor type="perspective"><float name="fov" value="40"/><ref id="haze"/>
-<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#
+<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+    let b = parse(body).unwrap();
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
     );
-    let b = parse(&body).unwrap();
-    assert!(b.pending_warnings().is_empty(), "{:?}", b.pending_warnings());
     assert_eq!(b.media().len(), 4);
     assert!(b.materials()[b.shapes()[0].material as usize].is_null());
     let faces = |i: usize| (b.shapes()[i].medium_inside, b.shapes()[i].medium_outside);
@@ -997,7 +1003,10 @@ fn camera_medium_can_be_inline_and_differs_from_its_position() {
 <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
     let scene = parse(body).unwrap().build().unwrap();
     assert_eq!(scene.camera_medium, 1);
-    assert_eq!(scene.medium_names, vec!["fog".to_string(), "air".to_string()]);
+    assert_eq!(
+        scene.medium_names,
+        vec!["fog".to_string(), "air".to_string()]
+    );
     assert_eq!(scene.light_media, Vec::<u32>::new());
     // Without the nested medium the camera (at the origin, outside the cube) is in vacuum.
     let body = body.replace(
@@ -1013,7 +1022,11 @@ fn heterogeneous_media_read_vol_grids_placed_by_to_world() {
     let data: Vec<f32> = (0..24).map(|i| i as f32 / 8.0).collect();
     let bbox = [Vec3::new(10.0, 10.0, 10.0), Vec3::new(12.0, 11.0, 14.0)];
     std::fs::create_dir_all(dir.join("vols")).unwrap();
-    std::fs::write(dir.join("vols/d.vol"), encode_vol([4, 3, 2], 1, bbox, &data)).unwrap();
+    std::fs::write(
+        dir.join("vols/d.vol"),
+        encode_vol([4, 3, 2], 1, bbox, &data),
+    )
+    .unwrap();
     let body = r#"<medium type="heterogeneous" id="smoke">
   <volume type="gridvolume" name="sigma_t"><string name="filename" value="vols/d.vol"/>
     <transform name="to_world"><scale x="2" y="3" z="4"/><translate x="-1" y="0" z="1"/></transform>
@@ -1034,7 +1047,11 @@ fn heterogeneous_media_read_vol_grids_placed_by_to_world() {
   <float name="albedo" value="0.5"/><float name="scale" value="2"/>
 </medium>"#;
     let b = parse_at(&dir, body).unwrap();
-    assert!(b.pending_warnings().is_empty(), "{:?}", b.pending_warnings());
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
     let m = medium_of(&b, 0);
     let MediumKind::Grid(g) = &m.kind else {
         panic!("a grid")
@@ -1055,12 +1072,17 @@ fn heterogeneous_media_read_vol_grids_placed_by_to_world() {
                     );
                     let want = data[(k * 3 + j) * 4 + i];
                     let got = g.density(t(u));
-                    assert!((got - want).abs() < 1e-5, "voxel {i} {j} {k}: {got} vs {want}");
+                    assert!(
+                        (got - want).abs() < 1e-5,
+                        "voxel {i} {j} {k}: {got} vs {want}"
+                    );
                 }
             }
         }
     };
-    voxel(g, &|u| u * Vec3::new(2.0, 3.0, 4.0) + Vec3::new(-1.0, 0.0, 1.0));
+    voxel(g, &|u| {
+        u * Vec3::new(2.0, 3.0, 4.0) + Vec3::new(-1.0, 0.0, 1.0)
+    });
     assert_eq!(g.density(Vec3::new(11.0, 10.5, 12.0)), 0.0);
     let MediumKind::Grid(g) = &medium_of(&b, 1).kind else {
         panic!()
@@ -1092,7 +1114,10 @@ fn heterogeneous_media_read_vol_grids_placed_by_to_world() {
     };
     assert_eq!(g.max_density(), 3.0);
     let w = b.pending_warnings();
-    assert!(w.len() == 1 && w[0].contains("rgb.vol") && w[0].contains("averaged"), "{w:?}");
+    assert!(
+        w.len() == 1 && w[0].contains("rgb.vol") && w[0].contains("averaged"),
+        "{w:?}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -1126,7 +1151,12 @@ fn bad_media_are_errors_naming_file_line_and_expectation() {
         )
     };
     let missing = dir.join("none.vol").display().to_string();
-    expect_media_err(&dir, &grid("none.vol"), 4, &["cannot read grid file", &missing]);
+    expect_media_err(
+        &dir,
+        &grid("none.vol"),
+        4,
+        &["cannot read grid file", &missing],
+    );
     expect_media_err(
         &dir,
         &grid("short.vol"),
@@ -1134,9 +1164,24 @@ fn bad_media_are_errors_naming_file_line_and_expectation() {
         &["short.vol", "truncated", "needs 80 bytes", "has 76"],
     );
     expect_media_err(&dir, &grid("magic.vol"), 4, &["magic.vol", "'VOL'"]);
-    expect_media_err(&dir, &grid("empty.vol"), 4, &["empty.vol", "zero-size", "2×0×2"]);
-    expect_media_err(&dir, &grid("nan.vol"), 4, &["nan.vol", "voxel (x 1, y 0, z 1)", "NaN"]);
-    expect_media_err(&dir, &grid("neg.vol"), 4, &["neg.vol", "non-negative", "-0.5"]);
+    expect_media_err(
+        &dir,
+        &grid("empty.vol"),
+        4,
+        &["empty.vol", "zero-size", "2×0×2"],
+    );
+    expect_media_err(
+        &dir,
+        &grid("nan.vol"),
+        4,
+        &["nan.vol", "voxel (x 1, y 0, z 1)", "NaN"],
+    );
+    expect_media_err(
+        &dir,
+        &grid("neg.vol"),
+        4,
+        &["neg.vol", "non-negative", "-0.5"],
+    );
     // Coefficients.
     let homo = |inner: &str| format!("<medium type=\"homogeneous\" id=\"m\">\n{inner}</medium>");
     expect_media_err(
@@ -1177,7 +1222,9 @@ fn bad_media_are_errors_naming_file_line_and_expectation() {
     );
     expect_media_err(
         &dir,
-        &homo(r#"<float name="sigma_t" value="1"/><float name="sigma_a" value="1"/><float name="sigma_s" value="1"/>"#),
+        &homo(
+            r#"<float name="sigma_t" value="1"/><float name="sigma_a" value="1"/><float name="sigma_s" value="1"/>"#,
+        ),
         2,
         &["not both"],
     );
@@ -1185,13 +1232,25 @@ fn bad_media_are_errors_naming_file_line_and_expectation() {
     for g in ["1", "-1", "1.5"] {
         expect_media_err(
             &dir,
-            &homo(&format!("<phase type=\"hg\"><float name=\"g\" value=\"{g}\"/></phase>")),
+            &homo(&format!(
+                "<phase type=\"hg\"><float name=\"g\" value=\"{g}\"/></phase>"
+            )),
             3,
             &["hg", "(-1, 1)", g],
         );
     }
-    expect_media_err(&dir, &homo(r#"<phase type="rayleigh"/>"#), 3, &["rayleigh", "isotropic, hg"]);
-    expect_media_err(&dir, r#"<medium type="fancy" id="m"/>"#, 2, &["fancy", "homogeneous, heterogeneous"]);
+    expect_media_err(
+        &dir,
+        &homo(r#"<phase type="rayleigh"/>"#),
+        3,
+        &["rayleigh", "isotropic, hg"],
+    );
+    expect_media_err(
+        &dir,
+        r#"<medium type="fancy" id="m"/>"#,
+        2,
+        &["fancy", "homogeneous, heterogeneous"],
+    );
     // References.
     expect_media_err(
         &dir,
@@ -1220,7 +1279,9 @@ fn bad_media_are_errors_naming_file_line_and_expectation() {
     // A grid albedo is refused (only sigma_t may vary).
     expect_media_err(
         &dir,
-        &homo("<volume type=\"gridvolume\" name=\"albedo\"><string name=\"filename\" value=\"x.vol\"/></volume>"),
+        &homo(
+            "<volume type=\"gridvolume\" name=\"albedo\"><string name=\"filename\" value=\"x.vol\"/></volume>",
+        ),
         3,
         &["albedo", "gridvolume"],
     );
@@ -1246,8 +1307,16 @@ fn open_medium_boundaries_are_warned_about() {
     let b = parse(body).unwrap();
     let w = b.pending_warnings();
     assert_eq!(w.len(), 2, "{w:?}");
-    assert!(w[0].contains("shape 'sheet'") && w[0].contains("scene.xml:3") && w[0].contains("not closed"), "{w:?}");
-    assert!(w[1].contains("disk") && w[1].contains("scene.xml:6"), "{w:?}");
+    assert!(
+        w[0].contains("shape 'sheet'")
+            && w[0].contains("scene.xml:3")
+            && w[0].contains("not closed"),
+        "{w:?}"
+    );
+    assert!(
+        w[1].contains("disk") && w[1].contains("scene.xml:6"),
+        "{w:?}"
+    );
     // A closed mesh from a file is not warned about, an open one is.
     let dir = media_dir("closed");
     let tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";

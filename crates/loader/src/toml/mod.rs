@@ -26,8 +26,8 @@ use build::camera::camera;
 use build::light::light;
 use build::material::material;
 use build::medium::medium;
-use build::shape::medium_ref;
 use build::settings::{integrator, settings};
+use build::shape::medium_ref;
 use build::shape::shape;
 use caustica_scene::scene::SceneBuilder;
 use context::Ctx;
@@ -100,11 +100,8 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
             let file_name = path
                 .file_name()
                 .map_or_else(String::new, |f| f.to_string_lossy().into_owned());
-            let shape = format!(
-                "the {:?} shape at {file_name}:{line}",
-                s.get_ref().ty
-            )
-            .to_lowercase();
+            let shape =
+                format!("the {:?} shape at {file_name}:{line}", s.get_ref().ty).to_lowercase();
             warnings.push(crate::media::open_boundary_warning(&shape, &reason));
         }
     }

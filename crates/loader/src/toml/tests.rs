@@ -570,7 +570,11 @@ irradiance = 1
 "#
     );
     let b = parse(&text).unwrap();
-    assert!(b.pending_warnings().is_empty(), "{:?}", b.pending_warnings());
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
     let m = b.media();
     assert_eq!(m.len(), 4);
     assert!(close3(m[0].sigma_a, [0.05; 3]) && close3(m[0].sigma_s, [0.4, 0.5, 0.6]));
@@ -657,7 +661,10 @@ fn grid_media_read_vol_files_relative_to_the_scene() {
     };
     let (line, msg) = err_of(&medium("grids/none.vol"));
     assert_eq!(line, 7, "{msg}");
-    assert!(msg.contains("medium 'm'") && msg.contains("grids/none.vol"), "{msg}");
+    assert!(
+        msg.contains("medium 'm'") && msg.contains("grids/none.vol"),
+        "{msg}"
+    );
     let (line, msg) = err_of(&medium("grids/rgb.vol"));
     assert!(line == 7 && msg.contains("3 channels"), "{msg}");
     let (line, msg) = err_of(&format!("{}res = [1, 1, 1]\n", medium("grids/ramp.vol")));
@@ -671,12 +678,36 @@ fn bad_media_are_errors_naming_line_and_field() {
     let grid = "[[medium]]\nname = \"g\"\ntype = \"grid\"\nsigma_t = 1\nalbedo = 0.5\n";
     // Line 7 is the medium's table, line 10 its first field after type.
     expect_parse_error(&format!("{CAMERA}{h}sigma = 1\n"), 10, &["sigma"]);
-    expect_parse_error(&format!("{CAMERA}{h}sigma_a = -1\nsigma_s = 1\n"), 10, &["sigma_a", "non-negative"]);
-    expect_parse_error(&format!("{CAMERA}{h}sigma_a = [1, nan, 1]\nsigma_s = 1\n"), 10, &["sigma_a", "finite"]);
-    expect_parse_error(&format!("{CAMERA}{h}sigma_a = 1\n"), 7, &["sigma_a", "sigma_s", "albedo"]);
-    expect_parse_error(&format!("{CAMERA}{h}sigma_t = 1\nalbedo = [0.5, 1.2, 0]\n"), 7, &["albedo", "[0, 1]"]);
-    expect_parse_error(&format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nscale = -2\n"), 12, &["scale"]);
-    expect_parse_error(&format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nfile = \"x.vol\"\n"), 7, &["'file'", "homogeneous"]);
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_a = -1\nsigma_s = 1\n"),
+        10,
+        &["sigma_a", "non-negative"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_a = [1, nan, 1]\nsigma_s = 1\n"),
+        10,
+        &["sigma_a", "finite"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_a = 1\n"),
+        7,
+        &["sigma_a", "sigma_s", "albedo"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = [0.5, 1.2, 0]\n"),
+        7,
+        &["albedo", "[0, 1]"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nscale = -2\n"),
+        12,
+        &["scale"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nfile = \"x.vol\"\n"),
+        7,
+        &["'file'", "homogeneous"],
+    );
     for g in ["1", "-1.0", "2.5"] {
         expect_parse_error(
             &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nphase = {{ type = \"hg\", g = {g} }}\n"),
@@ -684,18 +715,38 @@ fn bad_media_are_errors_naming_line_and_field() {
             &["phase", "(-1, 1)"],
         );
     }
-    expect_parse_error(&format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nphase = \"rayleigh\"\n"), 12, &["rayleigh"]);
-    expect_parse_error(&format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nphase = {{ type = \"hg\" }}\n"), 12, &["'g'"]);
-    expect_parse_error(&format!("{CAMERA}{h}type2 = 1\n"), 10, &["type2"]);
-    expect_parse_error(&format!("{CAMERA}[[medium]]\nname = \"x\"\ntype = \"foam\"\n"), 9, &["foam"]);
-    expect_parse_error(&format!("{CAMERA}{grid}density = \"plume\"\nres = [4, 4, 4]\n"), 7, &["'min'", "'max'"]);
     expect_parse_error(
-        &format!("{CAMERA}{grid}density = \"plume\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n"),
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nphase = \"rayleigh\"\n"),
+        12,
+        &["rayleigh"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nphase = {{ type = \"hg\" }}\n"),
+        12,
+        &["'g'"],
+    );
+    expect_parse_error(&format!("{CAMERA}{h}type2 = 1\n"), 10, &["type2"]);
+    expect_parse_error(
+        &format!("{CAMERA}[[medium]]\nname = \"x\"\ntype = \"foam\"\n"),
+        9,
+        &["foam"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{grid}density = \"plume\"\nres = [4, 4, 4]\n"),
+        7,
+        &["'min'", "'max'"],
+    );
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{grid}density = \"plume\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n"
+        ),
         7,
         &["'min'", "below"],
     );
     expect_parse_error(
-        &format!("{CAMERA}{grid}density = \"fire\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"),
+        &format!(
+            "{CAMERA}{grid}density = \"fire\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
+        ),
         7,
         &["fire", "plume"],
     );
@@ -704,42 +755,64 @@ fn bad_media_are_errors_naming_line_and_field() {
         7,
         &["res"],
     );
-    expect_parse_error(&format!("{CAMERA}{grid}density = \"plume\"\nres = [4, 0, 4]\n"), 13, &["res"]);
     expect_parse_error(
-        &format!("{CAMERA}{grid}scale = 1e30\ndensity = \"plume\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"),
+        &format!("{CAMERA}{grid}density = \"plume\"\nres = [4, 0, 4]\n"),
+        13,
+        &["res"],
+    );
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{grid}scale = 1e30\ndensity = \"plume\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
+        ),
         7,
         &["medium 'g'", "optical depth"],
     );
     // Names.
     let sigma = "sigma_t = 1\nalbedo = 1\n";
-    expect_parse_error(&format!("{CAMERA}{h}{sigma}{h}{sigma}"), 12, &["medium named 'fog' already exists"]);
+    expect_parse_error(
+        &format!("{CAMERA}{h}{sigma}{h}{sigma}"),
+        12,
+        &["medium named 'fog' already exists"],
+    );
     let m = "[[material]]\nname = \"n\"\ntype = \"null\"\n";
     expect_parse_error(
-        &format!("{CAMERA}{h}{sigma}{m}[[shape]]\ntype = \"cube\"\nmaterial = \"n\"\ninterior = \"smoke\"\n"),
+        &format!(
+            "{CAMERA}{h}{sigma}{m}[[shape]]\ntype = \"cube\"\nmaterial = \"n\"\ninterior = \"smoke\"\n"
+        ),
         18,
         &["interior", "no medium named 'smoke'"],
     );
     expect_parse_error(
-        &format!("{CAMERA}{h}{sigma}{m}[[shape]]\ntype = \"cube\"\nmaterial = \"n\"\nexterior = \"fig\"\n"),
+        &format!(
+            "{CAMERA}{h}{sigma}{m}[[shape]]\ntype = \"cube\"\nmaterial = \"n\"\nexterior = \"fig\"\n"
+        ),
         18,
         &["exterior", "'fig'"],
     );
     expect_parse_error(
-        &format!("[camera]\nmedium = \"nowhere\"\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n"),
+        "[camera]\nmedium = \"nowhere\"\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n",
         2,
         &["medium", "'nowhere'"],
     );
     expect_parse_error(
-        &format!("{CAMERA}{h}{sigma}[[light]]\ntype = \"point\"\nintensity = 1\nmedium = \"mist\"\n"),
+        &format!(
+            "{CAMERA}{h}{sigma}[[light]]\ntype = \"point\"\nintensity = 1\nmedium = \"mist\"\n"
+        ),
         15,
         &["medium", "'mist'"],
     );
     expect_parse_error(
-        &format!("{CAMERA}{h}{sigma}[[light]]\ntype = \"directional\"\ndirection = [0, -1, 0]\nirradiance = 1\nmedium = \"fog\"\n"),
+        &format!(
+            "{CAMERA}{h}{sigma}[[light]]\ntype = \"directional\"\ndirection = [0, -1, 0]\nirradiance = 1\nmedium = \"fog\"\n"
+        ),
         12,
         &["'medium'", "directional"],
     );
-    expect_parse_error(&format!("{CAMERA}[[material]]\nname = \"n\"\ntype = \"null\"\nior = 1.5\n"), 7, &["ior", "null"]);
+    expect_parse_error(
+        &format!("{CAMERA}[[material]]\nname = \"n\"\ntype = \"null\"\nior = 1.5\n"),
+        7,
+        &["ior", "null"],
+    );
 }
 
 #[test]
@@ -750,5 +823,8 @@ fn open_medium_boundaries_are_warned_about_with_their_line() {
     let b = parse(&text).unwrap();
     let w = b.pending_warnings();
     assert_eq!(w.len(), 1, "{w:?}");
-    assert!(w[0].contains("rectangle shape at test.toml:22") && w[0].contains("not closed"), "{w:?}");
+    assert!(
+        w[0].contains("rectangle shape at test.toml:22") && w[0].contains("not closed"),
+        "{w:?}"
+    );
 }

@@ -92,9 +92,7 @@ pub(crate) fn medium(cx: &Ctx, m: &Spanned<MediumDesc>) -> Result<Medium, LoadEr
                     ));
                 }
                 (None, Some(_), None) => {
-                    return Err(err(
-                        "a procedural density needs 'res = [nx, ny, nz]'".into(),
-                    ));
+                    return Err(err("a procedural density needs 'res = [nx, ny, nz]'".into()));
                 }
                 _ => {
                     return Err(err(
