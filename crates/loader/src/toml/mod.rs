@@ -128,6 +128,8 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
     for (g, m, e, flip, media) in shapes {
         b.add_shape_with_media(g, m, e, flip, media)?;
     }
+    // The shapes' area lights come first in the builder's list.
+    let first_light = b.lights().len();
     for l in lights {
         b.add_light(l);
     }
@@ -135,7 +137,7 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
         b.set_camera_medium(m);
     }
     for (i, m) in light_media {
-        b.set_light_medium(i, m);
+        b.set_light_medium(first_light + i, m);
     }
     b.warnings.extend(warnings);
     Ok(b)

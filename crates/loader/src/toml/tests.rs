@@ -551,6 +551,13 @@ material = "glass"
 center = [3, 0, 0]
 radius = 0.5
 
+[[shape]]               # an area light in the fog's cube
+type = "rectangle"
+material = "glass"
+emission = 1
+scale = 0.1
+translate = [0, -2, 0]
+
 [[light]]
 type = "point"
 position = [0, 2, 0]
@@ -602,8 +609,9 @@ irradiance = 1
     assert_eq!(sides(2), (NONE, NONE));
     let scene = b.build().unwrap();
     assert_eq!(scene.camera_medium, 1, "given");
-    // Found (in the fog cube), given, at infinity (vacuum).
-    assert_eq!(scene.light_media, vec![0, 2, NONE]);
+    // The area light and the point light found (in the fog cube), the spot light given, the
+    // directional light at infinity (vacuum).
+    assert_eq!(scene.light_media, vec![0, 0, 2, NONE]);
     // Without `medium` the camera (at z = 4.1, inside the cube of half-size 5) is found in the
     // fog; outside the cube it is in vacuum.
     let text = text.replacen("medium = \"thick\"\n", "", 1);
