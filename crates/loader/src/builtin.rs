@@ -6,8 +6,11 @@ use crate::toml::look_at_transform;
 use caustica_core::{Affine3A, Spectrum, Vec3};
 use caustica_scene::SceneError;
 use caustica_scene::camera::{FovAxis, PerspectiveCamera};
-use caustica_scene::light::{DirectionalLight, Light, PointLight};
+use caustica_scene::intersection::NONE;
+use caustica_scene::light::{DirectionalLight, Light, PointLight, SpotLight};
 use caustica_scene::material::{Material, conductor_preset};
+use caustica_scene::medium::{DensityGrid, Medium, MediumInterface};
+use caustica_scene::phase::PhaseFunction;
 use caustica_scene::scene::{FilterKind, SceneBuilder};
 use caustica_scene::shape::{
     RingParams, ShapeGeometry, Sphere, TriangleMesh, WaveParams, ring_mesh, water_wave_mesh,
@@ -25,6 +28,10 @@ const NAMES: &[&str] = &[
     "water-wave",
     "metal-ring",
     "gold-ring",
+    "fog-box",
+    "fog-box-hg",
+    "smoke-plume",
+    "volume-caustic",
 ];
 
 /// Names accepted by [`builtin_scene`].
@@ -41,6 +48,12 @@ pub fn builtin_scene(name: &str) -> Option<SceneBuilder> {
         "water-wave" => water_wave().ok(),
         "metal-ring" => metal_ring().ok(),
         "gold-ring" => gold_ring().ok(),
+        "fog-box" => fog_box("fog-box", PhaseFunction::default()).ok(),
+        "fog-box-hg" => PhaseFunction::henyey_greenstein(FOG_BOX_HG_G)
+            .ok()
+            .and_then(|p| fog_box("fog-box-hg", p).ok()),
+        "smoke-plume" => smoke_plume().ok(),
+        "volume-caustic" => volume_caustic().ok(),
         _ => None,
     }
 }
@@ -108,7 +121,13 @@ fn cornell_box() -> Result<SceneBuilder, SceneError> {
     let mut b = SceneBuilder::new("cornell-box");
     b.settings.spp = Some(64);
     b.settings.max_depth = Some(8);
-    let white = cornell_room(&mut b)?;
+    cornell_room_and_boxes(&mut b)?;
+    Ok(b)
+}
+
+/// The room, light and both boxes of [`cornell_box`].
+fn cornell_room_and_boxes(b: &mut SceneBuilder) -> Result<(), SceneError> {
+    let white = cornell_room(b)?;
     let cube = |t: Affine3A| ShapeGeometry::Mesh(TriangleMesh::cube(&t));
     // Small box.
     b.add_shape(
@@ -134,7 +153,7 @@ fn cornell_box() -> Result<SceneBuilder, SceneError> {
         None,
         false,
     )?;
-    Ok(b)
+    Ok(())
 }
 
 /// The default scene of `caustica render`: the room of [`cornell_box`] with a glass ball
@@ -476,12 +495,185 @@ fn gold_ring() -> Result<SceneBuilder, SceneError> {
     Ok(b)
 }
 
+/// Mean cosine of the Henyey–Greenstein phase function of `fog-box-hg`.
+pub const FOG_BOX_HG_G: f32 = 0.6;
+/// Voxels per axis of the `smoke-plume` grid.
+pub const SMOKE_PLUME_RES: u32 = 32;
+/// Extinction of the `smoke-plume` medium at density 1 (m⁻¹, Mitsuba's `scale`).
+pub const SMOKE_PLUME_SCALE: f32 = 6.0;
+
+/// The dimensionless density of `smoke-plume` (and of TOML's `density = "plume"`) at the
+/// grid-space point `u` ∈ [0, 1]³ (y up): a Gaussian column whose axis wanders with height v,
+/// cx = 0.5 + 0.08 sin 6v, cz = 0.5 + 0.08 cos 5v, widening as rad = 0.12 + 0.25 v, thinning
+/// as 1 − v and modulated by 1 − 0.3 sin 11u sin 13w; never negative.
+pub fn plume_density(u: Vec3) -> f32 {
+    let (x, v, w) = (u.x, u.y, u.z);
+    let cx = 0.5 + 0.08 * (6.0 * v).sin();
+    let cz = 0.5 + 0.08 * (5.0 * v).cos();
+    let rad = 0.12 + 0.25 * v;
+    let r2 = (x - cx).powi(2) + (w - cz).powi(2);
+    let d = (-r2 / (2.0 * rad * rad)).exp()
+        * (1.0 - v)
+        * (1.0 - 0.3 * (11.0 * x).sin() * (13.0 * w).sin());
+    d.max(0.0)
+}
+
+/// The affine map of the unit cube [0, 1]³ onto the box [`min`, `max`] (a grid's placement).
+pub fn unit_cube_to_box(min: Vec3, max: Vec3) -> Affine3A {
+    Affine3A::from_translation(min) * Affine3A::from_scale(max - min)
+}
+
+/// Mitsuba's `cube` ([−1, 1]³, outward faces) scaled and moved onto the box [`min`, `max`].
+fn box_mesh(min: Vec3, max: Vec3) -> ShapeGeometry {
+    let t = Affine3A::from_translation((min + max) * 0.5) * Affine3A::from_scale((max - min) * 0.5);
+    ShapeGeometry::Mesh(TriangleMesh::cube(&t))
+}
+
+/// Adds the index-matched (`null`) box [`min`, `max`] with `medium` inside, and its material
+/// `boundary`.
+fn add_medium_box(
+    b: &mut SceneBuilder,
+    min: Vec3,
+    max: Vec3,
+    medium: u32,
+) -> Result<(), SceneError> {
+    let boundary = b.add_material("boundary", Material::Null)?;
+    b.add_shape_with_media(
+        box_mesh(min, max),
+        boundary,
+        None,
+        false,
+        MediumInterface {
+            inside: medium,
+            outside: NONE,
+        },
+    )
+}
+
+/// Settings of the medium scenes rendered with the path tracer.
+fn media_path_settings(b: &mut SceneBuilder) {
+    b.settings.spp = Some(64);
+    b.settings.max_depth = Some(64);
+    b.settings.integrator = Some("path".to_string());
+}
+
+/// `fog-box` and `fog-box-hg`: [`cornell_box`] filled with homogeneous fog (σ_s = (0.4, 0.5,
+/// 0.6), σ_a = 0.05 m⁻¹, i.e. σ_t = (0.45, 0.55, 0.65)) inside a null box just inside the walls
+/// (x, y ∈ [−0.998, 0.998], z ∈ [−0.998, 1]: the area light and both boxes are in the fog, the
+/// camera is not).
+fn fog_box(name: &str, phase: PhaseFunction) -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new(name);
+    media_path_settings(&mut b);
+    cornell_room_and_boxes(&mut b)?;
+    let fog = b.add_medium(
+        "fog",
+        Medium::homogeneous(Spectrum::splat(0.05), Spectrum::new(0.4, 0.5, 0.6), phase),
+    )?;
+    add_medium_box(
+        &mut b,
+        Vec3::new(-0.998, -0.998, -0.998),
+        Vec3::new(0.998, 0.998, 1.0),
+        fog,
+    )?;
+    Ok(b)
+}
+
+/// Box of the `smoke-plume` grid and of its null boundary: from the floor (1 mm above) to 0.4 m
+/// below the ceiling light.
+pub const SMOKE_PLUME_BOX: [Vec3; 2] = [Vec3::new(-0.6, -0.999, -0.6), Vec3::new(0.6, 0.6, 0.6)];
+
+/// `smoke-plume`: the Cornell room ([`cornell_room`], no boxes) with a rising plume of smoke:
+/// a [`SMOKE_PLUME_RES`]³ grid of [`plume_density`] filling [`SMOKE_PLUME_BOX`], σ_t =
+/// [`SMOKE_PLUME_SCALE`] × density, albedo (0.9, 0.8, 0.7), isotropic.
+fn smoke_plume() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("smoke-plume");
+    media_path_settings(&mut b);
+    cornell_room(&mut b)?;
+    let [min, max] = SMOKE_PLUME_BOX;
+    let r = SMOKE_PLUME_RES;
+    let grid = DensityGrid::from_fn([r; 3], unit_cube_to_box(min, max), plume_density)
+        .map_err(SceneError::InvalidParameter)?;
+    let (sigma_a, sigma_s) = Medium::coefficients_from_albedo(
+        Spectrum::ONE * SMOKE_PLUME_SCALE,
+        Spectrum::new(0.9, 0.8, 0.7),
+    );
+    let smoke = b.add_medium(
+        "smoke",
+        Medium::grid(grid, sigma_a, sigma_s, PhaseFunction::default()),
+    )?;
+    add_medium_box(&mut b, min, max, smoke)?;
+    Ok(b)
+}
+
+/// `volume-caustic`: a glass ball (IOR 1.5, radius 0.5 m, centre 1.2 m above the floor) under
+/// a hard-edged spot light (20° cone, 60 W/sr, 3 m up, pointing down) in homogeneous fog
+/// (σ_s = 0.15, σ_a = 0.01 m⁻¹, isotropic; the ball's outside is the fog, its inside vacuum)
+/// filling a null box [−4, 4] × [−0.001, 5] × [−4, 6] around an 8 × 8 m grey floor. The ball
+/// focuses the cone into a bright beam and a caustic on the floor, L S+ M E and L S+ D E paths;
+/// the light tracer renders them.
+fn volume_caustic() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("volume-caustic");
+    b.set_camera(camera(
+        Vec3::new(0.0, 1.1, 4.5),
+        Vec3::new(0.0, 0.8, 0.0),
+        40.0,
+        128,
+        96,
+    ));
+    b.settings.filter = FilterKind::Gaussian {
+        stddev: 0.5,
+        radius: 2.0,
+    };
+    b.settings.spp = Some(16);
+    b.settings.max_depth = Some(64);
+    b.settings.integrator = Some("lighttrace".to_string());
+    let floor = b.add_material("floor", diffuse(0.5, 0.5, 0.5))?;
+    let glass = b.add_material("glass", dielectric(1.5))?;
+    let fog = b.add_medium(
+        "fog",
+        Medium::homogeneous(
+            Spectrum::splat(0.01),
+            Spectrum::splat(0.15),
+            PhaseFunction::default(),
+        ),
+    )?;
+    add_floor(&mut b, 4.0, floor)?;
+    b.add_shape_with_media(
+        ShapeGeometry::Sphere(Sphere {
+            center: Vec3::new(0.0, 1.2, 0.0),
+            radius: 0.5,
+        }),
+        glass,
+        None,
+        false,
+        MediumInterface {
+            inside: NONE,
+            outside: fog,
+        },
+    )?;
+    add_medium_box(
+        &mut b,
+        Vec3::new(-4.0, -0.001, -4.0),
+        Vec3::new(4.0, 5.0, 6.0),
+        fog,
+    )?;
+    b.add_light(Light::Spot(SpotLight::new(
+        Vec3::new(0.0, 3.0, 0.0),
+        Vec3::NEG_Y,
+        Spectrum::splat(60.0),
+        20.0,
+        20.0,
+    )));
+    Ok(b)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::parse_scene_file;
     use caustica_core::Ray;
     use caustica_scene::light::AreaShape;
+    use caustica_scene::medium::MediumKind;
     use std::path::Path;
 
     #[test]
@@ -538,8 +730,14 @@ mod tests {
             assert_eq!(a.settings.integrator, b.settings.integrator, "{name}");
             assert_eq!(a.settings.smoothing, b.settings.smoothing, "{name}");
             assert_eq!(a.settings.photons, b.settings.photons, "{name}");
+            assert_same_media(name, &a, &b);
             for (sa, sb) in a.shapes().iter().zip(b.shapes()) {
                 assert_eq!(sa.material, sb.material, "{name}");
+                assert_eq!(
+                    (sa.medium_inside, sa.medium_outside),
+                    (sb.medium_inside, sb.medium_outside),
+                    "{name}: shape media"
+                );
                 assert_eq!(
                     sa.light == caustica_scene::intersection::NONE,
                     sb.light == caustica_scene::intersection::NONE
@@ -552,6 +750,192 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Same media (names, kinds, coefficients, phase functions, densities on a lattice of
+    /// points spanning the scene) and materials.
+    fn assert_same_media(name: &str, a: &SceneBuilder, b: &SceneBuilder) {
+        for (ma, mb) in a.materials().iter().zip(b.materials()) {
+            assert_eq!(format!("{ma:?}"), format!("{mb:?}"), "{name}: materials");
+        }
+        assert_eq!(a.media().len(), b.media().len(), "{name}: media");
+        for (x, y) in a.media().iter().zip(b.media()) {
+            assert_eq!(x.phase, y.phase, "{name}");
+            assert_eq!(
+                std::mem::discriminant(&x.kind),
+                std::mem::discriminant(&y.kind),
+                "{name}"
+            );
+            for (p, q) in [(x.sigma_a, y.sigma_a), (x.sigma_s, y.sigma_s)] {
+                for i in 0..3 {
+                    assert!(
+                        (p.c[i] - q.c[i]).abs() <= 1e-6 * p.c[i].abs().max(1.0),
+                        "{name}: {p:?} vs {q:?}"
+                    );
+                }
+            }
+            if let (MediumKind::Grid(g), MediumKind::Grid(h)) = (&x.kind, &y.kind) {
+                assert_eq!(g.resolution(), h.resolution(), "{name}");
+                for i in 0..=20 {
+                    for j in 0..=20 {
+                        for k in 0..=20 {
+                            let p = Vec3::new(i as f32, j as f32, k as f32) / 10.0 - 1.0;
+                            let (dg, dh) = (g.density(p), h.density(p));
+                            assert!(
+                                (dg - dh).abs() < 1e-5,
+                                "{name}: density at {p}: {dg} vs {dh}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn media_scenes_put_camera_lights_and_shapes_in_the_right_media() {
+        for name in ["fog-box", "fog-box-hg"] {
+            let b = builtin_scene(name).unwrap();
+            let boxes = builtin_scene("cornell-box").unwrap();
+            // Exactly cornell-box plus the fog's box.
+            assert_eq!(b.shape_count(), boxes.shape_count() + 1);
+            for (s, r) in b.shapes().iter().zip(boxes.shapes()) {
+                assert_eq!(format!("{:?}", s.geometry), format!("{:?}", r.geometry));
+                assert_eq!(s.material, r.material);
+                assert_eq!((s.medium_inside, s.medium_outside), (NONE, NONE));
+            }
+            let [fog] = b.media() else {
+                panic!("{name}: one medium")
+            };
+            assert!(matches!(fog.kind, MediumKind::Homogeneous(_)));
+            let st = fog.sigma_t();
+            for (c, want) in [0.45f32, 0.55, 0.65].into_iter().enumerate() {
+                assert!((st.c[c] - want).abs() < 1e-6);
+                assert!((fog.sigma_a.c[c] - 0.05).abs() < 1e-6);
+            }
+            assert_eq!(fog.sigma_s, Spectrum::new(0.4, 0.5, 0.6));
+            if name == "fog-box" {
+                assert_eq!(fog.phase, PhaseFunction::default());
+            } else {
+                assert_eq!(fog.phase, PhaseFunction::henyey_greenstein(0.6).unwrap());
+            }
+            let cube = b.shapes().last().unwrap();
+            assert_eq!((cube.medium_inside, cube.medium_outside), (0, NONE));
+            assert!(b.materials()[cube.material as usize].is_null());
+            let ShapeGeometry::Mesh(m) = &cube.geometry else {
+                panic!()
+            };
+            let (lo, hi) = m
+                .positions
+                .iter()
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| {
+                    (a.min(*p), b.max(*p))
+                });
+            assert!(lo.abs_diff_eq(Vec3::splat(-0.998), 1e-6), "{lo}");
+            assert!(hi.abs_diff_eq(Vec3::new(0.998, 0.998, 1.0), 1e-6), "{hi}");
+            assert_eq!(
+                (
+                    b.settings.integrator.as_deref(),
+                    b.settings.spp,
+                    b.settings.max_depth
+                ),
+                (Some("path"), Some(64), Some(64))
+            );
+            let scene = b.build().unwrap();
+            assert!(
+                scene.has_media && scene.warnings.is_empty(),
+                "{:?}",
+                scene.warnings
+            );
+            assert_eq!(
+                scene.camera_medium, NONE,
+                "{name}: the camera is outside the fog"
+            );
+            assert_eq!(
+                scene.light_media,
+                vec![0],
+                "{name}: the area light is in the fog"
+            );
+            assert_eq!(scene.medium_at(Vec3::ZERO), 0);
+            assert_eq!(scene.medium_at(Vec3::new(0.0, 0.0, 2.0)), NONE);
+        }
+
+        let b = builtin_scene("smoke-plume").unwrap();
+        assert_eq!(b.shape_count(), 7);
+        let [smoke] = b.media() else { panic!() };
+        let MediumKind::Grid(g) = &smoke.kind else {
+            panic!("smoke-plume: a grid")
+        };
+        assert_eq!(g.resolution(), [32, 32, 32]);
+        assert_eq!(smoke.phase, PhaseFunction::default());
+        for (c, a) in [0.9f32, 0.8, 0.7].into_iter().enumerate() {
+            assert!((smoke.sigma_t().c[c] - 6.0).abs() < 1e-5);
+            assert!((smoke.sigma_s.c[c] - 6.0 * a).abs() < 1e-5);
+        }
+        // The grid fills the box: density at a voxel centre is plume_density there.
+        let [lo, hi] = SMOKE_PLUME_BOX;
+        for (i, j, k) in [(16u32, 3u32, 15u32), (0, 0, 0), (20, 31, 9)] {
+            let u = (Vec3::new(i as f32, j as f32, k as f32) + 0.5) / 32.0;
+            let p = lo + (hi - lo) * u;
+            assert!((g.density(p) - plume_density(u)).abs() < 1e-5, "{u}");
+        }
+        assert!(g.density(hi + 0.01) == 0.0 && g.max_density() > 0.5);
+        let scene = b.build().unwrap();
+        assert_eq!(
+            (scene.camera_medium, scene.light_media.clone()),
+            (NONE, vec![NONE])
+        );
+        assert_eq!(scene.medium_at(Vec3::new(0.0, -0.5, 0.0)), 0);
+        assert_eq!(scene.medium_at(Vec3::new(0.0, 0.8, 0.0)), NONE);
+
+        let b = builtin_scene("volume-caustic").unwrap();
+        let [fog] = b.media() else { panic!() };
+        assert_eq!(
+            (fog.sigma_a, fog.sigma_s),
+            (Spectrum::splat(0.01), Spectrum::splat(0.15))
+        );
+        let sphere = &b.shapes()[1];
+        assert!(
+            matches!(sphere.geometry, ShapeGeometry::Sphere(s) if s.radius == 0.5 && s.center == Vec3::new(0.0, 1.2, 0.0))
+        );
+        assert_eq!((sphere.medium_inside, sphere.medium_outside), (NONE, 0));
+        let [Light::Spot(spot)] = b.lights() else {
+            panic!("one spot light")
+        };
+        assert_eq!(spot.position, Vec3::new(0.0, 3.0, 0.0));
+        assert!((spot.cutoff_angle.to_degrees() - 20.0).abs() < 1e-4);
+        assert_eq!(spot.cutoff_angle, spot.beam_width);
+        assert_eq!(b.settings.integrator.as_deref(), Some("lighttrace"));
+        let scene = b.build().unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        assert_eq!(scene.camera_medium, 0, "the camera is in the fog");
+        assert_eq!(scene.light_media, vec![0], "the spot light is in the fog");
+        assert_eq!(
+            scene.medium_at(Vec3::new(0.0, 1.2, 0.0)),
+            NONE,
+            "vacuum in the ball"
+        );
+        assert_eq!(scene.medium_at(Vec3::new(0.0, 0.5, 0.0)), 0);
+    }
+
+    #[test]
+    fn plume_density_follows_its_formula() {
+        // On the axis at the bottom the Gaussian is 1: density = 1 − 0.3 sin(11u) sin(13w).
+        let u = Vec3::new(0.5, 0.0, 0.5 + 0.08);
+        let want = 1.0 - 0.3 * (11.0f32 * 0.5).sin() * (13.0f32 * 0.58).sin();
+        assert!((plume_density(u) - want).abs() < 1e-6);
+        // At the top it vanishes; off axis it falls off as a Gaussian of width rad.
+        assert_eq!(plume_density(Vec3::new(0.5, 1.0, 0.5)), 0.0);
+        let v = 0.5f32;
+        let (cx, cz, rad) = (
+            0.5 + 0.08 * (3.0f32).sin(),
+            0.5 + 0.08 * 2.5f32.cos(),
+            0.245,
+        );
+        let p = Vec3::new(cx + rad, v, cz);
+        let want = (-0.5f32).exp() * 0.5 * (1.0 - 0.3 * (11.0 * p.x).sin() * (13.0 * p.z).sin());
+        assert!((plume_density(p) - want).abs() < 1e-6);
+        assert!(plume_density(Vec3::new(0.0, 0.0, 0.0)) >= 0.0);
     }
 
     /// The meshes of the case scenes as shipped in `scenes/meshes/`: file name, mesh, header

@@ -5,13 +5,15 @@
 
 pub mod builtin;
 pub mod error;
+pub mod media;
 pub mod mitsuba;
 pub mod obj;
 pub mod ply;
 pub mod toml;
+pub mod vol;
 
 pub use self::toml::parse_toml_scene;
-pub use builtin::{DEFAULT_SCENE, builtin_names, builtin_scene};
+pub use builtin::{DEFAULT_SCENE, builtin_names, builtin_scene, plume_density};
 pub use error::LoadError;
 pub use mitsuba::{load_mitsuba, parse_mitsuba};
 pub use obj::{load_obj, parse_obj};

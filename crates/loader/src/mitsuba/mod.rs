@@ -8,6 +8,7 @@
 //! image means (unknown shape, emitter or BSDF types, missing mesh files) are errors, which
 //! carry the file, line and column.
 
+mod media;
 mod plugins;
 #[cfg(test)]
 mod tests;
@@ -51,6 +52,7 @@ pub fn parse_mitsuba(
         known: Default::default(),
         bsdfs: HashMap::new(),
         textures: HashMap::new(),
+        media: HashMap::new(),
         ids: HashSet::new(),
         unsupported: Vec::new(),
         approximations: Vec::new(),
@@ -216,6 +218,8 @@ pub(crate) struct Loader {
     bsdfs: HashMap<String, (caustica_scene::material::Material, u32)>,
     /// Textures declared with an `id` at the top level.
     textures: HashMap<String, caustica_scene::texture::Texture>,
+    /// Media declared with an `id`: their index in the builder.
+    media: HashMap<String, u32>,
     /// Every `id` declared so far (all kinds).
     ids: HashSet<String>,
     unsupported: Vec<String>,
@@ -366,6 +370,17 @@ impl Loader {
                 if let Some(id) = id {
                     self.textures.insert(id, t);
                 }
+            }
+            "medium" if c.attribute_node("id").is_some() => {
+                media::add_medium(self, d, c)?;
+            }
+            "medium" => {
+                let ty = c.attribute("type").unwrap_or("");
+                self.unsupported(
+                    d,
+                    c,
+                    format!("<medium type=\"{ty}\"> without an id (nothing can refer to it)"),
+                );
             }
             "sensor" => plugins::sensor(self, d, c)?,
             "integrator" => plugins::integrator(self, d, c)?,

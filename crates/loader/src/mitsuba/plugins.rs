@@ -4,11 +4,13 @@ use super::transform::{affine, is_rigid, uniform_scale};
 use super::{Doc, Loader, MAX_NESTING, Props};
 use crate::MAX_FILM_PIXELS;
 use crate::error::LoadError;
+use crate::media::{open_boundary_reason, open_boundary_warning};
 use crate::{load_obj, load_ply};
 use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
 use caustica_scene::camera::{FovAxis, PerspectiveCamera};
 use caustica_scene::light::{DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
 use caustica_scene::material::{Material, conductor_preset};
+use caustica_scene::medium::MediumInterface;
 use caustica_scene::scene::FilterKind;
 use caustica_scene::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
 use caustica_scene::texture::{ImageTexture, Texture};
@@ -335,6 +337,7 @@ pub(super) fn bsdf(lo: &mut Loader, d: &Doc, n: Node, depth: usize) -> Result<Ma
                 exponent,
             }
         }
+        "null" => Material::Null,
         "twosided" | "bumpmap" | "normalmap" | "mask" => {
             if t != "twosided" {
                 lo.approximated(d, n, format!("{t} ignored (its nested BSDF is used)"));
@@ -380,7 +383,7 @@ pub(super) fn bsdf(lo: &mut Loader, d: &Doc, n: Node, depth: usize) -> Result<Ma
         other => {
             return Err(d.err_at(
                 tpos,
-                format!("unknown bsdf type '{other}' (supported: diffuse, dielectric, thindielectric, roughdielectric, conductor, roughconductor, plastic, roughplastic, twosided)"),
+                format!("unknown bsdf type '{other}' (supported: diffuse, dielectric, thindielectric, roughdielectric, conductor, roughconductor, plastic, roughplastic, twosided, null)"),
             ));
         }
     };
@@ -526,8 +529,27 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
     // Nested BSDF / emitter.
     let mut material = None;
     let mut emission = None;
+    let mut media = MediumInterface::default();
     for c in std::mem::take(&mut p.children) {
+        let side = c.attribute("name");
         match c.tag_name().name() {
+            "medium" | "ref" if matches!(side, Some("interior" | "exterior")) => {
+                let m = super::media::medium_child(lo, d, c)?;
+                if side == Some("interior") {
+                    media.inside = m;
+                } else {
+                    media.outside = m;
+                }
+            }
+            "medium" => {
+                return Err(d.err_at(
+                    d.pos(c),
+                    format!(
+                        "a <medium> inside a shape needs name=\"interior\" or name=\"exterior\", got {}",
+                        side.map_or_else(|| "none".to_string(), |s| format!("'{s}'"))
+                    ),
+                ));
+            }
             "bsdf" | "ref" if material.is_none() => {
                 if c.tag_name().name() == "ref" {
                     material = Some(bsdf_ref(lo, d, c)?.1);
@@ -593,8 +615,21 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
             }
         }
     };
+    let desc = p.desc.clone();
     lo.leftovers(d, p);
-    lo.b.add_shape(geometry, material, emission, flip)
+    if media.is_transition()
+        && let Some(reason) = open_boundary_reason(&geometry)
+    {
+        let shape = match n.attribute("id") {
+            Some(id) => format!("shape '{id}' {desc} ({})", d.loc(n)),
+            None => format!("shape {desc} ({})", d.loc(n)),
+        };
+        lo.b.warnings.push(format!(
+            "Mitsuba scene: {}",
+            open_boundary_warning(&shape, &reason)
+        ));
+    }
+    lo.b.add_shape_with_media(geometry, material, emission, flip, media)
         .map_err(|e| d.err_at(d.pos(n), e.to_string()))
 }
 
@@ -682,11 +717,20 @@ pub(super) fn emitter(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError
             ));
         }
     };
+    let mut medium = None;
     for c in std::mem::take(&mut p.children) {
-        lo.unsupported(d, c, format!("<{}> inside {}", c.tag_name().name(), p.desc));
+        match c.tag_name().name() {
+            "medium" | "ref" if matches!(t.as_str(), "point" | "spot") => {
+                medium = Some(super::media::medium_child(lo, d, c)?);
+            }
+            _ => lo.unsupported(d, c, format!("<{}> inside {}", c.tag_name().name(), p.desc)),
+        }
     }
     lo.leftovers(d, p);
     lo.b.add_light(light);
+    if let Some(m) = medium {
+        lo.b.set_light_medium(lo.b.lights().len() - 1, m);
+    }
     Ok(())
 }
 
@@ -789,6 +833,10 @@ pub(super) fn sensor(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError>
                 }
                 let _ = sp.int(d, "seed")?;
                 lo.leftovers(d, sp);
+            }
+            "medium" | "ref" => {
+                let m = super::media::medium_child(lo, d, c)?;
+                lo.b.set_camera_medium(m);
             }
             other => lo.unsupported(d, c, format!("<{other}> inside {}", p.desc)),
         }

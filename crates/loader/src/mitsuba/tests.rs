@@ -1,4 +1,5 @@
 use super::*;
+use caustica_core::Spectrum;
 use caustica_scene::camera::FovAxis;
 use caustica_scene::light::Light;
 use caustica_scene::material::{Material, conductor_preset};
@@ -870,4 +871,471 @@ fn huge_shapes_are_errors_not_bvh_panics() {
         scaled("rectangle").replace("1e13", "1e11")
     );
     assert!(parse(&ok).unwrap().build().is_ok());
+}
+
+// ---- participating media ----
+
+use crate::vol::encode_vol;
+use caustica_scene::intersection::NONE;
+use caustica_scene::medium::{Medium, MediumKind};
+use caustica_scene::phase::PhaseFunction;
+
+/// A fresh temporary folder for `.vol` files.
+fn media_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("caustica-media-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Parses `body` as if read from `dir/scene.xml`.
+fn parse_at(dir: &Path, body: &str) -> Result<SceneBuilder, LoadError> {
+    let text = format!("<scene version=\"3.0.0\">\n{body}\n</scene>\n");
+    parse_mitsuba(&text, &dir.join("scene.xml"), &[])
+}
+
+fn close3(a: Spectrum, b: [f32; 3]) -> bool {
+    (0..3).all(|i| (a.c[i] - b[i]).abs() <= 1e-6 * b[i].abs().max(1.0))
+}
+
+fn medium_of(b: &SceneBuilder, i: usize) -> &Medium {
+    &b.media()[i]
+}
+
+#[test]
+fn homogeneous_media_take_every_parameter_form() {
+    let body = r#"<medium type="homogeneous" id="a">
+  <rgb name="sigma_t" value="0.45, 0.55, 0.65"/>
+  <rgb name="albedo" value="0.5, 0.2, 1"/>
+  <float name="scale" value="2"/>
+</medium>
+<medium type="homogeneous" id="b">
+  <float name="sigma_t" value="3"/>
+  <volume type="constvolume" name="albedo"><rgb name="value" value="0.25, 0.5, 0.75"/></volume>
+  <phase type="hg"><float name="g" value="0.6"/></phase>
+</medium>
+<medium type="homogeneous" id="c">
+  <spectrum name="sigma_a" value="0.05"/>
+  <rgb name="sigma_s" value="0.4 0.5 0.6"/>
+  <float name="scale" value="10"/>
+  <phase type="isotropic"/>
+</medium>
+<medium type="homogeneous" id="d"><phase type="hg"/></medium>
+<medium type="homogeneous" id="e">
+  <volume type="constvolume" name="sigma_t"><float name="value" value="2"/></volume>
+  <float name="albedo" value="0.5"/>
+</medium>"#;
+    let b = parse(body).unwrap();
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
+    assert_eq!(b.media().len(), 5);
+    // scale multiplies sigma_t: sigma_s = albedo * scale * sigma_t.
+    let a = medium_of(&b, 0);
+    assert!(matches!(a.kind, MediumKind::Homogeneous(_)));
+    assert!(close3(a.sigma_s, [0.45, 0.22, 1.3]), "{:?}", a.sigma_s);
+    assert!(close3(a.sigma_a, [0.45, 0.88, 0.0]), "{:?}", a.sigma_a);
+    assert_eq!(a.phase, PhaseFunction::default());
+    let m = medium_of(&b, 1);
+    assert!(close3(m.sigma_s, [0.75, 1.5, 2.25]) && close3(m.sigma_a, [2.25, 1.5, 0.75]));
+    assert_eq!(m.phase, PhaseFunction::henyey_greenstein(0.6).unwrap());
+    let m = medium_of(&b, 2);
+    assert!(close3(m.sigma_a, [0.5; 3]) && close3(m.sigma_s, [4.0, 5.0, 6.0]));
+    assert_eq!(m.phase, PhaseFunction::default());
+    // Mitsuba 3's defaults: sigma_t 1, albedo 0.75, hg g 0.8.
+    let m = medium_of(&b, 3);
+    assert!(close3(m.sigma_s, [0.75; 3]) && close3(m.sigma_a, [0.25; 3]));
+    assert_eq!(m.phase, PhaseFunction::henyey_greenstein(0.8).unwrap());
+    let m = medium_of(&b, 4);
+    assert!(close3(m.sigma_s, [1.0; 3]) && close3(m.sigma_a, [1.0; 3]));
+    assert_eq!(b.medium_index("c"), Some(2));
+}
+
+#[test]
+fn shapes_sensor_and_emitters_refer_to_media() {
+    let body = r#"<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.5"/></medium>
+<medium type="homogeneous" id="haze"><float name="sigma_t" value="0.1"/></medium>
+<bsdf type="null" id="pass"/>
+<shape type="cube"><ref id="pass"/><ref name="interior" id="fog"/></shape>
+<shape type="sphere"><float name="radius" value="0.2"/><point name="center" x="3" y="0" z="0"/>
+  <bsdf type="dielectric"/>
+  <medium type="homogeneous" name="interior"><float name="sigma_t" value="2"/></medium>
+  <ref name="exterior" id="fog"/>
+</shape>
+<shape type="sphere"><float name="radius" value="0.1"/><point name="center" x="-3" y="0" z="0"/></shape>
+<emitter type="point"><point name="position" x="0" y="0.5" z="0"/></emitter>
+<emitter type="spot"><ref id="fog"/><transform name="to_world"><lookat origin="5,5,5" target="0,0,0"/></transform></emitter>
+<emitter type="point"><point name="position" x="9" y="0" z="0"/>
+  <medium type="homogeneous"><float name="sigma_t" value="7"/></medium></emitter>
+<sensor type="perspective"><float name="fov" value="40"/><ref id="haze"/>
+<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+    let b = parse(body).unwrap();
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
+    assert_eq!(b.media().len(), 4);
+    assert!(b.materials()[b.shapes()[0].material as usize].is_null());
+    let faces = |i: usize| (b.shapes()[i].medium_inside, b.shapes()[i].medium_outside);
+    assert_eq!(faces(0), (0, NONE), "cube: interior fog");
+    assert_eq!(faces(1), (2, 0), "sphere: inline interior, exterior fog");
+    assert_eq!(faces(2), (NONE, NONE), "not a boundary");
+    assert!(close3(b.media()[2].sigma_t(), [2.0; 3]));
+    let scene = b.build().unwrap();
+    // The camera at the origin is in the fog's cube, but its ref puts it in the haze.
+    assert_eq!(scene.camera_medium, 1);
+    // Point light inside the cube: found; spot light outside it but given; the last one given
+    // inline.
+    assert_eq!(scene.light_media, vec![0, 0, 3]);
+    assert_eq!(scene.medium_at(Vec3::new(3.0, 0.0, 0.0)), 2);
+    assert_eq!(scene.medium_at(Vec3::new(-5.0, 0.0, 0.0)), NONE);
+}
+
+#[test]
+fn camera_medium_can_be_inline_and_differs_from_its_position() {
+    let body = r#"<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.5"/></medium>
+<shape type="cube"><bsdf type="null"/><ref name="interior" id="fog"/>
+  <transform name="to_world"><translate x="10"/></transform></shape>
+<sensor type="perspective"><float name="fov" value="40"/>
+  <medium type="homogeneous" id="air"><float name="sigma_t" value="0.01"/></medium>
+<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+    let scene = parse(body).unwrap().build().unwrap();
+    assert_eq!(scene.camera_medium, 1);
+    assert_eq!(
+        scene.medium_names,
+        vec!["fog".to_string(), "air".to_string()]
+    );
+    assert_eq!(scene.light_media, Vec::<u32>::new());
+    // Without the nested medium the camera (at the origin, outside the cube) is in vacuum.
+    let body = body.replace(
+        r#"<medium type="homogeneous" id="air"><float name="sigma_t" value="0.01"/></medium>"#,
+        "",
+    );
+    assert_eq!(parse(&body).unwrap().build().unwrap().camera_medium, NONE);
+}
+
+#[test]
+fn heterogeneous_media_read_vol_grids_placed_by_to_world() {
+    let dir = media_dir("grid");
+    let data: Vec<f32> = (0..24).map(|i| i as f32 / 8.0).collect();
+    let bbox = [Vec3::new(10.0, 10.0, 10.0), Vec3::new(12.0, 11.0, 14.0)];
+    std::fs::create_dir_all(dir.join("vols")).unwrap();
+    std::fs::write(
+        dir.join("vols/d.vol"),
+        encode_vol([4, 3, 2], 1, bbox, &data),
+    )
+    .unwrap();
+    let body = r#"<medium type="heterogeneous" id="smoke">
+  <volume type="gridvolume" name="sigma_t"><string name="filename" value="vols/d.vol"/>
+    <transform name="to_world"><scale x="2" y="3" z="4"/><translate x="-1" y="0" z="1"/></transform>
+  </volume>
+  <rgb name="albedo" value="0.9 0.8 0.7"/>
+  <float name="scale" value="6"/>
+</medium>
+<medium type="heterogeneous" id="plain">
+  <volume type="gridvolume" name="sigma_t"><string name="filename" value="vols/d.vol"/></volume>
+  <volume type="constvolume" name="albedo"><float name="value" value="0.5"/></volume>
+</medium>
+<medium type="heterogeneous" id="boxed">
+  <volume type="gridvolume" name="sigma_t"><string name="filename" value="vols/d.vol"/>
+    <boolean name="use_grid_bbox" value="true"/></volume>
+</medium>
+<medium type="heterogeneous" id="const">
+  <volume type="constvolume" name="sigma_t"><rgb name="value" value="1 2 3"/></volume>
+  <float name="albedo" value="0.5"/><float name="scale" value="2"/>
+</medium>"#;
+    let b = parse_at(&dir, body).unwrap();
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
+    let m = medium_of(&b, 0);
+    let MediumKind::Grid(g) = &m.kind else {
+        panic!("a grid")
+    };
+    assert_eq!(g.resolution(), [4, 3, 2]);
+    // sigma_t at density 1 is the scale; albedo splits it.
+    assert!(close3(m.sigma_t(), [6.0; 3]) && close3(m.sigma_s, [5.4, 4.8, 4.2]));
+    // Voxel (i, j, k) sits at to_world((i + 1/2)/4, (j + 1/2)/3, (k + 1/2)/2); the file's box
+    // is not used.
+    let voxel = |g: &caustica_scene::medium::DensityGrid, t: &dyn Fn(Vec3) -> Vec3| {
+        for k in 0..2 {
+            for j in 0..3 {
+                for i in 0..4 {
+                    let u = Vec3::new(
+                        (i as f32 + 0.5) / 4.0,
+                        (j as f32 + 0.5) / 3.0,
+                        (k as f32 + 0.5) / 2.0,
+                    );
+                    let want = data[(k * 3 + j) * 4 + i];
+                    let got = g.density(t(u));
+                    assert!(
+                        (got - want).abs() < 1e-5,
+                        "voxel {i} {j} {k}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+    };
+    voxel(g, &|u| {
+        u * Vec3::new(2.0, 3.0, 4.0) + Vec3::new(-1.0, 0.0, 1.0)
+    });
+    assert_eq!(g.density(Vec3::new(11.0, 10.5, 12.0)), 0.0);
+    let MediumKind::Grid(g) = &medium_of(&b, 1).kind else {
+        panic!()
+    };
+    voxel(g, &|u| u);
+    assert!(close3(medium_of(&b, 1).sigma_s, [0.5; 3]));
+    let MediumKind::Grid(g) = &medium_of(&b, 2).kind else {
+        panic!()
+    };
+    voxel(g, &|u| bbox[0] + (bbox[1] - bbox[0]) * u);
+    // A constant sigma_t: a homogeneous medium.
+    let m = medium_of(&b, 3);
+    assert!(matches!(m.kind, MediumKind::Homogeneous(_)));
+    assert!(close3(m.sigma_t(), [2.0, 4.0, 6.0]) && close3(m.sigma_s, [1.0, 2.0, 3.0]));
+    // Three channels are averaged, with an approximation warning naming the file.
+    std::fs::write(
+        dir.join("rgb.vol"),
+        encode_vol([1, 1, 1], 3, bbox, &[1.0, 2.0, 6.0]),
+    )
+    .unwrap();
+    let b = parse_at(
+        &dir,
+        r#"<medium type="heterogeneous" id="m"><volume type="gridvolume" name="sigma_t">
+<string name="filename" value="rgb.vol"/></volume></medium>"#,
+    )
+    .unwrap();
+    let MediumKind::Grid(g) = &medium_of(&b, 0).kind else {
+        panic!()
+    };
+    assert_eq!(g.max_density(), 3.0);
+    let w = b.pending_warnings();
+    assert!(
+        w.len() == 1 && w[0].contains("rgb.vol") && w[0].contains("averaged"),
+        "{w:?}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Expects a parse error in `dir/scene.xml` at `line` naming every word of `words`.
+#[track_caller]
+fn expect_media_err(dir: &Path, body: &str, line: usize, words: &[&str]) {
+    let r = parse_at(dir, body);
+    if let Err(LoadError::Parse { path, .. }) = &r {
+        assert_eq!(path, &dir.join("scene.xml"));
+    }
+    expect_err(r, line, None, words);
+}
+
+#[test]
+fn bad_media_are_errors_naming_file_line_and_expectation() {
+    let dir = media_dir("bad");
+    let bbox = [Vec3::ZERO, Vec3::ONE];
+    let good = encode_vol([2, 2, 2], 1, bbox, &[1.0; 8]);
+    std::fs::write(dir.join("short.vol"), &good[..good.len() - 4]).unwrap();
+    std::fs::write(dir.join("magic.vol"), b"VOX\x03rest-of-it").unwrap();
+    std::fs::write(dir.join("empty.vol"), encode_vol([2, 0, 2], 1, bbox, &[])).unwrap();
+    let mut nan = vec![1.0; 8];
+    nan[5] = f32::NAN;
+    std::fs::write(dir.join("nan.vol"), encode_vol([2, 2, 2], 1, bbox, &nan)).unwrap();
+    let mut neg = vec![1.0; 8];
+    neg[2] = -0.5;
+    std::fs::write(dir.join("neg.vol"), encode_vol([2, 2, 2], 1, bbox, &neg)).unwrap();
+    let grid = |file: &str| {
+        format!(
+            "<medium type=\"heterogeneous\" id=\"m\">\n<volume type=\"gridvolume\" name=\"sigma_t\">\n<string name=\"filename\" value=\"{file}\"/></volume></medium>"
+        )
+    };
+    let missing = dir.join("none.vol").display().to_string();
+    expect_media_err(
+        &dir,
+        &grid("none.vol"),
+        4,
+        &["cannot read grid file", &missing],
+    );
+    expect_media_err(
+        &dir,
+        &grid("short.vol"),
+        4,
+        &["short.vol", "truncated", "needs 80 bytes", "has 76"],
+    );
+    expect_media_err(&dir, &grid("magic.vol"), 4, &["magic.vol", "'VOL'"]);
+    expect_media_err(
+        &dir,
+        &grid("empty.vol"),
+        4,
+        &["empty.vol", "zero-size", "2×0×2"],
+    );
+    expect_media_err(
+        &dir,
+        &grid("nan.vol"),
+        4,
+        &["nan.vol", "voxel (x 1, y 0, z 1)", "NaN"],
+    );
+    expect_media_err(
+        &dir,
+        &grid("neg.vol"),
+        4,
+        &["neg.vol", "non-negative", "-0.5"],
+    );
+    // Coefficients.
+    let homo = |inner: &str| format!("<medium type=\"homogeneous\" id=\"m\">\n{inner}</medium>");
+    expect_media_err(
+        &dir,
+        &homo(r#"<rgb name="sigma_t" value="1, -2, 1"/>"#),
+        3,
+        &["sigma_t", "non-negative", "-2"],
+    );
+    expect_media_err(
+        &dir,
+        &homo("<float name=\"sigma_a\" value=\"1\"/>\n<float name=\"sigma_s\" value=\"-1\"/>"),
+        4,
+        &["sigma_s", "non-negative"],
+    );
+    expect_media_err(
+        &dir,
+        &homo(r#"<float name="sigma_t" value="nan"/>"#),
+        3,
+        &["finite", "nan"],
+    );
+    expect_media_err(
+        &dir,
+        &homo(r#"<float name="albedo" value="1.5"/>"#),
+        3,
+        &["albedo", "[0, 1]"],
+    );
+    expect_media_err(
+        &dir,
+        &homo(r#"<float name="scale" value="-1"/>"#),
+        3,
+        &["scale", "non-negative"],
+    );
+    expect_media_err(
+        &dir,
+        &homo(r#"<float name="sigma_a" value="1"/>"#),
+        2,
+        &["sigma_a", "sigma_s"],
+    );
+    expect_media_err(
+        &dir,
+        &homo(
+            r#"<float name="sigma_t" value="1"/><float name="sigma_a" value="1"/><float name="sigma_s" value="1"/>"#,
+        ),
+        2,
+        &["not both"],
+    );
+    // Phase functions.
+    for g in ["1", "-1", "1.5"] {
+        expect_media_err(
+            &dir,
+            &homo(&format!(
+                "<phase type=\"hg\"><float name=\"g\" value=\"{g}\"/></phase>"
+            )),
+            3,
+            &["hg", "(-1, 1)", g],
+        );
+    }
+    expect_media_err(
+        &dir,
+        &homo(r#"<phase type="rayleigh"/>"#),
+        3,
+        &["rayleigh", "isotropic, hg"],
+    );
+    expect_media_err(
+        &dir,
+        r#"<medium type="fancy" id="m"/>"#,
+        2,
+        &["fancy", "homogeneous, heterogeneous"],
+    );
+    // References.
+    expect_media_err(
+        &dir,
+        "<shape type=\"cube\">\n<ref name=\"interior\" id=\"fog\"/></shape>",
+        3,
+        &["medium 'fog'", "not defined"],
+    );
+    expect_media_err(
+        &dir,
+        "<bsdf type=\"diffuse\" id=\"fog\"/>\n<shape type=\"cube\"><ref name=\"exterior\" id=\"fog\"/></shape>",
+        3,
+        &["'fog' is not a medium"],
+    );
+    expect_media_err(
+        &dir,
+        "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>\n<ref id=\"nowhere\"/></sensor>",
+        3,
+        &["medium 'nowhere'", "not defined"],
+    );
+    expect_media_err(
+        &dir,
+        "<shape type=\"cube\">\n<medium type=\"homogeneous\"/></shape>",
+        3,
+        &["interior", "exterior"],
+    );
+    // A grid albedo is refused (only sigma_t may vary).
+    expect_media_err(
+        &dir,
+        &homo(
+            "<volume type=\"gridvolume\" name=\"albedo\"><string name=\"filename\" value=\"x.vol\"/></volume>",
+        ),
+        3,
+        &["albedo", "gridvolume"],
+    );
+    // Tracking that would not end is refused by the scene's check, at the medium's line.
+    std::fs::write(dir.join("ones.vol"), &good).unwrap();
+    expect_media_err(
+        &dir,
+        "<medium type=\"heterogeneous\" id=\"m\"><float name=\"scale\" value=\"1e30\"/>\n<volume type=\"gridvolume\" name=\"sigma_t\"><string name=\"filename\" value=\"ones.vol\"/></volume></medium>",
+        2,
+        &["medium 'm'", "optical depth"],
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn open_medium_boundaries_are_warned_about() {
+    let body = r#"<medium type="homogeneous" id="fog"/>
+<shape type="rectangle" id="sheet"><ref name="interior" id="fog"/></shape>
+<shape type="cube"><ref name="interior" id="fog"/></shape>
+<shape type="sphere"><ref name="exterior" id="fog"/></shape>
+<shape type="disk"><ref name="exterior" id="fog"/></shape>
+<shape type="rectangle"/>"#;
+    let b = parse(body).unwrap();
+    let w = b.pending_warnings();
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].contains("shape 'sheet'")
+            && w[0].contains("scene.xml:3")
+            && w[0].contains("not closed"),
+        "{w:?}"
+    );
+    assert!(
+        w[1].contains("disk") && w[1].contains("scene.xml:6"),
+        "{w:?}"
+    );
+    // A closed mesh from a file is not warned about, an open one is.
+    let dir = media_dir("closed");
+    let tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    std::fs::write(dir.join("tet.obj"), tet).unwrap();
+    std::fs::write(dir.join("open.obj"), &tet[..tet.len() - 8]).unwrap();
+    for (file, warned) in [("tet.obj", false), ("open.obj", true)] {
+        let b = parse_at(
+            &dir,
+            &format!(
+                r#"<medium type="homogeneous" id="fog"/>
+<shape type="obj"><string name="filename" value="{file}"/><ref name="interior" id="fog"/></shape>"#
+            ),
+        )
+        .unwrap();
+        let w = b.pending_warnings();
+        assert_eq!(!w.is_empty(), warned, "{file}: {w:?}");
+        if warned {
+            assert!(w[0].contains("3 of its 6 edges"), "{w:?}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -25,7 +25,9 @@ use crate::error::LoadError;
 use build::camera::camera;
 use build::light::light;
 use build::material::material;
+use build::medium::medium;
 use build::settings::{integrator, settings};
+use build::shape::medium_ref;
 use build::shape::shape;
 use caustica_scene::scene::SceneBuilder;
 use context::Ctx;
@@ -64,11 +66,45 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
         materials.push(material(&cx, m)?);
         names.push(name.clone());
     }
+    let mut media = Vec::with_capacity(file.medium.len());
+    let mut medium_names: Vec<String> = Vec::new();
+    for m in &file.medium {
+        let name = &m.get_ref().name;
+        if medium_names.contains(name) {
+            return Err(cx.err(m.span(), format!("a medium named '{name}' already exists")));
+        }
+        media.push(medium(&cx, m)?);
+        medium_names.push(name.clone());
+    }
     let shapes = file
         .shape
         .iter()
-        .map(|s| shape(&cx, s, &names))
+        .map(|s| shape(&cx, s, &names, &medium_names))
         .collect::<Result<Vec<_>, _>>()?;
+    let camera_medium = match &file.camera.get_ref().medium {
+        Some(n) => Some(medium_ref(&cx, "medium", n, &medium_names)?),
+        None => None,
+    };
+    let mut light_media = Vec::new();
+    for (i, l) in file.light.iter().enumerate() {
+        if let Some(n) = &l.get_ref().medium {
+            light_media.push((i, medium_ref(&cx, "medium", n, &medium_names)?));
+        }
+    }
+    let mut warnings = Vec::new();
+    for (s, (g, _, _, _, m)) in file.shape.iter().zip(&shapes) {
+        if m.is_transition()
+            && let Some(reason) = crate::media::open_boundary_reason(g)
+        {
+            let (line, _) = line_column(text, s.span().start);
+            let file_name = path
+                .file_name()
+                .map_or_else(String::new, |f| f.to_string_lossy().into_owned());
+            let shape =
+                format!("the {:?} shape at {file_name}:{line}", s.get_ref().ty).to_lowercase();
+            warnings.push(crate::media::open_boundary_warning(&shape, &reason));
+        }
+    }
     let lights = file
         .light
         .iter()
@@ -86,12 +122,24 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
     for (n, m) in names.iter().zip(materials) {
         b.add_material(n, m)?;
     }
-    for (g, m, e, flip) in shapes {
-        b.add_shape(g, m, e, flip)?;
+    for (n, m) in medium_names.iter().zip(media) {
+        b.add_medium(n, m)?;
     }
+    for (g, m, e, flip, media) in shapes {
+        b.add_shape_with_media(g, m, e, flip, media)?;
+    }
+    // The shapes' area lights come first in the builder's list.
+    let first_light = b.lights().len();
     for l in lights {
         b.add_light(l);
     }
+    if let Some(m) = camera_medium {
+        b.set_camera_medium(m);
+    }
+    for (i, m) in light_media {
+        b.set_light_medium(first_light + i, m);
+    }
+    b.warnings.extend(warnings);
     Ok(b)
 }
 

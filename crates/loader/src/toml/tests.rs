@@ -474,3 +474,365 @@ fn the_integrator_table_names_the_method_and_its_photon_options() {
         &["final_gather"],
     );
 }
+
+// ---- participating media ----
+
+use caustica_scene::intersection::NONE;
+use caustica_scene::medium::MediumKind;
+use caustica_scene::phase::PhaseFunction;
+
+fn close3(a: caustica_core::Spectrum, b: [f32; 3]) -> bool {
+    (0..3).all(|i| (a.c[i] - b[i]).abs() <= 1e-6 * b[i].abs().max(1.0))
+}
+
+#[test]
+fn media_parse_every_parameter_form() {
+    let text = format!(
+        r#"{CAMERA}medium = "thick"
+
+[[medium]]
+name = "fog"
+type = "homogeneous"
+sigma_a = 0.05
+sigma_s = [0.4, 0.5, 0.6]
+
+[[medium]]
+name = "thick"
+type = "homogeneous"
+sigma_t = [1, 2, 3]
+albedo = 0.5
+scale = 2
+phase = {{ type = "hg", g = 0.6 }}
+
+[[medium]]
+name = "iso"
+type = "homogeneous"
+sigma_a = [1, 0, 0]
+sigma_s = 1
+scale = 0.5
+phase = {{ type = "isotropic" }}
+
+[[medium]]
+name = "plume"
+type = "grid"
+density = "plume"
+res = [8, 6, 4]
+min = [-1, 0, 2]
+max = [1, 3, 4]
+sigma_t = 1
+albedo = [0.9, 0.8, 0.7]
+scale = 6
+phase = "isotropic"
+
+[[material]]
+name = "pass"
+type = "null"
+
+[[material]]
+name = "glass"
+type = "dielectric"
+
+[[shape]]
+type = "cube"
+material = "pass"
+interior = "fog"
+scale = 5
+
+[[shape]]
+type = "sphere"
+material = "glass"
+radius = 0.5
+interior = "thick"
+exterior = "fog"
+
+[[shape]]
+type = "sphere"
+material = "glass"
+center = [3, 0, 0]
+radius = 0.5
+
+[[shape]]               # an area light in the fog's cube
+type = "rectangle"
+material = "glass"
+emission = 1
+scale = 0.1
+translate = [0, -2, 0]
+
+[[light]]
+type = "point"
+position = [0, 2, 0]
+intensity = 1
+
+[[light]]
+type = "spot"
+position = [0, 3, 0]
+direction = [0, -1, 0]
+intensity = 1
+medium = "iso"
+
+[[light]]
+type = "directional"
+direction = [0, -1, 0]
+irradiance = 1
+"#
+    );
+    let b = parse(&text).unwrap();
+    assert!(
+        b.pending_warnings().is_empty(),
+        "{:?}",
+        b.pending_warnings()
+    );
+    let m = b.media();
+    assert_eq!(m.len(), 4);
+    assert!(close3(m[0].sigma_a, [0.05; 3]) && close3(m[0].sigma_s, [0.4, 0.5, 0.6]));
+    assert_eq!(m[0].phase, PhaseFunction::default());
+    // scale multiplies sigma_t (both coefficients).
+    assert!(close3(m[1].sigma_s, [1.0, 2.0, 3.0]) && close3(m[1].sigma_a, [1.0, 2.0, 3.0]));
+    assert_eq!(m[1].phase, PhaseFunction::henyey_greenstein(0.6).unwrap());
+    assert!(close3(m[2].sigma_a, [0.5, 0.0, 0.0]) && close3(m[2].sigma_s, [0.5; 3]));
+    let MediumKind::Grid(g) = &m[3].kind else {
+        panic!("a grid")
+    };
+    assert!(close3(m[3].sigma_t(), [6.0; 3]) && close3(m[3].sigma_s, [5.4, 4.8, 4.2]));
+    assert_eq!(g.resolution(), [8, 6, 4]);
+    // The grid fills [min, max]: the density at a voxel centre is the plume there.
+    for (i, j, k) in [(0u32, 0u32, 0u32), (4, 2, 1), (7, 5, 3)] {
+        let u = (Vec3::new(i as f32, j as f32, k as f32) + 0.5) / Vec3::new(8.0, 6.0, 4.0);
+        let p = Vec3::new(-1.0, 0.0, 2.0) + Vec3::new(2.0, 3.0, 2.0) * u;
+        assert!((g.density(p) - crate::plume_density(u)).abs() < 1e-5, "{u}");
+    }
+    assert_eq!(g.density(Vec3::new(0.0, 1.0, 1.9)), 0.0);
+    assert!(b.materials()[0].is_null());
+    let sides = |i: usize| (b.shapes()[i].medium_inside, b.shapes()[i].medium_outside);
+    assert_eq!(sides(0), (0, NONE));
+    assert_eq!(sides(1), (1, 0));
+    assert_eq!(sides(2), (NONE, NONE));
+    let scene = b.build().unwrap();
+    assert_eq!(scene.camera_medium, 1, "given");
+    // The area light and the point light found (in the fog cube), the spot light given, the
+    // directional light at infinity (vacuum).
+    assert_eq!(scene.light_media, vec![0, 0, 2, NONE]);
+    // Without `medium` the camera (at z = 4.1, inside the cube of half-size 5) is found in the
+    // fog; outside the cube it is in vacuum.
+    let text = text.replacen("medium = \"thick\"\n", "", 1);
+    assert_eq!(parse(&text).unwrap().build().unwrap().camera_medium, 0);
+    let text = text.replacen("scale = 5", "scale = 3", 1);
+    assert_eq!(parse(&text).unwrap().build().unwrap().camera_medium, NONE);
+}
+
+#[test]
+fn grid_media_read_vol_files_relative_to_the_scene() {
+    let dir = std::env::temp_dir().join(format!("caustica-toml-vol-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("grids")).unwrap();
+    let data: Vec<f32> = (0..12).map(|i| i as f32).collect();
+    let bbox = [Vec3::splat(7.0), Vec3::splat(9.0)];
+    std::fs::write(
+        dir.join("grids/ramp.vol"),
+        crate::vol::encode_vol([3, 2, 2], 1, bbox, &data),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("grids/rgb.vol"),
+        crate::vol::encode_vol([1, 1, 1], 3, bbox, &[1.0, 2.0, 3.0]),
+    )
+    .unwrap();
+    let medium = |file: &str| {
+        format!(
+            "{CAMERA}[[medium]]\nname = \"m\"\ntype = \"grid\"\nfile = \"{file}\"\nmin = [0, 0, 0]\nmax = [3, 2, 1]\nsigma_a = 0\nsigma_s = 0.5\n"
+        )
+    };
+    let path = dir.join("scene.toml");
+    let b = parse_toml_scene(&medium("grids/ramp.vol"), &path).unwrap();
+    let MediumKind::Grid(g) = &b.media()[0].kind else {
+        panic!()
+    };
+    // Voxel (i, j, k) at ((i + ½), (j + ½), (k + ½)/2) in the box [0, 3] × [0, 2] × [0, 1].
+    for k in 0..2 {
+        for j in 0..2 {
+            for i in 0..3 {
+                let p = Vec3::new(i as f32 + 0.5, j as f32 + 0.5, (k as f32 + 0.5) / 2.0);
+                assert!((g.density(p) - data[(k * 2 + j) * 3 + i]).abs() < 1e-5);
+            }
+        }
+    }
+    let err_of = |text: &str| match parse_toml_scene(text, &path) {
+        Err(LoadError::Parse {
+            path: p,
+            line,
+            message,
+            ..
+        }) => {
+            assert_eq!(p, path);
+            (line, message)
+        }
+        other => panic!("expected a parse error, got {:?}", other.err()),
+    };
+    let (line, msg) = err_of(&medium("grids/none.vol"));
+    assert_eq!(line, 7, "{msg}");
+    assert!(
+        msg.contains("medium 'm'") && msg.contains("grids/none.vol"),
+        "{msg}"
+    );
+    let (line, msg) = err_of(&medium("grids/rgb.vol"));
+    assert!(line == 7 && msg.contains("3 channels"), "{msg}");
+    let (line, msg) = err_of(&format!("{}res = [1, 1, 1]\n", medium("grids/ramp.vol")));
+    assert!(line == 7 && msg.contains("'res'"), "{msg}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_media_are_errors_naming_line_and_field() {
+    let h = "[[medium]]\nname = \"fog\"\ntype = \"homogeneous\"\n";
+    let grid = "[[medium]]\nname = \"g\"\ntype = \"grid\"\nsigma_t = 1\nalbedo = 0.5\n";
+    // Line 7 is the medium's table, line 10 its first field after type.
+    expect_parse_error(&format!("{CAMERA}{h}sigma = 1\n"), 10, &["sigma"]);
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_a = -1\nsigma_s = 1\n"),
+        10,
+        &["sigma_a", "non-negative"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_a = [1, nan, 1]\nsigma_s = 1\n"),
+        10,
+        &["sigma_a", "finite"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_a = 1\n"),
+        7,
+        &["sigma_a", "sigma_s", "albedo"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = [0.5, 1.2, 0]\n"),
+        7,
+        &["albedo", "[0, 1]"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nscale = -2\n"),
+        12,
+        &["scale"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nfile = \"x.vol\"\n"),
+        7,
+        &["'file'", "homogeneous"],
+    );
+    for g in ["1", "-1.0", "2.5"] {
+        expect_parse_error(
+            &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nphase = {{ type = \"hg\", g = {g} }}\n"),
+            12,
+            &["phase", "(-1, 1)"],
+        );
+    }
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nphase = \"rayleigh\"\n"),
+        12,
+        &["rayleigh"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{h}sigma_t = 1\nalbedo = 1\nphase = {{ type = \"hg\" }}\n"),
+        12,
+        &["'g'"],
+    );
+    expect_parse_error(&format!("{CAMERA}{h}type2 = 1\n"), 10, &["type2"]);
+    expect_parse_error(
+        &format!("{CAMERA}[[medium]]\nname = \"x\"\ntype = \"foam\"\n"),
+        9,
+        &["foam"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{grid}density = \"plume\"\nres = [4, 4, 4]\n"),
+        7,
+        &["'min'", "'max'"],
+    );
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{grid}density = \"plume\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n"
+        ),
+        7,
+        &["'min'", "below"],
+    );
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{grid}density = \"fire\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
+        ),
+        7,
+        &["fire", "plume"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{grid}density = \"plume\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"),
+        7,
+        &["res"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}{grid}density = \"plume\"\nres = [4, 0, 4]\n"),
+        13,
+        &["res"],
+    );
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{grid}scale = 1e30\ndensity = \"plume\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
+        ),
+        7,
+        &["medium 'g'", "optical depth"],
+    );
+    // Names.
+    let sigma = "sigma_t = 1\nalbedo = 1\n";
+    expect_parse_error(
+        &format!("{CAMERA}{h}{sigma}{h}{sigma}"),
+        12,
+        &["medium named 'fog' already exists"],
+    );
+    let m = "[[material]]\nname = \"n\"\ntype = \"null\"\n";
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{h}{sigma}{m}[[shape]]\ntype = \"cube\"\nmaterial = \"n\"\ninterior = \"smoke\"\n"
+        ),
+        18,
+        &["interior", "no medium named 'smoke'"],
+    );
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{h}{sigma}{m}[[shape]]\ntype = \"cube\"\nmaterial = \"n\"\nexterior = \"fig\"\n"
+        ),
+        18,
+        &["exterior", "'fig'"],
+    );
+    expect_parse_error(
+        "[camera]\nmedium = \"nowhere\"\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n",
+        2,
+        &["medium", "'nowhere'"],
+    );
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{h}{sigma}[[light]]\ntype = \"point\"\nintensity = 1\nmedium = \"mist\"\n"
+        ),
+        15,
+        &["medium", "'mist'"],
+    );
+    expect_parse_error(
+        &format!(
+            "{CAMERA}{h}{sigma}[[light]]\ntype = \"directional\"\ndirection = [0, -1, 0]\nirradiance = 1\nmedium = \"fog\"\n"
+        ),
+        12,
+        &["'medium'", "directional"],
+    );
+    expect_parse_error(
+        &format!("{CAMERA}[[material]]\nname = \"n\"\ntype = \"null\"\nior = 1.5\n"),
+        7,
+        &["ior", "null"],
+    );
+}
+
+#[test]
+fn open_medium_boundaries_are_warned_about_with_their_line() {
+    let text = format!(
+        "{CAMERA}[[medium]]\nname = \"fog\"\ntype = \"homogeneous\"\nsigma_t = 1\nalbedo = 1\n\n[[material]]\nname = \"n\"\ntype = \"null\"\n\n[[shape]]\ntype = \"cube\"\nmaterial = \"n\"\ninterior = \"fog\"\n\n[[shape]]\ntype = \"rectangle\"\nmaterial = \"n\"\nexterior = \"fog\"\n\n[[shape]]\ntype = \"rectangle\"\nmaterial = \"n\"\n"
+    );
+    let b = parse(&text).unwrap();
+    let w = b.pending_warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("rectangle shape at test.toml:22") && w[0].contains("not closed"),
+        "{w:?}"
+    );
+}

@@ -26,9 +26,10 @@ pub(crate) fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, LoadError
         ("radius", l.radius.is_some()),
         ("cutoff_angle", l.cutoff_angle.is_some()),
         ("beam_width", l.beam_width.is_some()),
+        ("medium", l.medium.is_some()),
     ];
     let allowed: &[&str] = match l.ty {
-        LightType::Point => &["position", "intensity"],
+        LightType::Point => &["position", "intensity", "medium"],
         LightType::Spot => &[
             "position",
             "direction",
@@ -36,9 +37,10 @@ pub(crate) fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, LoadError
             "intensity",
             "cutoff_angle",
             "beam_width",
+            "medium",
         ],
         LightType::Directional => &["direction", "irradiance"],
-        LightType::Beam => &["center", "direction", "radius", "irradiance"],
+        LightType::Beam => &["center", "direction", "radius", "irradiance", "medium"],
         LightType::Environment => &["radiance"],
     };
     check_fields(cx, &span, &what, &present, allowed)?;

@@ -35,6 +35,7 @@ pub(crate) fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, 
         MaterialType::RoughConductor => &["eta", "k", "preset", "specular", "alpha"],
         MaterialType::RoughDielectric => &["ior", "absorption", "alpha"],
         MaterialType::Phong => &["diffuse", "specular", "exponent"],
+        MaterialType::Null => &[],
     };
     check_fields(cx, &span, &what, &present, allowed)?;
     let albedo_check = |t: &Texture, field: &str| -> Result<(), LoadError> {
@@ -92,6 +93,7 @@ pub(crate) fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, 
             albedo_check(&Texture::Constant(r), "reflectance")?;
             Material::Mirror { reflectance: r }
         }
+        MaterialType::Null => Material::Null,
         MaterialType::Dielectric => Material::Dielectric { ior, absorption },
         MaterialType::RoughDielectric => Material::RoughDielectric {
             ior,

@@ -5,6 +5,7 @@ pub(crate) mod camera;
 pub(crate) mod fields;
 pub(crate) mod light;
 pub(crate) mod material;
+pub(crate) mod medium;
 pub(crate) mod settings;
 pub(crate) mod shape;
 pub(crate) mod texture;

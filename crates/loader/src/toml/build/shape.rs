@@ -8,18 +8,50 @@ use crate::toml::context::Ctx;
 use crate::toml::desc::shape::{ShapeDesc, ShapeType};
 use ::toml::Spanned;
 use caustica_core::{Spectrum, Vec2, Vec3};
+use caustica_scene::medium::MediumInterface;
 use caustica_scene::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
 
-/// A shape ready for `SceneBuilder::add_shape`: geometry, material index, emission, flip.
-pub(crate) type ShapeEntry = (ShapeGeometry, u32, Option<Spectrum>, bool);
+/// A shape ready for `SceneBuilder::add_shape_with_media`: geometry, material index, emission,
+/// flip, the media on its sides.
+pub(crate) type ShapeEntry = (ShapeGeometry, u32, Option<Spectrum>, bool, MediumInterface);
+
+/// The index of the medium a field names.
+pub(crate) fn medium_ref(
+    cx: &Ctx,
+    field: &str,
+    name: &Spanned<String>,
+    medium_names: &[String],
+) -> Result<u32, LoadError> {
+    medium_names
+        .iter()
+        .rposition(|n| n == name.get_ref())
+        .map(|i| i as u32)
+        .ok_or_else(|| {
+            cx.err(
+                name.span(),
+                format!(
+                    "field '{field}': no medium named '{}' (declare it in a [[medium]] table)",
+                    name.get_ref()
+                ),
+            )
+        })
+}
 
 pub(crate) fn shape(
     cx: &Ctx,
     s: &Spanned<ShapeDesc>,
     material_names: &[String],
+    medium_names: &[String],
 ) -> Result<ShapeEntry, LoadError> {
     let span = s.span();
     let s = s.get_ref();
+    let mut media = MediumInterface::default();
+    if let Some(n) = &s.interior {
+        media.inside = medium_ref(cx, "interior", n, medium_names)?;
+    }
+    if let Some(n) = &s.exterior {
+        media.outside = medium_ref(cx, "exterior", n, medium_names)?;
+    }
     let what = format!("a {:?} shape", s.ty).to_lowercase();
     let present = [
         ("filename", s.filename.is_some()),
@@ -127,5 +159,6 @@ pub(crate) fn shape(
         material,
         s.emission.map(|e| e.0),
         s.flip_normals.unwrap_or(false),
+        media,
     ))
 }

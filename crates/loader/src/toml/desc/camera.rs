@@ -25,4 +25,6 @@ pub(crate) struct CameraDesc {
     pub(crate) height: Count,
     pub(crate) lens_radius: Option<NonNeg>,
     pub(crate) focus_distance: Option<Positive>,
+    /// The medium the camera sits in, by name (found from its position when absent).
+    pub(crate) medium: Option<::toml::Spanned<String>>,
 }

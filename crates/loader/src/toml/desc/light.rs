@@ -28,4 +28,6 @@ pub(crate) struct LightDesc {
     pub(crate) radius: Option<Positive>,
     pub(crate) cutoff_angle: Option<Positive>,
     pub(crate) beam_width: Option<Positive>,
+    /// The medium the light emits into, by name (found from its position when absent).
+    pub(crate) medium: Option<::toml::Spanned<String>>,
 }

@@ -14,6 +14,8 @@ pub(crate) enum MaterialType {
     RoughConductor,
     RoughDielectric,
     Phong,
+    /// Index-matched boundary of a medium.
+    Null,
 }
 
 #[derive(Deserialize)]

@@ -6,6 +6,7 @@ pub(crate) mod film;
 pub(crate) mod integrator;
 pub(crate) mod light;
 pub(crate) mod material;
+pub(crate) mod medium;
 pub(crate) mod render;
 pub(crate) mod shape;
 pub(crate) mod texture;
@@ -17,6 +18,7 @@ use film::FilmDesc;
 use integrator::IntegratorDesc;
 use light::LightDesc;
 use material::MaterialDesc;
+use medium::MediumDesc;
 use render::RenderDesc;
 use serde::Deserialize;
 use shape::ShapeDesc;
@@ -32,6 +34,8 @@ pub(crate) struct SceneFile {
     pub(crate) integrator: Option<::toml::Spanned<IntegratorDesc>>,
     #[serde(default)]
     pub(crate) material: Vec<Spanned<MaterialDesc>>,
+    #[serde(default)]
+    pub(crate) medium: Vec<Spanned<MediumDesc>>,
     #[serde(default)]
     pub(crate) shape: Vec<Spanned<ShapeDesc>>,
     #[serde(default)]

@@ -22,6 +22,9 @@ pub(crate) struct ShapeDesc {
     #[serde(rename = "type")]
     pub(crate) ty: ShapeType,
     pub(crate) material: String,
+    /// Medium on the shape's inside (−normal side) and outside, by name.
+    pub(crate) interior: Option<::toml::Spanned<String>>,
+    pub(crate) exterior: Option<::toml::Spanned<String>>,
     pub(crate) emission: Option<Rgb>,
     pub(crate) flip_normals: Option<bool>,
     pub(crate) filename: Option<String>,
