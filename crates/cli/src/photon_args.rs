@@ -121,16 +121,32 @@ pub struct PhotonArgs {
     pub no_auto_bandwidth: bool,
     /// Volume photons stored in scenes with scattering media (every photon method; default
     /// 100000; at least 1).
-    #[arg(long, allow_negative_numbers = true, help_heading = "Participating media")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Participating media"
+    )]
     pub volume_photons: Option<usize>,
     /// Photons per k-NN volume estimate (vpm) and per pilot radius (beam estimate; default 32).
-    #[arg(long, allow_negative_numbers = true, help_heading = "Participating media")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Participating media"
+    )]
     pub volume_k: Option<usize>,
     /// A fixed radius (m) for every volume photon instead of the k-NN one.
-    #[arg(long, allow_negative_numbers = true, help_heading = "Participating media")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Participating media"
+    )]
     pub volume_radius: Option<f32>,
     /// Step (m) of vpm's ray marching (default: half the median photon radius).
-    #[arg(long, allow_negative_numbers = true, help_heading = "Participating media")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Participating media"
+    )]
     pub march_step: Option<f32>,
     /// Kernel of the beam estimate: epanechnikov (default) or uniform.
     #[arg(long, help_heading = "Participating media")]

@@ -379,7 +379,7 @@ mod tests {
             let mut rng = Pcg32::new(8, 2);
             for _ in 0..10 {
                 let o = Vec3::new(-1.0, rng.next_f32() - 0.5, rng.next_f32() - 0.5);
-                let d = (Vec3::new(1.0, 0.3 * (rng.next_f32() - 0.5), 0.2) ).normalize();
+                let d = (Vec3::new(1.0, 0.3 * (rng.next_f32() - 0.5), 0.2)).normalize();
                 let ray = Ray::new(o, d);
                 let span = MediumSpan {
                     ray: &ray,
@@ -394,9 +394,9 @@ mod tests {
                     errs.push((m - beam).abs());
                 }
                 assert!(beam > 0.0);
-                // The error falls with the step and ends below 0.5 % of the beam estimate.
+                // At the finest steps the march is within 0.5 % of the beam estimate.
+                assert!(errs[2] < 0.01 * beam, "march {errs:?} vs beam {beam}");
                 assert!(errs[3] < 0.005 * beam, "march {errs:?} vs beam {beam}");
-                assert!(errs[3] <= errs[0], "{errs:?}");
             }
         }
     }

@@ -61,7 +61,7 @@ impl DensityGrid {
             ));
         }
         let det = to_world.matrix3.determinant();
-        if !(det.is_finite() && det.abs() > 1e-20) || !to_world.translation.is_finite() {
+        if !(det.is_finite() && det.abs() > 1e-20 && to_world.translation.is_finite()) {
             return Err("the grid's to_world transform is not invertible".into());
         }
         let to_grid = to_world.inverse();
@@ -274,7 +274,7 @@ impl<'a> MajorantSegments<'a> {
             t: lo,
             t_end: hi,
         };
-        if !(lo < hi) {
+        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
             s.t_end = f32::NEG_INFINITY;
             return s;
         }
@@ -300,7 +300,7 @@ impl<'a> MajorantSegments<'a> {
 impl Iterator for MajorantSegments<'_> {
     type Item = (f32, f32, f32);
     fn next(&mut self) -> Option<(f32, f32, f32)> {
-        if !(self.t < self.t_end) {
+        if self.t.partial_cmp(&self.t_end) != Some(std::cmp::Ordering::Less) {
             return None;
         }
         let m = self.grid.majorant_res;

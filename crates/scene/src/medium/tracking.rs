@@ -64,7 +64,7 @@ impl TrackingSampler {
     }
     /// Next uniform number in [0, 1).
     #[inline]
-    pub fn next(&mut self) -> f32 {
+    pub fn next_1d(&mut self) -> f32 {
         if (self.used as usize) < self.first.len() {
             self.used += 1;
             return self.first[self.used as usize - 1];
@@ -75,7 +75,7 @@ impl TrackingSampler {
                 Pcg32::new(
                     mix_seed(
                         ((a.to_bits() as u64) << 32) | b.to_bits() as u64,
-                        &[0x7472_6b],
+                        &[0x0074_726b],
                     ),
                     0x6d65_6469,
                 )
@@ -134,7 +134,7 @@ pub fn sample_free_flight(
     ts: &mut TrackingSampler,
 ) -> FreeFlight {
     let sigma_t = m.sigma_t();
-    let hero = ((ts.next() * 3.0) as usize).min(2);
+    let hero = ((ts.next_1d() * 3.0) as usize).min(2);
     let mut a = Spectrum::ONE;
     let mut steps = 0u32;
     for (t0, t1, dmax) in segments(m, ray, t_max) {
@@ -147,7 +147,7 @@ pub fn sample_free_flight(
         }
         let mut t = t0;
         loop {
-            let dt = -(1.0 - ts.next()).ln() / maj[hero];
+            let dt = -(1.0 - ts.next_1d()).ln() / maj[hero];
             if t + dt >= t1 || steps >= MAX_TRACKING_STEPS {
                 a *= (maj * -(t1 - t)).exp();
                 break;
@@ -162,7 +162,7 @@ pub fn sample_free_flight(
             let st = sigma_t * d;
             let null = (maj - st).map(|v| v.max(0.0));
             // Real with probability σ_t,h/σ̄_h (no number drawn when that is 1).
-            let real = null[hero] <= 0.0 || ts.next() * maj[hero] < st[hero];
+            let real = null[hero] <= 0.0 || ts.next_1d() * maj[hero] < st[hero];
             if real {
                 let p = mean(a * st);
                 if p <= 0.0 {
@@ -209,7 +209,7 @@ pub fn transmittance(m: &Medium, ray: &Ray, t_max: f32, ts: &mut TrackingSampler
         }
         let mut t = t0;
         loop {
-            t += -(1.0 - ts.next()).ln() / maj;
+            t += -(1.0 - ts.next_1d()).ln() / maj;
             if t >= t1 || steps >= MAX_TRACKING_STEPS {
                 break;
             }
@@ -217,7 +217,7 @@ pub fn transmittance(m: &Medium, ray: &Ray, t_max: f32, ts: &mut TrackingSampler
             let st = sigma_t * g.density(ray.at(t));
             tr *= (Spectrum::ONE - st / maj).map(|v| v.max(0.0));
             if tr.max_component() < 0.05 {
-                if ts.next() < 0.75 {
+                if ts.next_1d() < 0.75 {
                     return Spectrum::ZERO;
                 }
                 tr /= 0.25;
