@@ -158,7 +158,7 @@ const BEAM: Beam = Beam {
     top: 1.0,
 };
 
-fn beam_scene(size: u32) -> Scene {
+fn beam_scene(size: u32, sphere: f32) -> Scene {
     let mut b = SceneBuilder::new("beam");
     let null = b.add_material("boundary", Material::Null).unwrap();
     let m = b
@@ -174,7 +174,7 @@ fn beam_scene(size: u32) -> Scene {
     b.add_shape_with_media(
         ShapeGeometry::Sphere(Sphere {
             center: Vec3::ZERO,
-            radius: 20.0,
+            radius: sphere,
         }),
         null,
         None,
@@ -203,17 +203,26 @@ fn beam_scene(size: u32) -> Scene {
 }
 
 /// L along `ray`: ∫ σ_s/(4π) E₀ e^{−σ_t (top − y)} e^{−σ_t t} dt over the part of the ray inside
-/// the beam (seed notes TM5, here by quadrature along the ray).
-fn single_scattering(o: Vec3, d: Vec3) -> f64 {
+/// the beam (seed notes TM5, here by quadrature along the ray), with the medium filling the
+/// sphere of radius `rm` around the origin (distances counted inside it only).
+fn single_scattering(o: Vec3, d: Vec3, rm: f64) -> f64 {
     let n = 4000;
     let t_max = 4.0f64;
     let h = t_max / n as f64;
     let mut s = 0.0f64;
+    let mut t_in = None;
     for i in 0..n {
         let t = (i as f64 + 0.5) * h;
         let x = o.as_dvec3() + d.as_dvec3() * t;
-        if x.x * x.x + x.z * x.z < (BEAM.radius as f64).powi(2) && x.y < BEAM.top as f64 {
-            s += (-(BEAM.sigma_t as f64) * (BEAM.top as f64 - x.y + t)).exp();
+        if x.length() >= rm {
+            continue;
+        }
+        let t0 = *t_in.get_or_insert(t - 0.5 * h);
+        let r2 = x.x * x.x + x.z * x.z;
+        if r2 < (BEAM.radius as f64).powi(2) && x.y < BEAM.top as f64 {
+            let top = (BEAM.top as f64).min((rm * rm - r2).max(0.0).sqrt());
+            let inside = (top - x.y).max(0.0) + (t - t0);
+            s += (-(BEAM.sigma_t as f64) * inside).exp();
         }
     }
     s * h * BEAM.sigma_s as f64 * BEAM.e0 as f64 / (4.0 * std::f64::consts::PI)
@@ -221,10 +230,19 @@ fn single_scattering(o: Vec3, d: Vec3) -> f64 {
 
 #[test]
 fn single_scattering_of_a_beam_matches_the_closed_form() {
+    // The camera and the beam's aperture inside the medium (a sphere of radius 20), then both
+    // outside it (radius 0.9): connections cross the null boundary.
+    for sphere in [20.0f32, 0.9] {
+        single_scattering_case(sphere);
+    }
+}
+
+fn single_scattering_case(sphere: f32) {
     let size = 16u32;
-    let scene = beam_scene(size);
-    assert_ne!(scene.camera_medium, NONE, "the camera sits in the medium");
-    assert_ne!(scene.light_media[0], NONE, "the beam starts in the medium");
+    let scene = beam_scene(size, sphere);
+    let inside = sphere > 5.0;
+    assert_eq!(scene.camera_medium != NONE, inside, "camera medium");
+    assert_eq!(scene.light_media[0] != NONE, inside, "beam medium");
     // Expected pixel values: the integral averaged over 4×4 rays per pixel (box filter).
     let mut scene_box = scene;
     scene_box.settings.filter = caustica_scene::scene::FilterKind::Box;
@@ -240,7 +258,7 @@ fn single_scattering_of_a_beam_matches_the_closed_form() {
                         y as f32 + (b as f32 + 0.5) / 4.0,
                     );
                     let r = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
-                    s += single_scattering(r.o, r.d);
+                    s += single_scattering(r.o, r.d, sphere as f64);
                 }
             }
             s / 16.0

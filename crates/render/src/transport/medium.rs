@@ -188,6 +188,7 @@ pub fn shadow_transmittance(
         };
     }
     let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
+    let end = shadow.at(shadow.t_max);
     let mut ray = *shadow;
     let mut medium = medium;
     let mut tr = Spectrum::ONE;
@@ -208,12 +209,17 @@ pub fn shadow_transmittance(
             return Spectrum::ZERO;
         }
         medium = si.medium_toward(ray.d, medium);
-        let next = si.spawn_ray(ray.d);
-        let left = ray.t_max - (next.o - ray.o).dot(ray.d);
-        if left <= 0.0 {
+        // Re-aim at the connection's end: the origin moves off the boundary along its normal,
+        // and a ray kept parallel would end beside the target, possibly on the far side of the
+        // light's own surface.
+        if ray.t_max <= si.t {
             return tr;
         }
-        ray = Ray::with_t_max(next.o, ray.d, left);
+        ray = if end.is_finite() {
+            si.spawn_ray_to(end)
+        } else {
+            si.spawn_ray(ray.d)
+        };
     }
     Spectrum::ZERO
 }

@@ -433,3 +433,63 @@ mod tests {
         let _ = sample_free_flight(&m, &ray, 3.0, &mut ts);
     }
 }
+
+#[cfg(test)]
+mod grid_consistency {
+    use super::*;
+    use crate::medium::DensityGrid;
+    use crate::phase::PhaseFunction;
+    use caustica_core::{Affine3A, Vec3};
+
+    #[test]
+    fn delta_and_ratio_tracking_match_the_optical_depth_in_a_random_grid() {
+        let mut rng = Pcg32::new(21, 5);
+        let data: Vec<f32> = (0..13 * 11 * 9)
+            .map(|_| rng.next_f32().powi(3) * 2.0)
+            .collect();
+        let to_world = Affine3A::from_scale_rotation_translation(
+            Vec3::new(1.2, 1.6, 1.2),
+            glam::Quat::from_rotation_z(0.3),
+            Vec3::new(-0.6, -1.0, -0.6),
+        );
+        let g = DensityGrid::new([13, 11, 9], data, to_world).unwrap();
+        let m = Medium::grid(
+            g,
+            Spectrum::ZERO,
+            Spectrum::splat(1.5),
+            PhaseFunction::default(),
+        );
+        for r in 0..12 {
+            let o = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 3.0 - 1.5;
+            let target = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
+            let d = (target - o).normalize();
+            let ray = Ray::new(o, d);
+            let t_max = 3.0;
+            let want = (-(m.optical_depth(&ray, 0.0, t_max)[0] as f64)).exp();
+            let n = 40_000;
+            let (mut pass, mut ratio, mut ratio2) = (0.0f64, 0.0f64, 0.0f64);
+            for _ in 0..n {
+                let mut ts = TrackingSampler::new(rng.next_f32(), rng.next_f32());
+                if let FreeFlight::Pass { weight } = sample_free_flight(&m, &ray, t_max, &mut ts) {
+                    pass += weight[0] as f64;
+                }
+                let mut ts = TrackingSampler::new(rng.next_f32(), rng.next_f32());
+                let t = transmittance(&m, &ray, t_max, &mut ts)[0] as f64;
+                ratio += t;
+                ratio2 += t * t;
+            }
+            let p = pass / n as f64;
+            let se = (want * (1.0 - want) / n as f64).sqrt();
+            assert!(
+                (p - want).abs() < 4.5 * se + 1e-4,
+                "ray {r}: delta {p} vs {want}"
+            );
+            let rm = ratio / n as f64;
+            let rse = ((ratio2 / n as f64 - rm * rm) / n as f64).sqrt();
+            assert!(
+                (rm - want).abs() < 4.5 * rse + 1e-4,
+                "ray {r}: ratio {rm} vs {want}"
+            );
+        }
+    }
+}
