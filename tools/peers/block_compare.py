@@ -69,11 +69,14 @@ def blocks(shape, b):
 
 
 class Side:
-    def __init__(self, paths, bsize, kappa=None):
+    def __init__(self, paths, bsize, kappa=None, mask=None):
         if len(paths) < 2:
             raise SystemExit("each side needs at least two independent renders")
         imgs = np.stack([read(p).mean(axis=2) for p in paths])  # (n, h, w), channel mean
         self.rgb = np.mean([read(p) for p in paths], axis=0)
+        if mask is None:
+            mask = np.ones(imgs.shape[1:], bool)
+        self.mask = mask
         self.n = len(paths)
         self.mean = imgs.mean(axis=0)
         var_pix = imgs.var(axis=0, ddof=1)
@@ -85,10 +88,13 @@ class Side:
         self.kappa = self.kappa_est if kappa is None else kappa
         self.bmean, self.bvar = {}, {}
         for by, bx, sy, sx in blocks(self.shape, bsize):
-            npix = self.mean[sy, sx].size
-            self.bmean[by, bx] = self.mean[sy, sx].mean()
+            m = mask[sy, sx]
+            npix = int(m.sum())
+            if npix == 0:
+                continue
+            self.bmean[by, bx] = self.mean[sy, sx][m].mean()
             # variance of the block mean of the n-render average
-            self.bvar[by, bx] = self.kappa * var_pix[sy, sx].sum() / npix ** 2 / self.n
+            self.bvar[by, bx] = self.kappa * var_pix[sy, sx][m].sum() / npix ** 2 / self.n
 
 
 def correlation_factor(res, lag=3):
@@ -116,12 +122,18 @@ def main():
     ap.add_argument("--kappa-a", type=float, default=None, help="noise correlation factor of A (default: estimated)")
     ap.add_argument("--kappa-b", type=float, default=None, help="noise correlation factor of B (default: estimated)")
     ap.add_argument("--check", type=float, default=None, help="fail if |relative mean difference| > CHECK")
+    ap.add_argument("--mask", default=None,
+                    help="image (EXR/PFM) of the same size: only pixels where it is non-zero are compared "
+                         "(e.g. leave out pixels that see glass directly, which a light tracer cannot render)")
     a = ap.parse_args()
     na, nb = a.names
-    A, B = Side(a.a, a.block, a.kappa_a), Side(a.b, a.block, a.kappa_b)
+    mask = None if a.mask is None else read(a.mask).mean(axis=2) != 0
+    A, B = Side(a.a, a.block, a.kappa_a, mask), Side(a.b, a.block, a.kappa_b, mask)
     if A.shape != B.shape:
         raise SystemExit(f"size mismatch: {A.shape} vs {B.shape}")
-    ma, mb = A.mean.mean(), B.mean.mean()
+    ma, mb = A.mean[A.mask].mean(), B.mean[B.mask].mean()
+    if mask is not None:
+        print(f"mask {a.mask}: {int(mask.sum())} of {mask.size} pixels compared")
     nblk = len(A.bmean)
     gvar = (sum(A.bvar.values()) + sum(B.bvar.values())) / nblk ** 2
     gz = (ma - mb) / np.sqrt(gvar) if gvar > 0 else float("inf") * np.sign(ma - mb)
@@ -137,7 +149,8 @@ def main():
     for (by, bx), m in A.bmean.items():
         sy = slice(by * a.block, min((by + 1) * a.block, h))
         sx = slice(bx * a.block, min((bx + 1) * a.block, w))
-        if not (A.any_light[sy, sx].any() or B.any_light[sy, sx].any()):
+        valid = A.mask[sy, sx]
+        if not (A.any_light[sy, sx][valid].any() or B.any_light[sy, sx][valid].any()):
             continue
         d = m - B.bmean[by, bx]
         v = A.bvar[by, bx] + B.bvar[by, bx]
