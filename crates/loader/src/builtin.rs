@@ -609,8 +609,7 @@ fn smoke_plume() -> Result<SceneBuilder, SceneError> {
 /// a hard-edged spot light (20° cone, 60 W/sr, 3 m up, pointing down) in homogeneous fog
 /// (σ_s = 0.15, σ_a = 0.01 m⁻¹, isotropic; the ball's outside is the fog, its inside vacuum)
 /// filling a null box [−4, 4] × [−0.001, 5] × [−4, 4] around an 8 × 8 m grey floor (the camera,
-/// at z = 4.5, is outside it: a light tracer connecting fog vertices next to a camera in the fog
-/// meets the 1/d² singularity of the camera importance). The ball
+/// at z = 4.5, looks in from outside). The ball
 /// focuses the cone into a bright beam and a caustic on the floor, L S+ M E and L S+ D E paths;
 /// the light tracer renders them.
 fn volume_caustic() -> Result<SceneBuilder, SceneError> {
