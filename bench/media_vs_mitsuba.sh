@@ -10,7 +10,7 @@
 # The caustica half is skipped with a message when caustica fails on a scene.
 #   bash bench/media_vs_mitsuba.sh [spp (default 256)] [out dir (default ~/.cache/caustica/media-peers)]
 # Environment: CAUSTICA_BIN=path (default: cargo build --release, ./target/release/caustica),
-# SKIP_CAUSTICA=1 (Mitsuba only), NULL_TEST=1 (also two more Mitsuba renders, seeds 3 and 4, and
+# SCENES="fog-box ..." (a subset), SKIP_CAUSTICA=1 (Mitsuba only), NULL_TEST=1 (also two more Mitsuba renders, seeds 3 and 4, and
 # a Mitsuba-vs-Mitsuba block test: checks the test's calibration, rms z should be about 1),
 # MITSUBA_KAPPA (default 3.13: the noise correlation of Mitsuba's gaussian pixel filter, see
 # block_compare.py; caustica's is estimated from its two renders unless CAUSTICA_KAPPA is set).
@@ -32,7 +32,7 @@ elif [ -z "${CAUSTICA_BIN:-}" ] && ! cargo build --release -q --bin caustica; th
 fi
 status=0
 summary=()
-for scene in fog-box fog-box-hg smoke-plume; do
+for scene in ${SCENES:-fog-box fog-box-hg smoke-plume}; do
   xml="scenes/mitsuba/$scene.xml"
   echo "== $scene ($spp spp)"
   mt=()
