@@ -78,43 +78,18 @@ pub fn trace_segment(
             },
         };
     }
-    let mut ray = *ray;
-    let mut weight = Spectrum::ONE;
-    for _ in 0..MAX_NULL_CROSSINGS {
-        stats.rays += 1;
-        let hit = scene.intersect(&ray);
-        let t_end = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
-        if *medium != NONE {
-            let m = &scene.media[*medium as usize];
-            let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
-            match m.sample_free_flight(&ray, t_end, &mut ts) {
-                FreeFlight::Scatter { t, weight: w } => {
-                    return Segment::Medium {
-                        p: ray.at(t),
-                        medium: *medium,
-                        weight: weight * w,
-                    };
-                }
-                FreeFlight::Pass { weight: w } => weight *= w,
-            }
+    walk_spans(scene, ray, medium, stats, |span, _| {
+        let m = &scene.media[span.medium as usize];
+        let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
+        match m.sample_free_flight(span.ray, span.t_max, &mut ts) {
+            FreeFlight::Scatter { t, weight } => Err(Segment::Medium {
+                p: span.ray.at(t),
+                medium: span.medium,
+                weight: span.tr * weight,
+            }),
+            FreeFlight::Pass { weight } => Ok(weight),
         }
-        let Some(si) = hit else {
-            return Segment::Escaped {
-                transmittance: weight,
-            };
-        };
-        if !scene.materials[si.material as usize].is_null() {
-            return Segment::Surface {
-                transmittance: weight * interior_transmittance(scene, &si, &ray),
-                si,
-            };
-        }
-        *medium = si.medium_toward(ray.d, *medium);
-        ray = si.spawn_ray(ray.d);
-    }
-    Segment::Escaped {
-        transmittance: Spectrum::ZERO,
-    }
+    })
 }
 
 /// [`trace_segment`] without scattering: the ray goes on to the next non-null surface (or out),
@@ -131,32 +106,52 @@ pub fn trace_transmitted(
     if !scene.has_media {
         return trace_segment(scene, ray, medium, sampler, stats);
     }
+    walk_spans(scene, ray, medium, stats, |s, stats| {
+        let m = &scene.media[s.medium as usize];
+        let (r, t_max) = (*s.ray, s.t_max);
+        span(s, stats);
+        let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
+        Ok(m.transmittance(&r, t_max, &mut ts))
+    })
+}
+
+/// The loop both tracers share: closest hits along `ray`, each stretch inside a medium shown to
+/// `in_medium` (with the weight so far as `tr`), which returns the stretch's weight or ends the
+/// segment; `null` boundaries crossed (changing `*medium`), the first other surface or the escape
+/// returned with the product of the weights.
+fn walk_spans(
+    scene: &Scene,
+    ray: &Ray,
+    medium: &mut u32,
+    stats: &mut RenderStats,
+    mut in_medium: impl FnMut(MediumSpan, &mut RenderStats) -> Result<Spectrum, Segment>,
+) -> Segment {
     let mut ray = *ray;
-    let mut tr = Spectrum::ONE;
+    let mut weight = Spectrum::ONE;
     for _ in 0..MAX_NULL_CROSSINGS {
         stats.rays += 1;
         let hit = scene.intersect(&ray);
         let t_end = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
         if *medium != NONE {
-            let m = &scene.media[*medium as usize];
-            span(
-                MediumSpan {
-                    ray: &ray,
-                    t_max: t_end,
-                    medium: *medium,
-                    tr,
-                },
-                stats,
-            );
-            let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
-            tr *= m.transmittance(&ray, t_end, &mut ts);
+            let span = MediumSpan {
+                ray: &ray,
+                t_max: t_end,
+                medium: *medium,
+                tr: weight,
+            };
+            match in_medium(span, stats) {
+                Ok(w) => weight *= w,
+                Err(segment) => return segment,
+            }
         }
         let Some(si) = hit else {
-            return Segment::Escaped { transmittance: tr };
+            return Segment::Escaped {
+                transmittance: weight,
+            };
         };
         if !scene.materials[si.material as usize].is_null() {
             return Segment::Surface {
-                transmittance: tr * interior_transmittance(scene, &si, &ray),
+                transmittance: weight * interior_transmittance(scene, &si, &ray),
                 si,
             };
         }
