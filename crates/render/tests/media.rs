@@ -36,8 +36,13 @@ fn render_depth(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64, depth:
 /// A sphere of radius 1 at the origin bounded by a `null` surface, filled with `medium`, in a
 /// constant environment of radiance 1, seen from outside.
 fn furnace(medium: Medium) -> Scene {
+    furnace_in(medium, Material::Null)
+}
+
+/// [`furnace`] with the sphere's surface made of `boundary` (a dielectric: murky water).
+fn furnace_in(medium: Medium, boundary: Material) -> Scene {
     let mut b = SceneBuilder::new("volumetric furnace");
-    let null = b.add_material("boundary", Material::Null).unwrap();
+    let null = b.add_material("boundary", boundary).unwrap();
     let m = b.add_medium("fog", medium).unwrap();
     b.add_shape_with_media(
         ShapeGeometry::Sphere(Sphere {
@@ -81,6 +86,66 @@ fn lumpy_grid() -> DensityGrid {
         |u| 1.0 + 0.8 * (7.0 * u.x).sin() * (5.0 * u.y).cos() * (3.0 * u.z + 1.0).sin(),
     )
     .unwrap()
+}
+
+/// Checks that each channel of an image whose pixels all have expectation 1 has mean 1 within
+/// 5σ/√n, σ the spread of its pixels (their noise).
+fn assert_furnace(img: &Image, what: &str) {
+    for c in 0..3 {
+        let v: Vec<f64> = img.data.iter().map(|p| p[c] as f64).collect();
+        let n = v.len() as f64;
+        let mean = v.iter().sum::<f64>() / n;
+        let sigma = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+        assert!(sigma < 0.2, "{what} channel {c}: noise {sigma}");
+        assert!(
+            (mean - 1.0).abs() < 5.0 * sigma / n.sqrt() + 1e-3,
+            "{what} channel {c}: image mean {mean} (σ {sigma})"
+        );
+    }
+}
+
+#[test]
+fn murky_water_in_a_white_furnace_is_one_everywhere() {
+    // A dielectric sphere (IOR 1.33) holding a non-absorbing medium, in a constant environment
+    // of radiance 1: a closed lossless system in equilibrium looks like its surroundings, the η²
+    // of radiance inside the water undone on the way out. Tests rays that refract into a
+    // medium, scatter there, meet total internal reflection and leave.
+    for phase in [
+        PhaseFunction::default(),
+        PhaseFunction::henyey_greenstein(0.5).unwrap(),
+    ] {
+        let medium = Medium::homogeneous(Spectrum::ZERO, Spectrum::splat(1.2), phase);
+        let scene = furnace_in(
+            medium,
+            Material::Dielectric {
+                ior: 1.33,
+                absorption: Spectrum::ZERO,
+            },
+        );
+        let img = render_depth(&scene, IntegratorKind::Path, 256, 5, 1000);
+        assert_furnace(&img, &format!("murky water {phase:?}"));
+    }
+    // The rays do enter the water's medium: with absorption the sphere darkens (the centre
+    // pixels see it), where clear water would stay at 1.
+    let absorbing = Medium::homogeneous(
+        Spectrum::splat(1.0),
+        Spectrum::splat(0.2),
+        PhaseFunction::default(),
+    );
+    let scene = furnace_in(
+        absorbing,
+        Material::Dielectric {
+            ior: 1.33,
+            absorption: Spectrum::ZERO,
+        },
+    );
+    let img = render_depth(&scene, IntegratorKind::Path, 64, 5, 1000);
+    let data = &img.data;
+    let centre = (5..7)
+        .flat_map(|y| (5..7).map(move |x| data[y * 12 + x][1] as f64))
+        .sum::<f64>()
+        / 4.0;
+    assert!(centre < 0.7, "absorbing water looks {centre}");
 }
 
 #[test]
