@@ -17,20 +17,23 @@ use caustica_scene::phase::PhaseFunction;
 use caustica_scene::shape::{ShapeGeometry, Sphere};
 use caustica_scene::{Scene, SceneBuilder};
 
-fn render_depth(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64, depth: u32) -> Image {
-    let opts = RenderOptions {
-        spp,
-        seed,
-        limits: PathLimits {
-            max_depth: depth,
-            ..PathLimits::default()
+/// Adds a sphere of `radius` at the origin made of `boundary`, holding medium `m` (vacuum
+/// outside).
+fn add_medium_sphere(b: &mut SceneBuilder, radius: f32, boundary: u32, m: u32) {
+    b.add_shape_with_media(
+        ShapeGeometry::Sphere(Sphere {
+            center: Vec3::ZERO,
+            radius,
+        }),
+        boundary,
+        None,
+        false,
+        MediumInterface {
+            inside: m,
+            outside: NONE,
         },
-        ..Default::default()
-    };
-    render(scene, kind, &opts, &RenderControl::silent())
-        .expect("valid options")
-        .film
-        .to_image()
+    )
+    .unwrap();
 }
 
 /// A sphere of radius 1 at the origin bounded by a `null` surface, filled with `medium`, in a
@@ -44,20 +47,7 @@ fn furnace_in(medium: Medium, boundary: Material) -> Scene {
     let mut b = SceneBuilder::new("volumetric furnace");
     let null = b.add_material("boundary", boundary).unwrap();
     let m = b.add_medium("fog", medium).unwrap();
-    b.add_shape_with_media(
-        ShapeGeometry::Sphere(Sphere {
-            center: Vec3::ZERO,
-            radius: 1.0,
-        }),
-        null,
-        None,
-        false,
-        MediumInterface {
-            inside: m,
-            outside: NONE,
-        },
-    )
-    .unwrap();
+    add_medium_sphere(&mut b, 1.0, null, m);
     b.add_light(Light::Environment(EnvironmentLight::constant(
         Spectrum::ONE,
     )));
@@ -122,7 +112,7 @@ fn murky_water_in_a_white_furnace_is_one_everywhere() {
                 absorption: Spectrum::ZERO,
             },
         );
-        let img = render_depth(&scene, IntegratorKind::Path, 256, 5, 1000);
+        let img = common::render_image_depth(&scene, IntegratorKind::Path, 256, 5, 1000);
         assert_furnace(&img, &format!("murky water {phase:?}"));
     }
     // The rays do enter the water's medium: with absorption the sphere darkens (the centre
@@ -139,7 +129,7 @@ fn murky_water_in_a_white_furnace_is_one_everywhere() {
             absorption: Spectrum::ZERO,
         },
     );
-    let img = render_depth(&scene, IntegratorKind::Path, 64, 5, 1000);
+    let img = common::render_image_depth(&scene, IntegratorKind::Path, 64, 5, 1000);
     let data = &img.data;
     let centre = (5..7)
         .flat_map(|y| (5..7).map(move |x| data[y * 12 + x][1] as f64))
@@ -167,7 +157,7 @@ fn volumetric_white_furnace_is_one_everywhere() {
             let scene = furnace(medium);
             // The camera is outside, the sphere fills the centre of the image.
             assert_eq!(scene.camera_medium, NONE);
-            let img = render_depth(&scene, IntegratorKind::Path, 256, 3, 1000);
+            let img = common::render_image_depth(&scene, IntegratorKind::Path, 256, 3, 1000);
             // Every pixel has the same expectation (1), so the spread of the pixels is the
             // per-pixel noise σ; blocks of 4×4 pixels must agree with 1 within 5σ/4 and the
             // whole image within 5σ/√n, per channel.
@@ -236,20 +226,7 @@ fn beam_scene(size: u32, sphere: f32) -> Scene {
             ),
         )
         .unwrap();
-    b.add_shape_with_media(
-        ShapeGeometry::Sphere(Sphere {
-            center: Vec3::ZERO,
-            radius: sphere,
-        }),
-        null,
-        None,
-        false,
-        MediumInterface {
-            inside: m,
-            outside: NONE,
-        },
-    )
-    .unwrap();
+    add_medium_sphere(&mut b, sphere, null, m);
     b.add_light(Light::Beam(BeamLight::new(
         Vec3::new(0.0, BEAM.top, 0.0),
         -Vec3::Y,
@@ -337,7 +314,7 @@ fn single_scattering_case(sphere: f32) {
     ] {
         // Two independent renders measure the noise of each 4×4 block.
         let imgs: Vec<Image> = (0..2)
-            .map(|seed| render_depth(&scene_box, kind, spp, 10 + seed, 2))
+            .map(|seed| common::render_image_depth(&scene_box, kind, spp, 10 + seed, 2))
             .collect();
         let block = |img: &Image, bx: u32, by: u32| {
             let mut s = 0.0f64;

@@ -3,9 +3,11 @@
 //! Henyey–Greenstein) and the smoke plume (a voxel grid): the whole image within 2 % and every
 //! 8×8 block within 4σ, the noise measured from two renders per side.
 
+mod common;
+
 use caustica_core::image_io::Image;
 use caustica_loader::builtin_scene;
-use caustica_render::{IntegratorKind, PathLimits, RenderControl, RenderOptions, render};
+use caustica_render::IntegratorKind;
 use caustica_scene::Scene;
 use caustica_scene::scene::FilterKind;
 
@@ -20,22 +22,6 @@ fn scene(name: &str) -> Scene {
     // One-pixel box: pixel noise is independent, so a block's variance is its pixels'.
     scene.settings.filter = FilterKind::Box;
     scene
-}
-
-fn run(scene: &Scene, kind: IntegratorKind, spp: u32, seed: u64) -> Image {
-    let opts = RenderOptions {
-        spp,
-        seed,
-        limits: PathLimits {
-            max_depth: 64,
-            ..PathLimits::default()
-        },
-        ..Default::default()
-    };
-    render(scene, kind, &opts, &RenderControl::silent())
-        .expect("valid options")
-        .film
-        .to_image()
 }
 
 /// Block means of the average of two renders and the variance of those means, from the pixels'
@@ -66,8 +52,10 @@ fn blocks(a: &Image, b: &Image, block: u32) -> Vec<([f64; 3], [f64; 3])> {
 
 fn agree(name: &str, pt_spp: u32, lt_spp: u32) {
     let scene = scene(name);
-    let pt = [1, 2].map(|s| run(&scene, IntegratorKind::Path, pt_spp, s));
-    let lt = [3, 4].map(|s| run(&scene, IntegratorKind::LightTrace, lt_spp, s));
+    let pt =
+        [1, 2].map(|s| common::render_image_depth(&scene, IntegratorKind::Path, pt_spp, s, 64));
+    let lt = [3, 4]
+        .map(|s| common::render_image_depth(&scene, IntegratorKind::LightTrace, lt_spp, s, 64));
     let bp = blocks(&pt[0], &pt[1], 8);
     let bl = blocks(&lt[0], &lt[1], 8);
     let (mut sp, mut sl) = ([0.0; 3], [0.0; 3]);

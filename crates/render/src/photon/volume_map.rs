@@ -252,8 +252,7 @@ impl VolumeMap {
                     self.tree
                         .knn_unsorted(x, self.settings.k, f32::INFINITY, &mut nn);
                     let r2 = nn.iter().map(|n| n.dist2).fold(0.0f32, f32::max);
-                    // Sum in index order: the same estimate whatever order the tree returns.
-                    nn.sort_unstable_by_key(|n| n.index);
+                    // The tree's order is fixed for a given map and query: a deterministic sum.
                     for n in &nn {
                         let ph = &self.photons[n.index as usize];
                         sum += ph.flux * medium.phase.eval(wo, ph.wi);

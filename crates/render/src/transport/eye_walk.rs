@@ -4,7 +4,8 @@
 //! splatting all walk (and, later, the visible points of progressive photon mapping and the
 //! importons of photon cone focusing).
 //!
-//! The walker owns the chain: segments ([`trace_segment`], with their transmittance), the
+//! The walker owns the chain: segments ([`trace_transmitted`], weighted by their transmittance, each
+//! medium span shown to the visitor for volume estimates), the
 //! vertices ([`Vertex`]), and the delta scattering between them (radiance mode, 3 sampler
 //! dimensions per delta vertex). The visitor decides what each vertex is for: it sees every
 //! vertex, delta or not, and the escape; it returns [`Flow::Stop`] to end the chain there. The

@@ -1,10 +1,13 @@
 //! What every path walks, light side and camera side alike.
 //!
 //! * [`medium`] — the one place a ray segment meets what lies between surfaces
-//!   ([`trace_segment`]: today Beer–Lambert absorption inside dielectrics; free-flight sampling
-//!   in participating media goes here, and every walker then sees it).
+//!   ([`trace_segment`]: free flights in participating media, null boundaries crossed, the
+//!   Beer–Lambert interior of absorbing dielectrics; [`medium::trace_transmitted`] for estimators
+//!   that gather in-scattered light along the ray; [`medium::shadow_transmittance`] for
+//!   connections).
 //! * [`vertex`] — the scattering state at a surface vertex ([`Vertex`]: BSDF, shading frame,
-//!   shading-normal correction, side tests) and rays spawned off surfaces.
+//!   shading-normal correction, side tests), at a medium vertex ([`vertex::MediumVertex`]:
+//!   phase function), both behind [`vertex::Scatterer`], and rays spawned off surfaces.
 //! * [`limits`] — path length limits and Russian roulette ([`PathLimits`]).
 //! * [`direct`] — next-event estimation ([`sample_direct`]).
 //! * [`light_walk`] — the one light-path walker (light tracer, photon tracers, photon

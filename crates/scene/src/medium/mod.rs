@@ -103,24 +103,6 @@ impl Medium {
         }
     }
 
-    /// Scattering coefficient σ_s(p) (m⁻¹).
-    #[inline]
-    pub fn sigma_s_at(&self, p: Vec3) -> Spectrum {
-        self.sigma_s * self.density(p)
-    }
-
-    /// Extinction coefficient σ_t(p) (m⁻¹).
-    #[inline]
-    pub fn sigma_t_at(&self, p: Vec3) -> Spectrum {
-        self.sigma_t() * self.density(p)
-    }
-
-    /// True if the medium neither absorbs nor scatters anywhere.
-    pub fn is_vacuum(&self) -> bool {
-        self.sigma_t().is_black()
-            || matches!(&self.kind, MediumKind::Grid(g) if g.max_density() <= 0.0)
-    }
-
     /// Samples where along `ray` (unit direction) before `t_max` the next real scattering
     /// happens, or that there is none; see [`tracking::sample_free_flight`].
     #[inline]
