@@ -151,6 +151,30 @@ pub struct PhotonArgs {
     /// Kernel of the beam estimate: epanechnikov (default) or uniform.
     #[arg(long, help_heading = "Participating media")]
     pub beam_kernel: Option<String>,
+    /// Smoothing s of the volume photon differentials (vpd; seed 002 eq. 5-6; a positive finite
+    /// number; default: --smoothing, the surface footprints').
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Participating media"
+    )]
+    pub volume_smoothing: Option<Smoothing>,
+    /// Smallest semi-axis (m) of a vpd kernel, against fireflies from collapsed footprints
+    /// (default: none, as traced; the notes count the kernels it widens).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Participating media"
+    )]
+    pub min_semi_axis: Option<f32>,
+    /// vpd kernels from the differential vectors as traced, not projected onto the plane
+    /// across the photon's direction (seed 000 sec. 8.4 literally; default: projected).
+    #[arg(long, help_heading = "Participating media")]
+    pub paper_axes: bool,
+    /// Beam estimates weight a kernel by its whole chord (eq. 8.11-8.15 as printed) even where
+    /// the ray ends inside it (default: the part of the chord the ray covers).
+    #[arg(long, help_heading = "Participating media")]
+    pub whole_chord: bool,
 }
 
 impl PhotonArgs {
@@ -210,6 +234,21 @@ impl PhotonArgs {
                 ),
             };
         }
+        o.volume.smoothing = self.volume_smoothing;
+        if let Some(r) = self.min_semi_axis {
+            if !(r > 0.0 && r.is_finite()) {
+                anyhow::bail!(
+                    "--min-semi-axis must be a positive finite length in metres, got {r}"
+                );
+            }
+            o.volume.min_semi_axis = Some(r);
+        }
+        if self.paper_axes {
+            o.volume.axes = caustica_render::photon::volume_map::AxesRule::PaperLiteral;
+        }
+        if self.whole_chord {
+            o.volume.clip = caustica_density::beam::Clip::WholeChord;
+        }
         // What neither the command line nor (see `RenderSettings::resolve`) the scene gives is
         // chosen automatically.
         let auto = !self.no_auto_bandwidth;
@@ -249,5 +288,9 @@ impl PhotonArgs {
             || self.volume_radius.is_some()
             || self.march_step.is_some()
             || self.beam_kernel.is_some()
+            || self.volume_smoothing.is_some()
+            || self.min_semi_axis.is_some()
+            || self.paper_axes
+            || self.whole_chord
     }
 }

@@ -58,6 +58,12 @@ pub struct RenderSettings {
     /// light tracer and photon mapping without the noise of other light (lighttrace, pm, dpm, pdm).
     #[arg(long)]
     pub caustics_only: bool,
+    /// Render only light scattered by media straight toward the camera (paths ... M E along
+    /// the camera ray's first segment), for comparing volume estimates with the light tracer
+    /// without the noise of surface light (lighttrace, vpm, beam, vpd, and the other photon
+    /// methods in media scenes).
+    #[arg(long)]
+    pub volume_only: bool,
     /// Image width in pixels, overriding the scene's (any scene kind). Alone, the height
     /// follows to keep the aspect ratio; the field of view is kept along the scene's fov axis.
     #[arg(long, allow_negative_numbers = true)]
@@ -197,6 +203,7 @@ impl RenderSettings {
             },
             photons: self.photon.options()?,
             caustics_only: self.caustics_only,
+            volume_only: self.volume_only,
             crop: None,
         };
         let mut opts = opts;
@@ -223,7 +230,7 @@ impl RenderSettings {
             && !kind.uses_photon_differentials()
         {
             warnings.push(format!(
-                "--smoothing and --normal-distance only affect --integrator pdm and pds, not '{}'",
+                "--smoothing and --normal-distance only affect --integrator pdm, pds and vpd, not '{}'",
                 kind.name()
             ));
         }
@@ -501,7 +508,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         | IntegratorKind::PhotonDifferentialMapping
         | IntegratorKind::PhotonDifferentialSplatting
         | IntegratorKind::VolumetricPhotonMapping
-        | IntegratorKind::BeamRadianceEstimate => {
+        | IntegratorKind::BeamRadianceEstimate
+        | IntegratorKind::VolumePhotonDifferentials => {
             format!("{:.1} spp", out.film.mean_samples())
         }
         IntegratorKind::LightTrace => format!("{} light paths", out.film.light_paths()),

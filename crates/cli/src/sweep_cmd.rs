@@ -25,7 +25,8 @@ pub struct SweepArgs {
     /// The render option to vary, by its long name: spp, seed, max-depth, sampler, time,
     /// integrator, photons, global-photons, k, global-k, max-radius, kernel, final-gather,
     /// tangent-projection, disc-test, caustics-only, estimator, bandwidth, q, alpha,
-    /// noise-scale, isotropic, smoothing, normal-distance or no-auto-bandwidth.
+    /// noise-scale, isotropic, smoothing, normal-distance, no-auto-bandwidth, volume-only,
+    /// volume-photons, volume-k, volume-radius, march-step, volume-smoothing or min-semi-axis.
     #[arg(long, value_name = "NAME")]
     pub param: String,
     /// The values of the parameter, comma-separated (e.g. 10,50,200 or uniform,cone:1.1);
@@ -136,6 +137,13 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("smoothing", |s| &mut s.photon.smoothing),
     ("normal-distance", |s| &mut s.photon.normal_distance),
     ("no-auto-bandwidth", |s| &mut s.photon.no_auto_bandwidth),
+    ("volume-only", |s| &mut s.volume_only),
+    ("volume-photons", |s| &mut s.photon.volume_photons),
+    ("volume-k", |s| &mut s.photon.volume_k),
+    ("volume-radius", |s| &mut s.photon.volume_radius),
+    ("march-step", |s| &mut s.photon.march_step),
+    ("volume-smoothing", |s| &mut s.photon.volume_smoothing),
+    ("min-semi-axis", |s| &mut s.photon.min_semi_axis),
 ];
 
 /// The setter of parameter `name` (a long option name, with or without the leading `--`).

@@ -90,6 +90,7 @@ pub mod camera;
 pub mod emission;
 mod error;
 pub mod footprint;
+pub mod medium;
 pub mod ray_differential;
 pub mod reflection;
 pub mod refraction;
@@ -103,6 +104,10 @@ pub use emission::{
 };
 pub use error::DiffError;
 pub use footprint::{Footprint, footprint_area, photon_solid_angle, silverman};
+pub use medium::{
+    AxesRule, Rotation, free_flight, phase_area_factor, reflect_sampled, scatter,
+    surface_area_factor, volume_axes,
+};
 pub use ray_differential::{RayDiff, normalize_differential};
 pub use reflection::{reflect, reflection_jacobians};
 pub use refraction::{refract, refract_direction, refraction_jacobians};

@@ -12,6 +12,7 @@
 use crate::integrator::IntegratorKind;
 use crate::options::RenderOptions;
 use crate::photon::bandwidth_choice as choice;
+use crate::photon::differential::volume_trace::{Ellipsoid, VolumeLanding};
 use crate::photon::differential::{DiffPhoton, Landing, RECORD_LANDING_PATHS};
 use crate::photon::eye_map::EyeVertex;
 use crate::photon::plan::PhotonBudget;
@@ -128,13 +129,28 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
     }
     let p = &opts.photons;
     let photon = size_of::<Photon>() as u64 + TREE_BYTES_PER_POINT;
-    if p.global_photons > 0 && !opts.caustics_only {
+    if p.global_photons > 0 && !opts.caustics_only && !opts.volume_only {
         m.add("global map", p.global_photons as u64, photon);
     }
-    let caustic = photon_count(p.caustic_budget(), 1);
+    let caustic = if opts.volume_only {
+        0
+    } else {
+        photon_count(p.caustic_budget(), 1)
+    };
     if !opts.caustics_only && scene.media.iter().any(|m| !m.sigma_s.is_black()) {
-        // Photon, radius, k-d tree node and about two BVH nodes per photon.
-        m.add("volume map", p.volume.photons as u64, photon + 4 + 2 * 32);
+        if kind == IntegratorKind::VolumePhotonDifferentials {
+            // Record while tracing, photon, ellipsoid, bound and about two BVH nodes per photon.
+            m.add(
+                "volume photon differentials",
+                p.volume.photons as u64,
+                (size_of::<VolumeLanding>() + size_of::<Photon>() + size_of::<Ellipsoid>()) as u64
+                    + 4
+                    + 2 * 32,
+            );
+        } else {
+            // Photon, radius, k-d tree node and about two BVH nodes per photon.
+            m.add("volume map", p.volume.photons as u64, photon + 4 + 2 * 32);
+        }
     }
     match kind {
         IntegratorKind::PhotonMapping
@@ -145,11 +161,12 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
             caustic,
             photon + DIFFUSION_BYTES_PER_PHOTON,
         ),
-        IntegratorKind::PhotonDifferentialMapping => m.add(
-            "caustic footprints",
-            caustic,
-            (size_of::<Landing>() + size_of::<DiffPhoton>()) as u64 + TREE_BYTES_PER_POINT,
-        ),
+        IntegratorKind::PhotonDifferentialMapping | IntegratorKind::VolumePhotonDifferentials => m
+            .add(
+                "caustic footprints",
+                caustic,
+                (size_of::<Landing>() + size_of::<DiffPhoton>()) as u64 + TREE_BYTES_PER_POINT,
+            ),
         IntegratorKind::PhotonDifferentialSplatting => {
             let samples = pixels.saturating_mul(opts.spp as u64);
             // Records and tiles alive together while the map is built, and an accumulator each.
@@ -167,7 +184,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         }
         IntegratorKind::Path | IntegratorKind::LightTrace => {}
     }
-    if choice::chooses(kind, p) {
+    if choice::chooses(kind, p) && !opts.volume_only {
         // The automatic bandwidth choice (freed before the photon pass; counted anyway, as an
         // upper bound): the pilot map (footprints for pdm and pds), the scored camera vertices,
         // and the hold-out image with the splat buffers of one wave.

@@ -419,3 +419,131 @@ fn volume_photon_estimates_of_single_scattering_approach_the_closed_form() {
         assert!(errs[1].0.abs() < tolerance, "{kind:?}: totals {errs:?}");
     }
 }
+
+#[test]
+fn volume_photon_differentials_follow_the_volume_photons_with_the_beams_cross_section() {
+    // The differential tracer walks the volume photon tracer's paths (same stream, same
+    // events, same flux). With single scattering from the collimated beam (D_ω = 0, eq. 2–6 of
+    // seed 002 on the aperture) the free flight keeps D_u x, D_v x (eq. 8.21 with dω = 0), so
+    // every first-scatter kernel is the ball of diameter 2 s R/√N (sec. 8.4's D_w x = max):
+    // V = (π/6) d³ (eq. 8.16).
+    use caustica_render::Smoothing;
+    use caustica_render::photon::differential::volume_trace::{
+        KernelRule, trace_volume_differentials,
+    };
+    use caustica_render::photon::plan::PhotonBudget;
+    use caustica_render::photon::tracer::{MapKind, trace_photons};
+    let scene = beam_scene(8, 20.0);
+    let opts = RenderOptions {
+        seed: 5,
+        limits: PathLimits {
+            max_depth: 2,
+            ..PathLimits::default()
+        },
+        ..Default::default()
+    };
+    let s = 3.0f32;
+    let budget = PhotonBudget::Records(5000);
+    let d = trace_volume_differentials(
+        &scene,
+        budget,
+        Smoothing::new(s).unwrap(),
+        KernelRule::default(),
+        0x77,
+        &opts,
+        &mut |_| true,
+    );
+    let plain = trace_photons(&scene, budget, MapKind::Volume, 0x77, &opts, &mut |_| true);
+    assert_eq!(
+        (d.paths, d.photons.len()),
+        (plain.paths, plain.photons.len())
+    );
+    assert_eq!((d.collapsed, d.failed), (0, 0));
+    for (a, b) in d.photons.iter().zip(&plain.photons) {
+        assert_eq!((a.p, a.wi, a.flux), (b.p, b.wi, b.flux));
+    }
+    let diameter = 2.0 * s * BEAM.radius / (d.paths as f32).sqrt();
+    let want = std::f32::consts::PI / 6.0 * diameter.powi(3);
+    for k in &d.kernels {
+        let v = 1.0 / k.inv_volume;
+        assert!((v - want).abs() < 1e-3 * want, "V = {v}, want {want}");
+        assert!((k.bound - diameter / 2.0).abs() < 1e-3 * diameter);
+    }
+    // With multiple scattering (isotropic: k ≡ 1, a rotation) the kernels keep that size.
+    let deep = RenderOptions {
+        limits: PathLimits::default(),
+        ..opts
+    };
+    let d = trace_volume_differentials(
+        &scene,
+        budget,
+        Smoothing::new(s).unwrap(),
+        KernelRule::default(),
+        0x77,
+        &deep,
+        &mut |_| true,
+    );
+    let diameter = 2.0 * s * BEAM.radius / (d.paths as f32).sqrt();
+    let want = std::f32::consts::PI / 6.0 * diameter.powi(3);
+    assert!(d.photons.iter().any(|p| p.depth > 2));
+    for k in &d.kernels {
+        assert!((1.0 / k.inv_volume - want).abs() < 2e-3 * want);
+    }
+}
+
+#[test]
+fn volume_photon_differentials_of_single_scattering_match_the_closed_form() {
+    // TM5 for vpd: each photon's flux is spread over its ellipsoid (eq. 8.16's V with the mean-1
+    // kernel), so the total over the image is the closed form's within the noise, at two photon
+    // counts; and no pixel is NaN. With seed 002's scaling the kernels shrink as 1/√N, so the
+    // number of kernels a ray crosses (about s² times the ray's length in the beam over the
+    // beam's length) does not grow with N: the noise per camera ray is set by s, the bias by N.
+    let size = 16u32;
+    let mut scene = beam_scene(size, 20.0);
+    scene.settings.filter = caustica_scene::scene::FilterKind::Box;
+    let cam = &scene.camera;
+    let mut want = 0.0f64;
+    for i in 0..size * size {
+        let (x, y) = (i % size, i / size);
+        for a in 0..4 {
+            for b in 0..4 {
+                let raster = Vec2::new(
+                    x as f32 + (a as f32 + 0.5) / 4.0,
+                    y as f32 + (b as f32 + 0.5) / 4.0,
+                );
+                let r = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
+                want += single_scattering(r.o, r.d, 20.0) / 16.0;
+            }
+        }
+    }
+    for n in [25_000usize, 100_000] {
+        let mut opts = RenderOptions {
+            spp: 16,
+            seed: 3,
+            limits: PathLimits {
+                max_depth: 2,
+                ..PathLimits::default()
+            },
+            ..Default::default()
+        };
+        opts.photons.volume.photons = n;
+        opts.photons.volume.smoothing = Some(caustica_render::Smoothing::new(6.0).unwrap());
+        opts.photons.light_paths = Some(1000);
+        opts.photons.global_photons = 0;
+        let img = render(
+            &scene,
+            IntegratorKind::VolumePhotonDifferentials,
+            &opts,
+            &RenderControl::silent(),
+        )
+        .expect("valid options")
+        .film
+        .to_image();
+        assert!(img.data.iter().all(|p| p.iter().all(|c| c.is_finite())));
+        let got: f64 = img.data.iter().map(|p| p[1] as f64).sum();
+        assert!(
+            (got / want - 1.0).abs() < 0.03,
+            "{n} photons: total {got} vs closed form {want}"
+        );
+    }
+}

@@ -49,6 +49,7 @@ pub fn trace_light_path(
                     let es = start.emission;
                     if !es.delta_pos
                         && !opts.caustics_only
+                        && !opts.volume_only
                         && opts.limits.max_depth >= 1
                         && let Some(n) = es.normal
                         && let Some(cs) = camera.sample_wi(es.ray.o, u_lens)
@@ -77,6 +78,7 @@ pub fn trace_light_path(
                         v.bsdf.flags().is_smooth()
                     };
                     if wanted
+                        && !opts.volume_only
                         && lv.depth < opts.limits.max_depth
                         && let Some(cs) = camera.sample_wi(v.si.p, u_lens)
                         && out.reaches(filter, cs.raster)

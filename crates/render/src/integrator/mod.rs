@@ -46,6 +46,10 @@ pub enum IntegratorKind {
     /// `pm` with the volume photons gathered by the beam radiance estimate (Jarosz et al. 2008;
     /// seed 000 eq. 8.4): one query per camera ray, exact chord integrals of the kernels.
     BeamRadianceEstimate,
+    /// Photon differentials in participating media (seed 000 ch. 8.3–8.4): `pdm` for surfaces,
+    /// and volume photons traced as photon differentials whose ellipsoidal kernels every camera
+    /// and gather ray integrates exactly (eq. 8.4, 8.14–8.16).
+    VolumePhotonDifferentials,
 }
 
 impl IntegratorKind {
@@ -58,6 +62,7 @@ impl IntegratorKind {
         "pds",
         "vpm",
         "beam",
+        "vpd",
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -69,6 +74,7 @@ impl IntegratorKind {
             IntegratorKind::PhotonDifferentialSplatting => "pds",
             IntegratorKind::VolumetricPhotonMapping => "vpm",
             IntegratorKind::BeamRadianceEstimate => "beam",
+            IntegratorKind::VolumePhotonDifferentials => "vpd",
         }
     }
 
@@ -82,6 +88,7 @@ impl IntegratorKind {
                 | IntegratorKind::PhotonDifferentialSplatting
                 | IntegratorKind::VolumetricPhotonMapping
                 | IntegratorKind::BeamRadianceEstimate
+                | IntegratorKind::VolumePhotonDifferentials
         )
     }
 
@@ -110,11 +117,14 @@ impl IntegratorKind {
             IntegratorKind::BeamRadianceEstimate => {
                 "pm with the beam radiance estimate of volume photons (seed 000 eq. 8.4)"
             }
+            IntegratorKind::VolumePhotonDifferentials => {
+                "photon differentials in media: pdm with ellipsoidal volume photons (seed 000 ch. 8)"
+            }
         }
     }
 
     /// Every integrator, in the order of [`IntegratorKind::NAMES`].
-    pub const ALL: [IntegratorKind; 8] = [
+    pub const ALL: [IntegratorKind; 9] = [
         IntegratorKind::Path,
         IntegratorKind::LightTrace,
         IntegratorKind::PhotonMapping,
@@ -123,6 +133,7 @@ impl IntegratorKind {
         IntegratorKind::PhotonDifferentialSplatting,
         IntegratorKind::VolumetricPhotonMapping,
         IntegratorKind::BeamRadianceEstimate,
+        IntegratorKind::VolumePhotonDifferentials,
     ];
 
     /// Checks that this integrator can render with `opts` (the values themselves are valid by
@@ -134,6 +145,16 @@ impl IntegratorKind {
         if opts.caustics_only && self == IntegratorKind::Path {
             return Err(OptionError::Conflict(
                 "--caustics-only needs --integrator lighttrace, pm, dpm, pdm or pds: the path tracer cannot isolate L S+ D E paths".into(),
+            ));
+        }
+        if opts.volume_only && self == IntegratorKind::Path {
+            return Err(OptionError::Conflict(
+                "--volume-only needs --integrator lighttrace or a photon method (vpm, beam, vpd): the path tracer does not isolate paths ... M E".into(),
+            ));
+        }
+        if opts.volume_only && opts.caustics_only {
+            return Err(OptionError::Conflict(
+                "--volume-only and --caustics-only select disjoint paths (... M E and L S+ D E); give one".into(),
             ));
         }
         match (self, opts.photons.caustic_estimator) {
@@ -202,7 +223,9 @@ impl IntegratorKind {
     pub fn uses_photon_differentials(self) -> bool {
         matches!(
             self,
-            IntegratorKind::PhotonDifferentialMapping | IntegratorKind::PhotonDifferentialSplatting
+            IntegratorKind::PhotonDifferentialMapping
+                | IntegratorKind::PhotonDifferentialSplatting
+                | IntegratorKind::VolumePhotonDifferentials
         )
     }
 }
@@ -219,6 +242,7 @@ impl std::str::FromStr for IntegratorKind {
             "pds" => Ok(Self::PhotonDifferentialSplatting),
             "vpm" => Ok(Self::VolumetricPhotonMapping),
             "beam" | "bre" => Ok(Self::BeamRadianceEstimate),
+            "vpd" => Ok(Self::VolumePhotonDifferentials),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -258,19 +282,21 @@ pub fn render(
     // Automatic bandwidths first, in a small share of the progress bar (and of a time budget);
     // without any the stage is untouched, so explicit values render exactly as before.
     let chosen;
-    let (opts, stage) = if crate::photon::bandwidth_choice::chooses(kind, &opts.photons) {
-        let choice_stage = stage
-            .part(0.0, CHOICE_SHARE)
-            .labelled("choosing bandwidths");
-        let c = crate::photon::bandwidth_choice::choose(scene, kind, opts, &mut |f| {
-            choice_stage.report_and_go_on(f)
-        });
-        notes.extend(c.note);
-        chosen = c.opts;
-        (&chosen, stage.part(CHOICE_SHARE, 1.0))
-    } else {
-        (opts, stage)
-    };
+    // Volume-only renders shade no surface: no surface bandwidth to choose.
+    let (opts, stage) =
+        if crate::photon::bandwidth_choice::chooses(kind, &opts.photons) && !opts.volume_only {
+            let choice_stage = stage
+                .part(0.0, CHOICE_SHARE)
+                .labelled("choosing bandwidths");
+            let c = crate::photon::bandwidth_choice::choose(scene, kind, opts, &mut |f| {
+                choice_stage.report_and_go_on(f)
+            });
+            notes.extend(c.note);
+            chosen = c.opts;
+            (&chosen, stage.part(CHOICE_SHARE, 1.0))
+        } else {
+            (opts, stage)
+        };
     let stats: RenderStats = match kind {
         IntegratorKind::Path => {
             let stage = stage.labelled("path tracing");
@@ -299,16 +325,23 @@ pub fn render(
                 PhotonMaps::for_integrator(scene, kind, opts, p)
             })
         }
-        IntegratorKind::VolumetricPhotonMapping | IntegratorKind::BeamRadianceEstimate => {
+        IntegratorKind::VolumetricPhotonMapping
+        | IntegratorKind::BeamRadianceEstimate
+        | IntegratorKind::VolumePhotonDifferentials => {
             let mut o = opts.clone();
-            o.photons.volume.estimate = if kind == IntegratorKind::VolumetricPhotonMapping {
-                VolumeEstimate::March
-            } else {
-                VolumeEstimate::Beam
+            let (estimate, surfaces) = match kind {
+                IntegratorKind::VolumetricPhotonMapping => {
+                    (VolumeEstimate::March, IntegratorKind::PhotonMapping)
+                }
+                IntegratorKind::BeamRadianceEstimate => {
+                    (VolumeEstimate::Beam, IntegratorKind::PhotonMapping)
+                }
+                _ => (VolumeEstimate::Differentials, kind),
             };
+            o.photons.volume.estimate = estimate;
             let o = &o;
             photon_mapping::render(scene, o, &stage, &mut film, &filter, &mut notes, |p| {
-                PhotonMaps::for_integrator(scene, IntegratorKind::PhotonMapping, o, p)
+                PhotonMaps::for_integrator(scene, surfaces, o, p)
             })
         }
     };

@@ -16,9 +16,10 @@ use super::IntegratorKind;
 use crate::control::Stage;
 use crate::options::{CausticEstimator, RenderOptions};
 use crate::photon::caustic::{CausticEstimate, global_radiance};
+use crate::photon::differential::volume_trace::{KernelRule, trace_volume_differentials};
 use crate::photon::map::PhotonMap;
 use crate::photon::tracer::{MapKind, TracedPhotons, trace_photons};
-use crate::photon::volume_map::VolumeMap;
+use crate::photon::volume_map::{VolumeEstimate, VolumeMap};
 use crate::stats::RenderStats;
 use crate::transport::direct::sample_direct;
 use crate::transport::eye_walk::{EyeEvent, Flow, walk_eye};
@@ -48,6 +49,8 @@ pub struct PhotonMaps {
     pub stats: RenderStats,
     /// Messages for the user (e.g. fewer photons than requested).
     pub warnings: Vec<String>,
+    /// Facts about the maps for the render's notes (e.g. dropped photon differentials).
+    pub notes: Vec<String>,
 }
 
 impl PhotonMaps {
@@ -66,10 +69,13 @@ impl PhotonMaps {
             (caustic, traced.warning, traced.stats)
         };
         Self::with_caustic(scene, opts, progress, |progress| match kind {
+            // Only the volume estimate is wanted: no surface is shaded.
+            _ if opts.volume_only => (CausticEstimate::Splatted, None, RenderStats::default()),
             IntegratorKind::DiffusionPhotonMapping => {
                 density(CausticEstimator::Diffusion, progress)
             }
-            IntegratorKind::PhotonDifferentialMapping => {
+            IntegratorKind::PhotonDifferentialMapping
+            | IntegratorKind::VolumePhotonDifferentials => {
                 CausticEstimate::footprints(scene, opts, progress)
             }
             IntegratorKind::PhotonDifferentialSplatting => {
@@ -112,18 +118,47 @@ impl PhotonMaps {
         stats += g.stats;
         let mut warnings: Vec<String> = warning.into_iter().chain(g.warning).collect();
         let start = if has_global { 2.0 * share } else { share };
+        let mut notes = Vec::new();
         let volume = has_volume.then(|| {
-            let v = trace_photons(
-                scene,
-                crate::photon::plan::PhotonBudget::Records(opts.photons.volume.photons),
-                MapKind::Volume,
-                VOLUME_STREAM,
-                opts,
-                &mut |f| progress(start + share * f),
-            );
+            let settings = opts.photons.volume;
+            let budget = crate::photon::plan::PhotonBudget::Records(settings.photons);
+            let progress = &mut |f| progress(start + share * f);
+            if settings.estimate == VolumeEstimate::Differentials {
+                let rule = KernelRule {
+                    axes: settings.axes,
+                    min_semi_axis: settings.min_semi_axis,
+                };
+                let smoothing = settings
+                    .smoothing
+                    .unwrap_or(opts.photons.footprints.smoothing);
+                let v = trace_volume_differentials(
+                    scene,
+                    budget,
+                    smoothing,
+                    rule,
+                    VOLUME_STREAM,
+                    opts,
+                    progress,
+                );
+                stats += v.stats;
+                warnings.extend(v.warning);
+                notes.push(format!(
+                    "volume photon differentials: smoothing s = {smoothing}, {} scattering events, {} stored, {} dropped with a flat kernel, {} dropped where the differential could not be propagated{}",
+                    v.events,
+                    v.photons.len(),
+                    v.collapsed,
+                    v.failed,
+                    match settings.min_semi_axis {
+                        Some(r) => format!(", {} widened to the minimum semi-axis {r} m", v.widened),
+                        None => String::new(),
+                    }
+                ));
+                return VolumeMap::from_ellipsoids(v.photons, v.kernels, v.paths, settings);
+            }
+            let v = trace_photons(scene, budget, MapKind::Volume, VOLUME_STREAM, opts, progress);
             stats += v.stats;
             warnings.extend(v.warning);
-            VolumeMap::new(v.photons, v.paths, opts.photons.volume)
+            VolumeMap::new(v.photons, v.paths, settings)
         });
         Self {
             caustic,
@@ -131,6 +166,7 @@ impl PhotonMaps {
             volume,
             stats,
             warnings,
+            notes,
         }
     }
 
@@ -141,7 +177,7 @@ impl PhotonMaps {
 
     /// True when the render needs the global map (indirect light; caustics alone need none).
     fn wants_global(opts: &RenderOptions) -> bool {
-        opts.photons.global_photons > 0 && !opts.caustics_only
+        opts.photons.global_photons > 0 && !opts.caustics_only && !opts.volume_only
     }
 
     /// The global map, or none when it is not needed.
@@ -192,7 +228,7 @@ impl PhotonMaps {
                 v.paths,
                 v.settings().estimate.name(),
                 v.median_radius(),
-                if v.settings().estimate == crate::photon::volume_map::VolumeEstimate::March {
+                if v.settings().estimate == VolumeEstimate::March {
                     format!(", step {:.4} m", v.step())
                 } else {
                     String::new()
@@ -261,6 +297,10 @@ pub(crate) fn radiance_with(
                     depth,
                 } => (v, medium, wo, beta, depth),
             };
+            if opts.volume_only {
+                // Only the in-scattering along the first segment (the spans before this vertex).
+                return Flow::Stop;
+            }
             let smooth = v.bsdf.flags().is_smooth();
             if opts.caustics_only {
                 // L S+ D E only: the caustic estimate at the first surface, if it is non-delta.
@@ -408,6 +448,7 @@ pub(crate) fn render(
         }
         _ => {}
     }
+    notes.extend(maps.notes.iter().cloned());
     notes.extend(maps.warnings.iter().map(|w| format!("warning: {w}")));
     let cam = &scene.camera;
     let mut st = crate::driver::pixels::render_pixels(

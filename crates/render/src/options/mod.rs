@@ -46,6 +46,13 @@ pub struct RenderOptions {
     /// the noise of the other light (seed 000 ch. 6 compares caustics alone). The path tracer
     /// cannot isolate these paths and refuses it.
     pub caustics_only: bool,
+    /// Render only the light that media scatter toward the camera along the camera ray's first
+    /// segment (to the first surface that is not an index-matched boundary): paths … M E, the
+    /// in-scattered radiance of seed 000 eq. 8.1 seen directly. The light tracer connects only
+    /// medium vertices to the camera; the photon methods return only their volume estimate
+    /// along that segment (seed notes Q-M11: media-only images isolate the ch. 8 estimators).
+    /// The path tracer refuses it.
+    pub volume_only: bool,
     /// Render only this window of the camera's film ([`CropWindow`]); `None`: the whole film.
     /// The image is the window's size and each pixel equals the uncropped render's; the
     /// light-side work (light paths, photons) is that of the whole film.
@@ -64,6 +71,7 @@ impl Default for RenderOptions {
             memory_limit: None,
             photons: PhotonOptions::default(),
             caustics_only: false,
+            volume_only: false,
             crop: None,
         }
     }

@@ -119,9 +119,9 @@ fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
             CausticEstimator::Diffusion => diffusion,
         },
         IntegratorKind::DiffusionPhotonMapping => diffusion,
-        IntegratorKind::PhotonDifferentialMapping | IntegratorKind::PhotonDifferentialSplatting => {
-            a.smoothing.then_some(Target::S)
-        }
+        IntegratorKind::PhotonDifferentialMapping
+        | IntegratorKind::PhotonDifferentialSplatting
+        | IntegratorKind::VolumePhotonDifferentials => a.smoothing.then_some(Target::S),
         IntegratorKind::Path | IntegratorKind::LightTrace => None,
     }
 }

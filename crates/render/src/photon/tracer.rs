@@ -200,7 +200,11 @@ fn trace_one(
         fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
             self.kind != MapKind::Caustic || sc.keeps_caustic()
         }
-        fn scatter_in_medium(&mut self, _: &LightMediumVertex, _: Vec3) -> bool {
+        fn scatter_in_medium(
+            &mut self,
+            _: &LightMediumVertex,
+            _: &caustica_scene::phase::PhaseSample,
+        ) -> bool {
             self.kind != MapKind::Caustic
         }
     }

@@ -22,12 +22,17 @@
 //! `caustica_scene::phase`. With a fixed radius and the uniform kernel the marched sum tends to
 //! the beam estimate as the step shrinks (Σ Δ 1{|x_i − p| < h} → chord length, test TM4).
 
+use crate::options::Smoothing;
+use crate::photon::differential::volume_trace::Ellipsoid;
 use crate::photon::tracer::Photon;
 use crate::transport::medium::MediumSpan;
 use caustica_core::{Ray, Spectrum, Vec3};
-use caustica_density::beam::{BeamKernel, Clip, RaySegment, ball_volume, ball_weight};
+use caustica_density::beam::{
+    BeamKernel, Clip, RaySegment, ball_volume, ball_weight, ellipsoid_weight,
+};
 use caustica_density::kdtree::{KdTree, Neighbor};
 use caustica_density::sphere_bvh::SphereBvh;
+pub use caustica_differentials::AxesRule;
 use caustica_scene::Scene;
 use caustica_scene::medium::MediumKind;
 use caustica_scene::phase::Phase;
@@ -43,6 +48,9 @@ pub enum VolumeEstimate {
     /// Ray marching (eq. 8.3) with steps of at most `VolumeSettings::step` metres, jittered by
     /// one random number per span.
     March,
+    /// The beam radiance estimate over photon-differential ellipsoids (eq. 8.4, 8.14–8.16): each
+    /// photon's kernel is the beam it stands for (sec. 8.4, [`crate::photon::differential::volume_trace`]).
+    Differentials,
 }
 
 impl VolumeEstimate {
@@ -50,6 +58,7 @@ impl VolumeEstimate {
         match self {
             VolumeEstimate::Beam => "beam",
             VolumeEstimate::March => "march",
+            VolumeEstimate::Differentials => "photon-differential beam",
         }
     }
 }
@@ -68,6 +77,15 @@ pub struct VolumeSettings {
     pub kernel: BeamKernel,
     /// Step (m) of the march; `None` = half the median photon radius.
     pub step: Option<f32>,
+    /// Smoothing `s` of the volume photon differentials (seed 002 eq. 5–6); `None` = the
+    /// surface footprints' smoothing.
+    pub smoothing: Option<Smoothing>,
+    /// How photon differentials get their third vector (seed notes Q-M3).
+    pub axes: AxesRule,
+    /// Smallest semi-axis (m) of a photon-differential kernel; `None` (default) = as traced.
+    pub min_semi_axis: Option<f32>,
+    /// How much of a kernel a segment that ends inside it receives (seed notes Q-M10).
+    pub clip: Clip,
 }
 
 impl Default for VolumeSettings {
@@ -79,16 +97,33 @@ impl Default for VolumeSettings {
             radius: None,
             kernel: BeamKernel::Epanechnikov,
             step: None,
+            smoothing: None,
+            axes: AxesRule::Projected,
+            min_semi_axis: None,
+            clip: Clip::Exact,
         }
     }
 }
 
-/// Volume photons with a k-d tree (k-NN queries) and a BVH over their spheres (beam queries).
+/// The kernels of a volume map's photons.
+pub enum Kernels {
+    /// Balls whose radii are [`VolumeMap::radii`] (eq. 8.5–8.13).
+    Balls,
+    /// Photon-differential ellipsoids (eq. 8.14–8.16), one per photon; [`VolumeMap::radii`]
+    /// holds their bounding radii.
+    Ellipsoids(Vec<Ellipsoid>),
+}
+
+/// Volume photons with a k-d tree (k-NN queries, for balls) and a BVH over their kernels'
+/// bounding spheres (beam queries).
 pub struct VolumeMap {
     pub photons: Vec<Photon>,
-    /// Radius (m) of each photon's sphere in the beam estimate.
+    /// Radius (m) of each photon's sphere in the beam estimate (a ball's radius, an
+    /// ellipsoid's bounding radius).
     pub radii: Vec<f32>,
-    tree: KdTree,
+    kernels: Kernels,
+    /// The k-d tree of the march and the pilot radii (none for ellipsoids).
+    tree: Option<KdTree>,
     bvh: SphereBvh,
     /// Box around every photon sphere (rays are clipped to it).
     bounds: Aabb,
@@ -118,24 +153,64 @@ impl VolumeMap {
                 .collect(),
         };
         let radii: Vec<f32> = radii.into_iter().map(|r| r.max(1e-6)).collect();
+        let mut map =
+            Self::with_kernels(photons, radii, Kernels::Balls, Some(tree), paths, settings);
+        map.step = settings.step.unwrap_or(0.5 * map.median_radius()).max(1e-6);
+        map
+    }
+
+    /// The map of photon differentials `photons` with their ellipsoids `kernels` (one each;
+    /// fluxes already divided by `paths`), for the beam estimate of eq. 8.4 over them.
+    ///
+    /// # Panics
+    /// If the two lengths differ (a programming error).
+    pub fn from_ellipsoids(
+        mut photons: Vec<Photon>,
+        kernels: Vec<Ellipsoid>,
+        paths: u64,
+        settings: VolumeSettings,
+    ) -> Self {
+        assert_eq!(photons.len(), kernels.len(), "one kernel per photon");
+        photons.shrink_to_fit();
+        let radii = kernels.iter().map(|k| k.bound).collect();
+        let mut settings = settings;
+        settings.estimate = VolumeEstimate::Differentials;
+        Self::with_kernels(
+            photons,
+            radii,
+            Kernels::Ellipsoids(kernels),
+            None,
+            paths,
+            settings,
+        )
+    }
+
+    fn with_kernels(
+        photons: Vec<Photon>,
+        radii: Vec<f32>,
+        kernels: Kernels,
+        tree: Option<KdTree>,
+        paths: u64,
+        settings: VolumeSettings,
+    ) -> Self {
+        let positions: Vec<Vec3> = photons.iter().map(|p| p.p).collect();
         let bvh = SphereBvh::build(&positions, &radii);
         let mut bounds = Aabb::default();
         for (p, r) in positions.iter().zip(&radii) {
             bounds.grow(*p - Vec3::splat(*r));
             bounds.grow(*p + Vec3::splat(*r));
         }
-        let mut map = Self {
+        Self {
             photons,
             radii,
+            kernels,
             tree,
             bvh,
             bounds,
             paths,
             settings,
             step: 0.0,
-        };
-        map.step = settings.step.unwrap_or(0.5 * map.median_radius()).max(1e-6);
-        map
+        }
     }
 
     /// The march's step (m).
@@ -156,7 +231,11 @@ impl VolumeMap {
     pub fn memory_bytes(&self) -> usize {
         self.photons.capacity() * std::mem::size_of::<Photon>()
             + self.radii.capacity() * 4
-            + self.tree.memory_bytes()
+            + match &self.kernels {
+                Kernels::Balls => 0,
+                Kernels::Ellipsoids(e) => e.capacity() * std::mem::size_of::<Ellipsoid>(),
+            }
+            + self.tree.as_ref().map_or(0, |t| t.memory_bytes())
             + self.bvh.memory_bytes()
     }
     /// Median photon radius (m).
@@ -197,13 +276,17 @@ impl VolumeMap {
         if self.is_empty() {
             return Spectrum::ZERO;
         }
-        match self.settings.estimate {
-            VolumeEstimate::Beam => self.beam(scene, span),
-            VolumeEstimate::March => self.march(scene, span, self.step, u),
+        match (&self.kernels, &self.tree, self.settings.estimate) {
+            (Kernels::Balls, Some(tree), VolumeEstimate::March) => {
+                self.march(tree, scene, span, self.step, u)
+            }
+            _ => self.beam(scene, span),
         }
     }
 
-    /// Eq. 8.4: every photon sphere the span crosses, weighted by its kernel's chord integral.
+    /// Eq. 8.4: every photon kernel the span crosses (a ball, eq. 8.5–8.13, or an ellipsoid,
+    /// eq. 8.14–8.16), weighted by its kernel's chord integral clipped to the span, times
+    /// `T_r` to the (filter-space) closest point, the phase function and ΔΦ/V.
     pub fn beam(&self, scene: &Scene, span: &MediumSpan) -> Spectrum {
         let Some((t0, t1)) = self.clip(span.ray, span.t_max) else {
             return Spectrum::ZERO;
@@ -213,19 +296,45 @@ impl VolumeMap {
         let seg = RaySegment::new(span.ray.o, span.ray.d, t0, t1);
         let wo = -span.ray.d;
         let kernel = self.settings.kernel;
+        let clip = self.settings.clip;
         let mut l = Spectrum::ZERO;
-        self.bvh.for_each_crossing(&seg, |i, centre, r| {
-            let ph = &self.photons[i as usize];
-            if let Some(hit) = ball_weight(kernel, &seg, centre, r, Clip::Exact) {
-                let p = medium.phase.eval(wo, ph.wi);
-                l += ph.flux * (tr.at(hit.t) * (p * hit.weight / ball_volume(r)));
-            }
-        });
+        match &self.kernels {
+            Kernels::Balls => self.bvh.for_each_crossing(&seg, |i, centre, r| {
+                let ph = &self.photons[i as usize];
+                if let Some(hit) = ball_weight(kernel, &seg, centre, r, clip) {
+                    let p = medium.phase.eval(wo, ph.wi);
+                    l += ph.flux * (tr.at(hit.t) * (p * hit.weight / ball_volume(r)));
+                }
+            }),
+            Kernels::Ellipsoids(e) => self.bvh.for_each_crossing(&seg, |i, centre, _| {
+                let (ph, e) = (&self.photons[i as usize], &e[i as usize]);
+                if let Some(hit) = ellipsoid_weight(kernel, &seg, centre, e.m, clip) {
+                    let p = medium.phase.eval(wo, ph.wi);
+                    l += ph.flux * (tr.at(hit.t) * (p * hit.weight * e.inv_volume));
+                }
+            }),
+        }
         l
     }
 
+    /// Eq. 8.3 with the step `step` (m) instead of the map's; zero for a map without a k-d
+    /// tree (photon differentials).
+    pub fn march_with_step(&self, scene: &Scene, span: &MediumSpan, step: f32, u: f32) -> Spectrum {
+        match &self.tree {
+            Some(tree) => self.march(tree, scene, span, step, u),
+            None => Spectrum::ZERO,
+        }
+    }
+
     /// Eq. 8.3: k-NN estimates (or fixed-radius ones) at jittered points every `step` metres.
-    pub fn march(&self, scene: &Scene, span: &MediumSpan, step: f32, u: f32) -> Spectrum {
+    fn march(
+        &self,
+        tree: &KdTree,
+        scene: &Scene,
+        span: &MediumSpan,
+        step: f32,
+        u: f32,
+    ) -> Spectrum {
         let Some((t0, t1)) = self.clip(span.ray, span.t_max) else {
             return Spectrum::ZERO;
         };
@@ -242,15 +351,14 @@ impl VolumeMap {
             let mut sum = Spectrum::ZERO;
             let volume = match self.settings.radius {
                 Some(h) => {
-                    self.tree.range(x, h * h, |j, _| {
+                    tree.range(x, h * h, |j, _| {
                         let ph = &self.photons[j as usize];
                         sum += ph.flux * medium.phase.eval(wo, ph.wi);
                     });
                     ball_volume(h)
                 }
                 None => {
-                    self.tree
-                        .knn_unsorted(x, self.settings.k, f32::INFINITY, &mut nn);
+                    tree.knn_unsorted(x, self.settings.k, f32::INFINITY, &mut nn);
                     let r2 = nn.iter().map(|n| n.dist2).fold(0.0f32, f32::max);
                     // The tree's order is fixed for a given map and query: a deterministic sum.
                     for n in &nn {
@@ -314,6 +422,7 @@ impl Transmittance {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::photon::differential::volume_trace::{KernelRule, volume_kernel};
     use caustica_core::sampling::Pcg32;
     use caustica_scene::SceneBuilder;
     use caustica_scene::camera::PerspectiveCamera;
@@ -389,13 +498,73 @@ mod tests {
                 let beam = map.beam(&scene, &span)[0] as f64;
                 let mut errs = Vec::new();
                 for step in [0.04f32, 0.01, 0.0025, 0.000625] {
-                    let m = map.march(&scene, &span, step, 0.5)[0] as f64;
+                    let m = map.march_with_step(&scene, &span, step, 0.5)[0] as f64;
                     errs.push((m - beam).abs());
                 }
                 assert!(beam > 0.0);
                 // At the finest steps the march is within 0.5 % of the beam estimate.
                 assert!(errs[2] < 0.01 * beam, "march {errs:?} vs beam {beam}");
                 assert!(errs[3] < 0.005 * beam, "march {errs:?} vs beam {beam}");
+            }
+        }
+    }
+
+    #[test]
+    fn isotropic_equal_footprints_give_the_fixed_radius_beam_estimate() {
+        // Seed notes TM4's last clause: photon differentials whose three vectors are orthogonal
+        // and of equal length 2h (sec. 8.4 at storage, `volume_kernel`) are balls of radius h,
+        // so the ellipsoid estimate (eq. 8.14–8.16) equals the fixed-radius beam estimate of
+        // the same photons with the same kernel (eq. 8.13).
+        let h = 0.06f32;
+        let ph = photons(3000, 17);
+        for sigma_t in [0.0f32, 1.2] {
+            let scene = scene(sigma_t);
+            let balls = VolumeMap::new(
+                ph.clone(),
+                3000,
+                VolumeSettings {
+                    radius: Some(h),
+                    ..VolumeSettings::default()
+                },
+            );
+            let kernels: Vec<Ellipsoid> = ph
+                .iter()
+                .map(|p| {
+                    let f = caustica_core::Frame::from_normal(-p.wi);
+                    volume_kernel(
+                        f.s * (2.0 * h),
+                        f.t * (2.0 * h),
+                        -p.wi,
+                        KernelRule::default(),
+                    )
+                    .unwrap()
+                    .0
+                })
+                .collect();
+            let ellipsoids =
+                VolumeMap::from_ellipsoids(ph.clone(), kernels, 3000, VolumeSettings::default());
+            let mut rng = Pcg32::new(4, 4);
+            for _ in 0..20 {
+                let o = Vec3::new(
+                    -1.0,
+                    0.6 * (rng.next_f32() - 0.5),
+                    0.6 * (rng.next_f32() - 0.5),
+                );
+                let d = Vec3::new(1.0, 0.2 * (rng.next_f32() - 0.5), 0.1).normalize();
+                let ray = Ray::new(o, d);
+                // Ending inside the cloud: the clipped integral at the end too.
+                let span = MediumSpan {
+                    ray: &ray,
+                    t_max: 0.8 + rng.next_f32(),
+                    medium: 0,
+                    tr: Spectrum::ONE,
+                };
+                let (a, b) = (
+                    balls.beam(&scene, &span)[0],
+                    ellipsoids.beam(&scene, &span)[0],
+                );
+                assert!(a > 0.0, "balls {a} vs ellipsoids {b}");
+                assert!((a - b).abs() <= 2e-4 * a, "balls {a} vs ellipsoids {b}");
             }
         }
     }

@@ -15,7 +15,7 @@ use caustica_scene::Scene;
 use caustica_scene::bsdf::{BsdfSample, TransportMode};
 use caustica_scene::intersection::NONE;
 use caustica_scene::light::EmissionSample;
-use caustica_scene::phase::Phase;
+use caustica_scene::phase::{Phase, PhaseSample};
 
 /// The start of a light path.
 pub struct LightStart<'a> {
@@ -114,10 +114,11 @@ pub trait LightVisitor {
         let _ = (scatter, stats);
         true
     }
-    /// After the phase function was sampled at a medium vertex (new direction `wi`): false ends
-    /// the path there. A scattering in a medium is not delta, so caustic tracers end here.
-    fn scatter_in_medium(&mut self, v: &LightMediumVertex, wi: Vec3) -> bool {
-        let _ = (v, wi);
+    /// After the phase function was sampled at a medium vertex (the sample's new direction
+    /// `wi` and its density): false ends the path there. A scattering in a medium is not delta,
+    /// so caustic tracers end here.
+    fn scatter_in_medium(&mut self, v: &LightMediumVertex, sample: &PhaseSample) -> bool {
+        let _ = (v, sample);
         true
     }
 }
@@ -211,7 +212,7 @@ pub fn walk_light_path_with(
                 let Some(ps) = mv.phase.sample(mv.wo, u) else {
                     break;
                 };
-                if !visitor.scatter_in_medium(&lmv, ps.wi) {
+                if !visitor.scatter_in_medium(&lmv, &ps) {
                     break;
                 }
                 beta *= ps.weight;

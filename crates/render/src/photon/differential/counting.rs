@@ -102,7 +102,11 @@ impl<P: Copy> LightVisitor for Count<'_, P> {
     fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
         sc.keeps_caustic() // as the photon-differential tracer
     }
-    fn scatter_in_medium(&mut self, _: &LightMediumVertex, _: caustica_core::Vec3) -> bool {
+    fn scatter_in_medium(
+        &mut self,
+        _: &LightMediumVertex,
+        _: &caustica_scene::phase::PhaseSample,
+    ) -> bool {
         false
     }
 }

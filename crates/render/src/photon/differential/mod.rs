@@ -67,6 +67,7 @@ pub mod counting;
 pub mod footprint;
 pub mod map;
 pub mod trace;
+pub mod volume_trace;
 
 pub use counting::{CausticPaths, RECORD_LANDING_PATHS, count_caustic_paths};
 pub use footprint::{DiffPhoton, FootprintFilter, Landing, photons_from_landings};

@@ -9,7 +9,8 @@ use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::photon::tracer::{NO_CAUSTIC_PATHS, shortfall};
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
-    LightEvent, LightMediumVertex, LightScatter, LightVertex, LightVisitor, walk_light_path_with,
+    LightEvent, LightMediumVertex, LightScatter, LightStart, LightVertex, LightVisitor,
+    walk_light_path_with,
 };
 use crate::transport::limits::PathLimits;
 use crate::transport::vertex::Vertex;
@@ -20,6 +21,7 @@ use caustica_differentials::{
     Transferred, emission_basis, emit_with_basis, emit_with_lengths, transfer_to_fixed_plane,
 };
 use caustica_scene::bsdf::BsdfFlags;
+use caustica_scene::phase::PhaseSample;
 use caustica_scene::shape::ShapeGeometry;
 use caustica_scene::{Scene, SurfaceInteraction};
 
@@ -95,14 +97,14 @@ pub fn unit_budget(smoothing: Smoothing) -> EmissionBudget {
 /// lengths of each light's initial vectors (eq. 5–6) are computed once here, not per photon,
 /// and so is the basis (eq. 2–3) of each collimated light.
 pub struct LandingTracer<'a> {
-    scene: &'a Scene,
+    pub(crate) scene: &'a Scene,
     /// Per light: the lengths and fixed basis of [`LightEmission`].
-    lights: Vec<LightEmission>,
+    pub(crate) lights: Vec<LightEmission>,
 }
 
 /// What every photon differential of one light shares.
 #[derive(Clone, Copy, Debug)]
-struct LightEmission {
+pub(crate) struct LightEmission {
     /// `(|D_u x|, |D_θ ω|)` (eq. 5–6), or why the light cannot emit photon differentials.
     lengths: Result<(f32, f32), DiffError>,
     /// For a collimated light: its direction, normal and their basis (eq. 2–3), used for every
@@ -138,12 +140,8 @@ impl<'a> LandingTracer<'a> {
         stats: &mut RenderStats,
     ) {
         let mut v = DiffVisitor {
-            scene: self.scene,
-            lights: &self.lights,
+            ray: DiffRay::new(self.scene, &self.lights),
             out,
-            emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0),
-            ray: None,
-            pmf: 1.0,
         };
         walk_light_path_with(self.scene, sampler, limits, stats, &mut v);
     }
@@ -156,25 +154,50 @@ pub(crate) fn is_caustic_landing(lv: &LightVertex) -> bool {
     lv.is_caustic() && lv.beta.is_finite()
 }
 
-/// Per-path state: the emission sample and the differential along the current ray.
+/// Per-path state of the caustic tracer: the differential along the current ray.
 struct DiffVisitor<'a, const N: usize> {
+    ray: DiffRay<'a, N>,
+    out: &'a mut Vec<Landing<N>>,
+}
+
+/// The photon differential along a light path, shared by the caustic tracer and the volume
+/// tracer ([`super::volume_trace`]): the emission sample, kept until the differential is first
+/// needed, and the differential of the ray being traced.
+pub(crate) struct DiffRay<'a, const N: usize> {
     scene: &'a Scene,
     /// [`LandingTracer::lights`].
     lights: &'a [LightEmission],
-    out: &'a mut Vec<Landing<N>>,
     /// The emission sample's ray and normal and the light's index, kept until the emitted
-    /// differential is first needed (most paths never reach a delta surface, so their
+    /// differential is first needed (most caustic paths never reach a delta surface, so their
     /// differentials are never computed).
     emission: (Ray, Option<Vec3>, usize),
     /// The differential of the ray being traced (origin at the last vertex, direction the
     /// sampled one); `None` until computed.
-    ray: Option<Result<RayDiff<N>, DiffError>>,
-    pmf: f32,
+    pub(crate) ray: Option<Result<RayDiff<N>, DiffError>>,
+    /// Selection probability of the path's light.
+    pub(crate) pmf: f32,
 }
 
-impl<const N: usize> DiffVisitor<'_, N> {
+impl<'a, const N: usize> DiffRay<'a, N> {
+    pub(crate) fn new(scene: &'a Scene, lights: &'a [LightEmission]) -> Self {
+        Self {
+            scene,
+            lights,
+            emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0),
+            ray: None,
+            pmf: 1.0,
+        }
+    }
+
+    /// A new path starts at `start`.
+    pub(crate) fn start(&mut self, start: &LightStart) {
+        self.pmf = start.pmf;
+        self.emission = (start.ray, start.emission.normal, start.light);
+        self.ray = None;
+    }
+
     /// The differential of the ray being traced (the emitted one computed on first use).
-    fn ray(&mut self) -> Result<RayDiff<N>, DiffError> {
+    pub(crate) fn ray(&mut self) -> Result<RayDiff<N>, DiffError> {
         *self.ray.get_or_insert_with(|| {
             let (ray, normal, light) = self.emission;
             let Some(le) = self.lights.get(light) else {
@@ -199,55 +222,19 @@ impl<const N: usize> DiffVisitor<'_, N> {
     /// The differential transferred onto the plane where the photon lands at `si`: only the
     /// position and direction differentials, which the footprint needs (not the normal and
     /// barycentrics of [`Self::hit_at`], which only scattering needs).
-    fn landing_at(&mut self, si: &SurfaceInteraction) -> Result<Transferred<N>, DiffError> {
+    pub(crate) fn landing_at(
+        &mut self,
+        si: &SurfaceInteraction,
+    ) -> Result<Transferred<N>, DiffError> {
         // The plane through the hit with the geometric normal: a flat or Phong triangle's own
         // plane (eq. B.24–B.29, B.36–B.40; the transfer depends on neither the normal's sign nor
         // its length), a sphere's or disk's tangent plane.
         transfer_to_fixed_plane(&self.ray()?, si.p, si.ng)
     }
-}
 
-/// Cosine between the differential's scattered direction and the walker's below which the
-/// propagation counts as failed (~8°).
-const DIRECTION_COS: f32 = 0.99;
-
-impl<const N: usize> LightVisitor for DiffVisitor<'_, N> {
-    fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
-        match event {
-            LightEvent::Start(start) => {
-                let es = start.emission;
-                self.pmf = start.pmf;
-                self.emission = (start.ray, es.normal, start.light);
-                self.ray = None;
-            }
-            LightEvent::Medium(_) => {}
-            LightEvent::Vertex(lv) => {
-                // Non-finite throughputs are skipped (the photon tracer counts them).
-                if !is_caustic_landing(lv) {
-                    return;
-                }
-                let dp = self.landing_at(&lv.v.si).ok().map(|t| t.ray.dp);
-                self.out.push(Landing {
-                    p: lv.v.si.p,
-                    wi: lv.wo,
-                    n: lv.v.si.ng_toward(lv.wo),
-                    beta: lv.beta,
-                    depth: lv.depth.min(u16::MAX as u32) as u16,
-                    pmf: self.pmf,
-                    dp,
-                });
-            }
-        }
-    }
-
-    fn scatter_in_medium(&mut self, _: &LightMediumVertex, _: Vec3) -> bool {
-        false // not delta: no later vertex receives caustic light
-    }
-
-    fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
-        if !sc.keeps_caustic() {
-            return false;
-        }
+    /// The differential after the delta scattering `sc` (reflection eq. B.17–B.18 or
+    /// refraction eq. B.19–B.23 with the sampled lobe), re-anchored on the walker's path.
+    pub(crate) fn scatter_delta(&mut self, sc: &LightScatter) {
         let flags = sc.sample.flags;
         let eta = sc.sample.eta;
         let out = self.hit_at(&sc.v.si).and_then(|h| {
@@ -259,6 +246,46 @@ impl<const N: usize> LightVisitor for DiffVisitor<'_, N> {
             follow(out, sc.v, sc.wi)
         });
         self.ray = Some(out);
+    }
+}
+
+/// Cosine between the differential's scattered direction and the walker's below which the
+/// propagation counts as failed (~8°).
+const DIRECTION_COS: f32 = 0.99;
+
+impl<const N: usize> LightVisitor for DiffVisitor<'_, N> {
+    fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
+        match event {
+            LightEvent::Start(start) => self.ray.start(start),
+            LightEvent::Medium(_) => {}
+            LightEvent::Vertex(lv) => {
+                // Non-finite throughputs are skipped (the photon tracer counts them).
+                if !is_caustic_landing(lv) {
+                    return;
+                }
+                let dp = self.ray.landing_at(&lv.v.si).ok().map(|t| t.ray.dp);
+                self.out.push(Landing {
+                    p: lv.v.si.p,
+                    wi: lv.wo,
+                    n: lv.v.si.ng_toward(lv.wo),
+                    beta: lv.beta,
+                    depth: lv.depth.min(u16::MAX as u32) as u16,
+                    pmf: self.ray.pmf,
+                    dp,
+                });
+            }
+        }
+    }
+
+    fn scatter_in_medium(&mut self, _: &LightMediumVertex, _: &PhaseSample) -> bool {
+        false // not delta: no later vertex receives caustic light
+    }
+
+    fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+        if !sc.keeps_caustic() {
+            return false;
+        }
+        self.ray.scatter_delta(sc);
         true
     }
 }

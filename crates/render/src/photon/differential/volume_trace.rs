@@ -1,0 +1,317 @@
+//! Photon differentials of volume photons (seed 000 sec. 8.4): the light paths of the volume
+//! photon tracer ([`crate::photon::tracer`] with `MapKind::Volume`: same walker, stream and
+//! chunks, so with the same seed the photons are at the same events with the same flux), each
+//! carrying a [`RayDiff`] from the light through every event of the path:
+//!
+//! * emission as for caustics (seed 002 eq. 1–6, [`DiffRay`]);
+//! * free flight to a scattering event, eq. 8.19–8.22 ([`free_flight`]); at the event the
+//!   photon is stored with its two positional vectors;
+//! * scattering in a medium: rotation into the sampled direction and `√k`, `k = 1/(4π p)`
+//!   (eq. 8.23–8.24, [`scatter`]);
+//! * delta reflection and refraction as for caustics (app. B, [`DiffRay::scatter_delta`]);
+//! * any other surface scattering (diffuse, glossy: sampled by importance): transfer onto the
+//!   tangent plane (eq. B.13–B.16), projection onto the plane ⊥ the incident direction, rotation
+//!   and `√k`, `k = 1/(2π p)` (eq. 8.25–8.26 and seed notes Q-M5, [`reflect_sampled`]).
+//!
+//! The paths are traced with the budget `N_e = 1` and the vectors scaled by `1/√(N pmf)`
+//! afterwards, as for caustic landings ([`super`], "The budget N_e"): every map above is linear
+//! in the differential vectors (the rotation and `√k` too), so the scaling commutes with them.
+//! At storage the photon gets its third vector and its ellipsoid ([`volume_kernel`]).
+
+use super::trace::{DiffRay, LandingTracer, unit_budget};
+use crate::options::{RenderOptions, Smoothing};
+use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
+use crate::photon::tracer::{Photon, shortfall};
+use crate::stats::RenderStats;
+use crate::transport::light_walk::{
+    LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_with,
+};
+use caustica_core::sampling::Sampler;
+use caustica_core::{Mat3, Spectrum, Vec3};
+use caustica_density::beam::{axes_bounding_radius, filter_matrix, filter_volume};
+use caustica_differentials::medium::ellipse_principal_axes;
+use caustica_differentials::{
+    AxesRule, RayDiff, free_flight, phase_area_factor, reflect_sampled, scatter,
+    surface_area_factor, volume_axes,
+};
+use caustica_scene::Scene;
+use caustica_scene::phase::PhaseSample;
+
+/// A volume photon before the path count is known: the event, its throughput and the two
+/// positional differential vectors for `N_e = 1`.
+#[derive(Clone, Copy, Debug)]
+pub struct VolumeLanding {
+    /// Event position (m).
+    pub p: Vec3,
+    /// Unit direction toward where the photon came from.
+    pub wi: Vec3,
+    /// Path throughput β (W, not yet divided by the path count).
+    pub beta: Spectrum,
+    pub depth: u16,
+    /// Selection probability of the path's light.
+    pub pmf: f32,
+    /// `D_u x`, `D_v x` at the event for `N_e = 1`; `None` if the differential could not be
+    /// propagated to it.
+    pub dp: Option<[Vec3; 2]>,
+}
+
+/// A volume photon's kernel: the ellipsoid `{x : |M(x − c)| < 1}` (sec. 8.3–8.4).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ellipsoid {
+    /// Filter matrix `M = (½[D_u x D_v x D_w x])⁻¹` (m⁻¹).
+    pub m: Mat3,
+    /// `1/V`, `V = (π/6)|(D_u x × D_v x)·D_w x|` (eq. 8.16) (m⁻³).
+    pub inv_volume: f32,
+    /// Radius (m) of the smallest sphere about the centre holding the ellipsoid (its largest
+    /// semi-axis).
+    pub bound: f32,
+}
+
+/// Volume photon differentials of one map and how they were made.
+pub struct TracedVolumeDiffs {
+    /// Photons in path order, flux β/N (W).
+    pub photons: Vec<Photon>,
+    /// Their kernels, one per photon.
+    pub kernels: Vec<Ellipsoid>,
+    /// Light paths emitted.
+    pub paths: u64,
+    /// Scattering events found (stored + collapsed + failed).
+    pub events: usize,
+    /// Events dropped because their kernel is flat (coplanar vectors).
+    pub collapsed: u64,
+    /// Events dropped because the differential could not be propagated to them.
+    pub failed: u64,
+    /// Kernels widened by the minimum semi-axis.
+    pub widened: u64,
+    pub stats: RenderStats,
+    pub warning: Option<String>,
+}
+
+/// How stored volume photons get their kernels.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct KernelRule {
+    pub axes: AxesRule,
+    /// The smallest semi-axis (m) a kernel may have (none by default, as the thesis): the
+    /// cross-section's principal semi-axes and `D_w x`'s are raised to it.
+    pub min_semi_axis: Option<f32>,
+}
+
+/// The ellipsoid of a photon with traced vectors `du`, `dv` (m, already scaled for the
+/// budget) travelling along unit `dir` (sec. 8.4, eq. 8.16, [`volume_axes`]), and whether the
+/// minimum semi-axis widened it; `None` for a flat or non-finite kernel.
+pub fn volume_kernel(du: Vec3, dv: Vec3, dir: Vec3, rule: KernelRule) -> Option<(Ellipsoid, bool)> {
+    let [mut du, mut dv, mut dw] = volume_axes(du, dv, dir, rule.axes).ok()?;
+    let mut widened = false;
+    if let Some(r) = rule.min_semi_axis {
+        // Principal semi-axes of the cross-section ellipse (conjugate semi-diameters ½D_u x,
+        // ½D_v x), each raised to r; D_w x = max(|D_u x|, |D_v x|) follows.
+        let (axes, dirs) = ellipse_principal_axes(du * 0.5, dv * 0.5).unwrap_or(([0.0; 2], {
+            let f = caustica_core::Frame::from_normal(dir);
+            [f.s, f.t]
+        }));
+        if axes[1] < r {
+            widened = true;
+            let (a, b) = (axes[0].max(r), axes[1].max(r));
+            du = dirs[0] * (2.0 * a);
+            dv = dirs[1] * (2.0 * b);
+            dw = dw.try_normalize().unwrap_or(dir) * (2.0 * a);
+        }
+    }
+    let m = filter_matrix(du, dv, dw)?;
+    let inv_volume = 1.0 / filter_volume(m);
+    let bound = axes_bounding_radius(du, dv, dw)?;
+    (inv_volume.is_finite() && inv_volume > 0.0 && bound > 0.0).then_some((
+        Ellipsoid {
+            m,
+            inv_volume,
+            bound,
+        },
+        widened,
+    ))
+}
+
+/// Traces the light paths of `stream` under `budget` (volume photons, as the volume photon
+/// tracer) as photon differentials with smoothing `smoothing`, and returns the stored photons
+/// with their kernels. `progress(fraction)` after each wave. Deterministic for a given seed
+/// whatever the thread count.
+pub fn trace_volume_differentials(
+    scene: &Scene,
+    budget: PhotonBudget,
+    smoothing: Smoothing,
+    rule: KernelRule,
+    stream: u64,
+    opts: &RenderOptions,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> TracedVolumeDiffs {
+    let tracer = LandingTracer::new(scene, &unit_budget(smoothing));
+    let limits = opts.limits;
+    let (landings, paths, stats) = trace_budget(
+        budget,
+        &PathStream::new(opts, stream),
+        0,
+        progress,
+        |_, sampler, out, st| {
+            let mut v = VolumeDiffVisitor::<2> {
+                ray: DiffRay::new(tracer.scene, &tracer.lights),
+                out,
+            };
+            walk_light_path_with(tracer.scene, sampler, &limits, st, &mut v);
+        },
+    );
+    let n = paths.max(1) as f64;
+    let mut photons = Vec::with_capacity(landings.len());
+    let mut kernels = Vec::with_capacity(landings.len());
+    let (mut collapsed, mut failed, mut widened) = (0u64, 0u64, 0u64);
+    for l in &landings {
+        let Some(dp) = l.dp else {
+            failed += 1;
+            continue;
+        };
+        // N_e of this light = N · pmf; vectors scale as 1/√N_e (eq. 5–6).
+        let scale = (1.0 / (n * l.pmf as f64).sqrt()) as f32;
+        let flux = l.beta / n as f32;
+        if !flux.is_finite() {
+            failed += 1;
+            continue;
+        }
+        match volume_kernel(dp[0] * scale, dp[1] * scale, -l.wi, rule) {
+            Some((k, w)) => {
+                widened += w as u64;
+                kernels.push(k);
+                photons.push(Photon {
+                    p: l.p,
+                    wi: l.wi,
+                    n: Vec3::ZERO,
+                    flux,
+                    depth: l.depth,
+                    caustic: false,
+                });
+            }
+            None => collapsed += 1,
+        }
+    }
+    let warning = shortfall("volume", landings.len(), paths, budget).map(|w| {
+        if landings.is_empty() {
+            format!("{w}: no light scatters in a participating medium")
+        } else {
+            w
+        }
+    });
+    TracedVolumeDiffs {
+        photons,
+        kernels,
+        paths,
+        events: landings.len(),
+        collapsed,
+        failed,
+        widened,
+        stats,
+        warning,
+    }
+}
+
+/// Per-path state: the differential along the current ray and the events found.
+struct VolumeDiffVisitor<'a, const N: usize> {
+    ray: DiffRay<'a, N>,
+    out: &'a mut Vec<VolumeLanding>,
+}
+
+impl<const N: usize> LightVisitor for VolumeDiffVisitor<'_, N> {
+    fn event(&mut self, event: LightEvent, _: &mut Sampler, stats: &mut RenderStats) {
+        match event {
+            LightEvent::Start(start) => self.ray.start(start),
+            LightEvent::Vertex(_) => {}
+            LightEvent::Medium(lm) => {
+                // Eq. 8.19–8.22: the flight from the ray's origin (the last vertex) to the event.
+                let at = self.ray.ray().and_then(|r: RayDiff<N>| {
+                    let s = (lm.v.p - r.p).dot(r.v);
+                    free_flight(&r, s)
+                });
+                self.ray.ray = Some(at);
+                if !lm.beta.is_finite() {
+                    stats.nonfinite += 1;
+                    return;
+                }
+                self.out.push(VolumeLanding {
+                    p: lm.v.p,
+                    wi: lm.v.wo,
+                    beta: lm.beta,
+                    depth: lm.depth.min(u16::MAX as u32) as u16,
+                    pmf: self.ray.pmf,
+                    dp: at.ok().map(|r| [r.dp[0], r.dp[1]]),
+                });
+            }
+        }
+    }
+
+    fn scatter_in_medium(&mut self, _: &LightMediumVertex, ps: &PhaseSample) -> bool {
+        // Eq. 8.23–8.24 (the ray is at the event since `event`).
+        let out = self
+            .ray
+            .ray()
+            .and_then(|r| scatter(&r, ps.wi, phase_area_factor(ps.pdf)?));
+        self.ray.ray = Some(out);
+        true
+    }
+
+    fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+        if sc.sample.flags.is_delta() {
+            self.ray.scatter_delta(sc);
+            return true;
+        }
+        // Eq. 8.25–8.26 with the projection ⊥ the incident direction (Q-M5).
+        let out = self.ray.landing_at(&sc.v.si).and_then(|t| {
+            let k = surface_area_factor(sc.sample.pdf)?;
+            let mut r = reflect_sampled(&t.ray, sc.wi, k)?;
+            r.p = sc.v.si.p;
+            Ok(r)
+        });
+        self.ray.ray = Some(out);
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use caustica_density::beam::ball_volume;
+
+    #[test]
+    fn equal_orthogonal_vectors_give_the_ball() {
+        // TM10 and the reduction of eq. 8.16 to the ball: D_u, D_v ⊥ ω of equal length 2h give
+        // M = I/h, V = 4πh³/3 and bound h.
+        let dir = Vec3::new(0.3, -0.4, 0.866).normalize();
+        let f = caustica_core::Frame::from_normal(dir);
+        let h = 0.07;
+        let (k, widened) =
+            volume_kernel(f.s * 2.0 * h, f.t * 2.0 * h, dir, KernelRule::default()).unwrap();
+        assert!(!widened);
+        assert!((1.0 / k.inv_volume - ball_volume(h)).abs() < 1e-5 * ball_volume(h));
+        assert!((k.bound - h).abs() < 1e-5 * h);
+        for v in [Vec3::X, Vec3::Y, Vec3::Z, dir] {
+            assert!(((k.m * v).length() - v.length() / h).abs() < 1e-3 / h);
+        }
+    }
+
+    #[test]
+    fn the_minimum_semi_axis_widens_thin_kernels_only() {
+        let dir = Vec3::Z;
+        let rule = KernelRule {
+            min_semi_axis: Some(0.01),
+            ..KernelRule::default()
+        };
+        // A thin cross-section 0.2 × 0.002 m: widened to semi-axes 0.1 × 0.01 (and 0.1 along ω).
+        let (k, widened) = volume_kernel(Vec3::X * 0.2, Vec3::Y * 0.002, dir, rule).unwrap();
+        assert!(widened);
+        let v = 1.0 / k.inv_volume;
+        let want = 4.0 / 3.0 * std::f32::consts::PI * 0.1 * 0.01 * 0.1;
+        assert!((v - want).abs() < 1e-4 * want, "{v} vs {want}");
+        // A collapsed one (parallel vectors) becomes a finite kernel, counted.
+        let (k, widened) = volume_kernel(Vec3::X * 0.2, Vec3::X * 0.1, dir, rule).unwrap();
+        assert!(widened && k.inv_volume.is_finite());
+        // Without the rule the collapsed one is refused and a fat one is left alone.
+        assert!(volume_kernel(Vec3::X * 0.2, Vec3::X * 0.1, dir, KernelRule::default()).is_none());
+        let (_, widened) = volume_kernel(Vec3::X * 0.2, Vec3::Y * 0.1, dir, rule).unwrap();
+        assert!(!widened);
+    }
+}
