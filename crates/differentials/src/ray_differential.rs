@@ -144,12 +144,13 @@ impl<const N: usize> RayDiff<N> {
     /// Whether every component is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
-        all_finite3(
-            [&self.p, &self.v]
-                .into_iter()
-                .chain(&self.dp)
-                .chain(&self.dv),
-        )
+        // The sum of `x · 0` over every component (see [`all_finite`]), written as a plain loop:
+        // this check runs at every vertex of every photon differential.
+        let mut acc = self.p * 0.0 + self.v * 0.0;
+        for i in 0..N {
+            acc += self.dp[i] * 0.0 + self.dv[i] * 0.0;
+        }
+        acc.cmpeq(Vec3::ZERO).all()
     }
 
     /// `Ok(self)` if finite, `Err(NonFinite)` otherwise.

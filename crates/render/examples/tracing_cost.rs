@@ -10,12 +10,15 @@
 //! `TRACING_COST_ONLY=plain` or `=differential` runs one of the two tracers: under
 //! `valgrind --tool=callgrind` with `reps = 1` the two runs' instruction totals give the ratio
 //! in instructions, which load does not change (`bench/differential_tracing_cost.sh` does both).
-//! `TRACING_COST_THREADS=T` uses `T` threads instead of one.
+//! `TRACING_COST_THREADS=T` uses `T` threads instead of one. `TRACING_COST_MAP=volume` compares
+//! the volume photon tracer with the volume photon differentials of `vpd` (seed 000 sec. 8.4,
+//! kernels included; issue 18, target ≤ 1.3×) instead, `photons` then counting volume photons.
 
 use std::time::{Duration, Instant};
 
 use caustica_loader::builtin_scene;
 use caustica_render::photon::differential::trace_photon_differentials;
+use caustica_render::photon::differential::volume_trace::{KernelRule, trace_volume_differentials};
 use caustica_render::photon::tracer::{MapKind, trace_photons};
 use caustica_render::{PhotonBudget, RenderOptions, Smoothing};
 
@@ -52,8 +55,15 @@ fn main() {
     let opts = RenderOptions::default();
     let only_var = std::env::var("TRACING_COST_ONLY").ok();
     let only = only_var.as_deref();
+    let volume = std::env::var("TRACING_COST_MAP").ok().as_deref() == Some("volume");
+    let kind = if volume {
+        MapKind::Volume
+    } else {
+        MapKind::Caustic
+    };
     println!(
-        "| scene | caustic photons | light paths | plain (ms, min of {reps}) | with differentials (ms) | ratio |"
+        "| scene | {} photons | light paths | plain (ms, min of {reps}) | with differentials (ms) | ratio |",
+        if volume { "volume" } else { "caustic" }
     );
     println!("|---|---:|---:|---:|---:|---:|");
     for (name, n) in cases {
@@ -74,7 +84,7 @@ fn main() {
                     trace_photons(
                         &scene,
                         PhotonBudget::Records(n),
-                        MapKind::Caustic,
+                        kind,
                         0,
                         &opts,
                         &mut |_| true,
@@ -85,22 +95,36 @@ fn main() {
             }
             if only != Some("plain") {
                 let t = Instant::now();
-                let d = pool.install(|| {
-                    trace_photon_differentials(
-                        &scene,
-                        PhotonBudget::Records(n),
-                        Smoothing::ONE,
-                        0,
-                        &opts,
-                        &mut |_| true,
-                    )
+                let d_paths = pool.install(|| {
+                    if volume {
+                        trace_volume_differentials(
+                            &scene,
+                            PhotonBudget::Records(n),
+                            Smoothing::ONE,
+                            KernelRule::default(),
+                            0,
+                            &opts,
+                            &mut |_| true,
+                        )
+                        .paths
+                    } else {
+                        trace_photon_differentials(
+                            &scene,
+                            PhotonBudget::Records(n),
+                            Smoothing::ONE,
+                            0,
+                            &opts,
+                            &mut |_| true,
+                        )
+                        .paths
+                    }
                 });
                 diff = diff.min(t.elapsed());
                 assert!(
-                    paths == 0 || paths == d.paths,
+                    paths == 0 || paths == d_paths,
                     "both tracers follow the same paths"
                 );
-                paths = d.paths;
+                paths = d_paths;
             }
         }
         let ms = |d: Duration| d.as_secs_f64() * 1e3;

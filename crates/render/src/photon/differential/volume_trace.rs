@@ -28,7 +28,7 @@ use crate::transport::light_walk::{
 };
 use caustica_core::sampling::Sampler;
 use caustica_core::{Mat3, Spectrum, Vec3};
-use caustica_density::beam::{axes_bounding_radius, filter_matrix, filter_volume};
+use caustica_density::beam::{axes_bounding_radius, ellipsoid_volume, filter_matrix};
 use caustica_differentials::medium::ellipse_principal_axes;
 use caustica_differentials::{
     AxesRule, RayDiff, free_flight, phase_area_factor, reflect_sampled, scatter,
@@ -36,6 +36,7 @@ use caustica_differentials::{
 };
 use caustica_scene::Scene;
 use caustica_scene::phase::PhaseSample;
+use rayon::prelude::*;
 
 /// A volume photon before the path count is known: the event, its throughput and the two
 /// positional differential vectors for `N_e = 1`.
@@ -118,8 +119,16 @@ pub fn volume_kernel(du: Vec3, dv: Vec3, dir: Vec3, rule: KernelRule) -> Option<
         }
     }
     let m = filter_matrix(du, dv, dw)?;
-    let inv_volume = 1.0 / filter_volume(m);
-    let bound = axes_bounding_radius(du, dv, dw)?;
+    // Eq. 8.16, V = (π/6)|(D_u x × D_v x)·D_w x| (= (4π/3)/|det M|).
+    let inv_volume = 1.0 / ellipsoid_volume(du, dv, dw);
+    let bound = match rule.axes {
+        // D_w x ⊥ D_u x, D_v x and |D_w x| = max(|D_u x|, |D_v x|) ≤ the cross-section's major
+        // axis: the largest semi-axis is the cross-section ellipse's (closed form, 2 × 2).
+        AxesRule::Projected if rule.min_semi_axis.is_none() || !widened => {
+            cross_section_major_semi_axis(du, dv)?
+        }
+        _ => axes_bounding_radius(du, dv, dw)?,
+    };
     (inv_volume.is_finite() && inv_volume > 0.0 && bound > 0.0).then_some((
         Ellipsoid {
             m,
@@ -128,6 +137,18 @@ pub fn volume_kernel(du: Vec3, dv: Vec3, dir: Vec3, rule: KernelRule) -> Option<
         },
         widened,
     ))
+}
+
+/// The major semi-axis (m) of the ellipse with conjugate diameters `du`, `dv` (m): half the
+/// square root of the larger eigenvalue of their 2 × 2 Gram matrix, rounded up by a few ulps
+/// so that the f32 kernel lies inside its bounding sphere. `None` if not finite.
+fn cross_section_major_semi_axis(du: Vec3, dv: Vec3) -> Option<f32> {
+    let (a, b) = (du.as_dvec3(), dv.as_dvec3());
+    let (g11, g22, g12) = (a.dot(a), b.dot(b), a.dot(b));
+    let half_diff = 0.5 * (g11 - g22);
+    let lambda = 0.5 * (g11 + g22) + (half_diff * half_diff + g12 * g12).sqrt();
+    let r = (0.5 * lambda.sqrt()) as f32 * (1.0 + 8.0 * f32::EPSILON);
+    (r.is_finite() && r > 0.0).then_some(r)
 }
 
 /// Traces the light paths of `stream` under `budget` (volume photons, as the volume photon
@@ -159,35 +180,48 @@ pub fn trace_volume_differentials(
         },
     );
     let n = paths.max(1) as f64;
-    let mut photons = Vec::with_capacity(landings.len());
-    let mut kernels = Vec::with_capacity(landings.len());
-    let (mut collapsed, mut failed, mut widened) = (0u64, 0u64, 0u64);
-    for l in &landings {
-        let Some(dp) = l.dp else {
-            failed += 1;
-            continue;
-        };
-        // N_e of this light = N · pmf; vectors scale as 1/√N_e (eq. 5–6).
-        let scale = (1.0 / (n * l.pmf as f64).sqrt()) as f32;
-        let flux = l.beta / n as f32;
-        if !flux.is_finite() {
-            failed += 1;
-            continue;
-        }
-        match volume_kernel(dp[0] * scale, dp[1] * scale, -l.wi, rule) {
-            Some((k, w)) => {
-                widened += w as u64;
-                kernels.push(k);
-                photons.push(Photon {
-                    p: l.p,
-                    wi: l.wi,
-                    n: Vec3::ZERO,
-                    flux,
-                    depth: l.depth,
-                    caustic: false,
-                });
+    // Kernels in parallel, collected in path order (deterministic).
+    let built: Vec<Built> = landings
+        .par_iter()
+        .map(|l| {
+            let Some(dp) = l.dp else {
+                return Built::Failed;
+            };
+            // N_e of this light = N · pmf; vectors scale as 1/√N_e (eq. 5–6).
+            let scale = (1.0 / (n * l.pmf as f64).sqrt()) as f32;
+            let flux = l.beta / n as f32;
+            if !flux.is_finite() {
+                return Built::Failed;
             }
-            None => collapsed += 1,
+            match volume_kernel(dp[0] * scale, dp[1] * scale, -l.wi, rule) {
+                Some((k, widened)) => Built::Kept(
+                    Photon {
+                        p: l.p,
+                        wi: l.wi,
+                        n: Vec3::ZERO,
+                        flux,
+                        depth: l.depth,
+                        caustic: false,
+                    },
+                    k,
+                    widened,
+                ),
+                None => Built::Collapsed,
+            }
+        })
+        .collect();
+    let mut photons = Vec::with_capacity(built.len());
+    let mut kernels = Vec::with_capacity(built.len());
+    let (mut collapsed, mut failed, mut widened) = (0u64, 0u64, 0u64);
+    for b in built {
+        match b {
+            Built::Kept(p, k, w) => {
+                widened += w as u64;
+                photons.push(p);
+                kernels.push(k);
+            }
+            Built::Collapsed => collapsed += 1,
+            Built::Failed => failed += 1,
         }
     }
     let warning = shortfall("volume", landings.len(), paths, budget).map(|w| {
@@ -208,6 +242,13 @@ pub fn trace_volume_differentials(
         stats,
         warning,
     }
+}
+
+/// What became of one event.
+enum Built {
+    Kept(Photon, Ellipsoid, bool),
+    Collapsed,
+    Failed,
 }
 
 /// Per-path state: the differential along the current ray and the events found.
@@ -259,10 +300,13 @@ impl<const N: usize> LightVisitor for VolumeDiffVisitor<'_, N> {
             self.ray.scatter_delta(sc);
             return true;
         }
-        // Eq. 8.25–8.26 with the projection ⊥ the incident direction (Q-M5).
-        let out = self.ray.landing_at(&sc.v.si).and_then(|t| {
+        // Eq. 8.25–8.26 with the projection ⊥ the incident direction (Q-M5). The transfer onto
+        // the tangent plane (eq. B.13–B.16) differs from the free flight to the hit only along
+        // V (the ds V term), which the projection removes: the flight is the cheaper way there.
+        let out = self.ray.ray().and_then(|r| {
+            let at = free_flight(&r, (sc.v.si.p - r.p).dot(r.v))?;
             let k = surface_area_factor(sc.sample.pdf)?;
-            let mut r = reflect_sampled(&t.ray, sc.wi, k)?;
+            let mut r = reflect_sampled(&at, sc.wi, k)?;
             r.p = sc.v.si.p;
             Ok(r)
         });
