@@ -218,6 +218,11 @@ for entry in $scenes; do
 done
 
 # ---- summary: tables, plots, HTML page -----------------------------------------------------
-"$PY" "$summ" summarize "$out" "$docs" --spp "$spp" --ref-spp "$ref_spp" --check-spp "$check_spp" \
+cmdline="bash bench/volume_differentials.sh${1:+ $1}"
+for v in SPP REF_SPP CHECK_SPP SEED REF_SEED VPM_KS BEAM_KS VPD_SS MATCH_MAX REF_PHOTONS SPP_CHECK SCENES; do
+  [ -z "${!v:-}" ] || cmdline="$v=\"${!v}\" $cmdline"
+done
+cmdline="CAUSTICA_BIN=$bin $cmdline"
+"$PY" "$summ" summarize "$out" "$docs" --command "$cmdline" --spp "$spp" --ref-spp "$ref_spp" --check-spp "$check_spp" \
   --ref-photons "$ref_photons" --scenes "$scenes" --bin "$bin"
 echo "total wall time $(( $(date +%s) - t_start )) s; results: $csv, $docs/"

@@ -606,5 +606,8 @@ fn volume_photon_differentials_survive_thousands_of_scatterings() {
         .find(|n| n.starts_with("volume photon differentials"))
         .expect("the notes count the photon differentials");
     assert!(note.contains(" 0 dropped with a flat kernel"), "{note}");
-    assert!(note.contains("widened to the minimum semi-axis 0.01 m"), "{note}");
+    assert!(
+        note.contains("widened to the minimum semi-axis 0.01 m"),
+        "{note}"
+    );
 }
