@@ -270,6 +270,29 @@ fn single_scattering(o: Vec3, d: Vec3, rm: f64) -> f64 {
     s * h * BEAM.sigma_s as f64 * BEAM.e0 as f64 / (4.0 * std::f64::consts::PI)
 }
 
+/// [`single_scattering`] averaged over 4×4 rays per pixel of `scene`'s camera (a box filter's
+/// pixel values), row by row.
+fn expected_pixels(scene: &Scene, rm: f64) -> Vec<f64> {
+    let cam = &scene.camera;
+    (0..cam.width * cam.height)
+        .map(|i| {
+            let (x, y) = (i % cam.width, i / cam.width);
+            let mut s = 0.0;
+            for a in 0..4 {
+                for b in 0..4 {
+                    let raster = Vec2::new(
+                        x as f32 + (a as f32 + 0.5) / 4.0,
+                        y as f32 + (b as f32 + 0.5) / 4.0,
+                    );
+                    let r = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
+                    s += single_scattering(r.o, r.d, rm);
+                }
+            }
+            s / 16.0
+        })
+        .collect()
+}
+
 #[test]
 fn single_scattering_of_a_beam_matches_the_closed_form() {
     // The camera and the beam's aperture inside the medium (a sphere of radius 20), then both
@@ -288,24 +311,7 @@ fn single_scattering_case(sphere: f32) {
     // Expected pixel values: the integral averaged over 4×4 rays per pixel (box filter).
     let mut scene_box = scene;
     scene_box.settings.filter = caustica_scene::scene::FilterKind::Box;
-    let cam = &scene_box.camera;
-    let expected: Vec<f64> = (0..size * size)
-        .map(|i| {
-            let (x, y) = (i % size, i / size);
-            let mut s = 0.0;
-            for a in 0..4 {
-                for b in 0..4 {
-                    let raster = Vec2::new(
-                        x as f32 + (a as f32 + 0.5) / 4.0,
-                        y as f32 + (b as f32 + 0.5) / 4.0,
-                    );
-                    let r = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
-                    s += single_scattering(r.o, r.d, sphere as f64);
-                }
-            }
-            s / 16.0
-        })
-        .collect();
+    let expected = expected_pixels(&scene_box, sphere as f64);
     let peak = expected.iter().copied().fold(0.0, f64::max);
     assert!(peak > 1e-3, "the beam is in view ({peak})");
     for (kind, spp) in [
@@ -501,21 +507,7 @@ fn volume_photon_differentials_of_single_scattering_match_the_closed_form() {
     let size = 16u32;
     let mut scene = beam_scene(size, 20.0);
     scene.settings.filter = caustica_scene::scene::FilterKind::Box;
-    let cam = &scene.camera;
-    let mut want = 0.0f64;
-    for i in 0..size * size {
-        let (x, y) = (i % size, i / size);
-        for a in 0..4 {
-            for b in 0..4 {
-                let raster = Vec2::new(
-                    x as f32 + (a as f32 + 0.5) / 4.0,
-                    y as f32 + (b as f32 + 0.5) / 4.0,
-                );
-                let r = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
-                want += single_scattering(r.o, r.d, 20.0) / 16.0;
-            }
-        }
-    }
+    let want: f64 = expected_pixels(&scene, 20.0).iter().sum();
     for n in [25_000usize, 100_000] {
         let mut opts = RenderOptions {
             spp: 16,
@@ -610,4 +602,43 @@ fn volume_photon_differentials_survive_thousands_of_scatterings() {
         note.contains("widened to the minimum semi-axis 0.01 m"),
         "{note}"
     );
+}
+
+#[test]
+fn vpd_gives_the_same_bytes_for_any_thread_count() {
+    // Multiple scattering, the kernels built in parallel and collected in path order.
+    let scene = beam_scene(12, 20.0);
+    let run = |threads: usize, seed: u64| {
+        let mut opts = RenderOptions {
+            spp: 2,
+            seed,
+            ..Default::default()
+        };
+        opts.photons.volume.photons = 20_000;
+        opts.photons.light_paths = Some(1000);
+        opts.photons.global_photons = 1000;
+        opts.photons.final_gather = 1;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let img = pool.install(|| {
+            render(
+                &scene,
+                IntegratorKind::VolumePhotonDifferentials,
+                &opts,
+                &RenderControl::silent(),
+            )
+            .expect("valid options")
+            .film
+            .to_image()
+        });
+        img.data
+            .iter()
+            .flat_map(|p| p.map(f32::to_bits))
+            .collect::<Vec<u32>>()
+    };
+    let (a, b, c) = (run(1, 4), run(2, 4), run(2, 5));
+    assert_eq!(a, b, "1 and 2 threads differ");
+    assert_ne!(a, c, "the seed has no effect");
 }
