@@ -848,4 +848,38 @@ mod tests {
         let hit = ball_weight(k, &escape, Vec3::ZERO, 1.0, Clip::Exact).expect("crosses");
         assert!((hit.weight - k.chord_weight(1.0, 0.0)).abs() < 1e-5 && hit.t == 2.0);
     }
+
+    #[test]
+    fn grazing_rays_through_thin_kernels_stay_finite_and_bounded() {
+        // Bad input of the vpd issue: kernels 10⁶ times thinner than wide (nearly collapsed
+        // footprints) crossed by rays almost in their plane. Each weight is finite, ≥ 0 and at
+        // most the kernel's largest chord weight (10/3 × the longest semi-axis).
+        let mut rng = Pcg32::new(12, 1);
+        let mut crossed = 0;
+        for _ in 0..20_000 {
+            let (du, dv, _) = differentials(&mut rng);
+            let n = du.cross(dv).normalize();
+            let thin = n * (du.length() * 1e-6);
+            let Some(m) = filter_matrix(du, dv, thin) else {
+                continue;
+            };
+            let r = axes_bounding_radius(du, dv, thin).unwrap();
+            // In the kernel's plane up to an angle of 1e-4…1e-7 rad.
+            let tilt = 10f32.powf(-4.0 - 3.0 * rng.next_f32());
+            let dir = (du.normalize() + n * tilt).normalize();
+            let o = -dir * 3.0 * r + dv * (rng.next_f32() - 0.5);
+            for kernel in [BeamKernel::Epanechnikov, BeamKernel::Uniform] {
+                for clip in [Clip::Exact, Clip::WholeChord] {
+                    let seg = RaySegment::new(o, dir, 0.0, 3.0 * r + r * rng.next_f32());
+                    if let Some(hit) = ellipsoid_weight(kernel, &seg, Vec3::ZERO, m, clip) {
+                        assert!(hit.weight.is_finite() && hit.weight >= 0.0, "{hit:?}");
+                        assert!(hit.weight <= 10.0 / 3.0 * r * 1.001, "{hit:?} r {r}");
+                        assert!(hit.t.is_finite());
+                        crossed += 1;
+                    }
+                }
+            }
+        }
+        assert!(crossed > 20_000, "{crossed} crossings");
+    }
 }
