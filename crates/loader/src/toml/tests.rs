@@ -444,6 +444,11 @@ fn the_integrator_table_names_the_method_and_its_photon_options() {
         ),
         (Some(5000), Some(4.0), Some(0))
     );
+    // The volume photon-mapping estimators too.
+    for m in ["vpm", "beam"] {
+        let b = parse(&format!("{CAMERA}[integrator]\ntype = \"{m}\"\n")).unwrap();
+        assert_eq!(b.settings.integrator.as_deref(), Some(m));
+    }
     // Without the table: nothing suggested.
     let b = parse(CAMERA).unwrap();
     assert_eq!((b.settings.integrator, b.settings.photons), (None, None));
