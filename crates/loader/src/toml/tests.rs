@@ -761,7 +761,7 @@ fn bad_media_are_errors_naming_line_and_field() {
             "{CAMERA}{grid}density = \"fire\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
         ),
         7,
-        &["fire", "plume"],
+        &["fire", "plume", "rising-smoke", "room-smoke"],
     );
     expect_parse_error(
         &format!("{CAMERA}{grid}density = \"plume\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"),
