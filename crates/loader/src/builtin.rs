@@ -7,7 +7,7 @@ use caustica_core::{Affine3A, Spectrum, Vec3};
 use caustica_scene::SceneError;
 use caustica_scene::camera::{FovAxis, PerspectiveCamera};
 use caustica_scene::intersection::NONE;
-use caustica_scene::light::{DirectionalLight, Light, PointLight, SpotLight};
+use caustica_scene::light::{BeamLight, DirectionalLight, Light, PointLight, SpotLight};
 use caustica_scene::material::{Material, conductor_preset};
 use caustica_scene::medium::{DensityGrid, Medium, MediumInterface};
 use caustica_scene::phase::PhaseFunction;
@@ -32,6 +32,9 @@ const NAMES: &[&str] = &[
     "fog-box-hg",
     "smoke-plume",
     "volume-caustic",
+    "facet-smoke",
+    "laser-smoke",
+    "glass-smoke",
 ];
 
 /// Names accepted by [`builtin_scene`].
@@ -54,6 +57,9 @@ pub fn builtin_scene(name: &str) -> Option<SceneBuilder> {
             .and_then(|p| fog_box("fog-box-hg", p).ok()),
         "smoke-plume" => smoke_plume().ok(),
         "volume-caustic" => volume_caustic().ok(),
+        "facet-smoke" => facet_smoke().ok(),
+        "laser-smoke" => laser_smoke().ok(),
+        "glass-smoke" => glass_smoke().ok(),
         _ => None,
     }
 }
@@ -210,12 +216,36 @@ const CAUSTIC_BOX_FINAL_GATHER: u32 = 4;
 /// box around the origin, white floor, ceiling and back wall, red left and green right wall.
 /// Returns the white material.
 fn cornell_room(b: &mut SceneBuilder) -> Result<u32, SceneError> {
+    let light = (
+        trs(
+            Vec3::new(0.0, 0.99, 0.01),
+            Vec3::X,
+            90.0,
+            Vec3::new(0.23, 0.19, 0.19),
+        ),
+        CORNELL_LIGHT_RADIANCE,
+    );
+    cornell_room_with_light(b, Some(light), 256)
+}
+
+/// Radiance of the ceiling light of `mi.cornell_box()` (W/m²/sr).
+const CORNELL_LIGHT_RADIANCE: Spectrum = Spectrum::new(18.387, 13.9873, 6.75357);
+
+/// [`cornell_room`] with the camera at `size` × `size` pixels and the ceiling light replaced by
+/// `light`: the transform of the [−1, 1]² rectangle (facing +z before it) and its radiance
+/// (W/m²/sr), white like the walls; no light for `None`. The light, if any, is shape 0, then
+/// floor, ceiling, back, right (green) and left (red) wall.
+fn cornell_room_with_light(
+    b: &mut SceneBuilder,
+    light: Option<(Affine3A, Spectrum)>,
+    size: u32,
+) -> Result<u32, SceneError> {
     b.set_camera(camera(
         Vec3::new(0.0, 0.0, 3.9),
         Vec3::ZERO,
         39.3077,
-        256,
-        256,
+        size,
+        size,
     ));
     b.settings.filter = FilterKind::Gaussian {
         stddev: 0.5,
@@ -226,17 +256,9 @@ fn cornell_room(b: &mut SceneBuilder) -> Result<u32, SceneError> {
     let red = b.add_material("red", diffuse(0.570068, 0.0430135, 0.0443706))?;
     let rect = |t: Affine3A| ShapeGeometry::Mesh(TriangleMesh::rectangle(&t));
     let one = Vec3::ONE;
-    b.add_shape(
-        rect(trs(
-            Vec3::new(0.0, 0.99, 0.01),
-            Vec3::X,
-            90.0,
-            Vec3::new(0.23, 0.19, 0.19),
-        )),
-        white,
-        Some(Spectrum::new(18.387, 13.9873, 6.75357)),
-        false,
-    )?;
+    if let Some((to_world, radiance)) = light {
+        b.add_shape(rect(to_world), white, Some(radiance), false)?;
+    }
     b.add_shape(
         rect(trs(Vec3::new(0.0, -1.0, 0.0), Vec3::X, -90.0, one)),
         white,
@@ -668,8 +690,364 @@ fn volume_caustic() -> Result<SceneBuilder, SceneError> {
     Ok(b)
 }
 
+// ---------------------------------------------------------------------------------------------
+// The participating-media scenes of seed 000 sec. 8.5 (Schjøth 2009 ch. 8, figs. 8.5–8.7):
+// `facet-smoke` (S-M1), `laser-smoke` (S-M2) and `glass-smoke` (S-M3). What the thesis leaves
+// open and why these values: docs/scenes.md.
+
+/// A hash of the integer lattice point (i, j, k) to [0, 1) (a 32-bit integer mix; the same on
+/// every platform).
+fn lattice_hash(i: i32, j: i32, k: i32) -> f32 {
+    let mut h = (i as u32).wrapping_mul(0x8da6_b343)
+        ^ (j as u32).wrapping_mul(0xd816_3841)
+        ^ (k as u32).wrapping_mul(0xcb1a_b31f);
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x7feb_352d);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x846c_a68b);
+    h ^= h >> 16;
+    (h >> 8) as f32 / (1u32 << 24) as f32
+}
+
+/// Value noise at `p`: the lattice values of [`lattice_hash`] at the unit cube's corners around
+/// `p`, interpolated with smoothstep weights; in [0, 1), continuous, with unit feature size.
+pub fn value_noise(p: Vec3) -> f32 {
+    let f = p.floor();
+    let (i, j, k) = (f.x as i32, f.y as i32, f.z as i32);
+    let t = p - f;
+    let w = t * t * (Vec3::splat(3.0) - 2.0 * t);
+    let lerp = |a: f32, b: f32, s: f32| a + (b - a) * s;
+    let v = |di: i32, dj: i32, dk: i32| {
+        lattice_hash(i.wrapping_add(di), j.wrapping_add(dj), k.wrapping_add(dk))
+    };
+    let x00 = lerp(v(0, 0, 0), v(1, 0, 0), w.x);
+    let x10 = lerp(v(0, 1, 0), v(1, 1, 0), w.x);
+    let x01 = lerp(v(0, 0, 1), v(1, 0, 1), w.x);
+    let x11 = lerp(v(0, 1, 1), v(1, 1, 1), w.x);
+    lerp(lerp(x00, x10, w.y), lerp(x01, x11, w.y), w.z)
+}
+
+/// Fractal value noise: four octaves of [`value_noise`] (frequencies 1, 2, 4, 8, amplitudes
+/// halving, each octave shifted), normalised to [0, 1) with mean about ½.
+pub fn smoke_noise(p: Vec3) -> f32 {
+    let (mut sum, mut amp, mut norm, mut q) = (0.0, 1.0, 0.0, p);
+    for o in 0..4 {
+        sum += amp * value_noise(q + Vec3::new(17.3, 5.1, 11.7) * o as f32);
+        norm += amp;
+        amp *= 0.5;
+        q *= 2.0;
+    }
+    sum / norm
+}
+
+/// The dimensionless density of `facet-smoke` (and of TOML's `density = "rising-smoke"`) at
+/// the grid-space point `u` ∈ [0, 1]³ (y up): warm smoke rising from the floor. Fractal noise
+/// ([`smoke_noise`]) stretched twofold along y, its horizontal coordinates swaying with height,
+/// mapped to wisps with clear air between them by (noise − 0.45) / 0.15 clamped to [0, 1];
+/// times a broad column around the room's axis (0.4 at the walls, 1 on the axis, Gaussian of
+/// width 0.3) and a fade 1 − v² to nothing at the top of the grid. In [0, 1].
+pub fn rising_smoke_density(u: Vec3) -> f32 {
+    let (x, v, z) = (u.x, u.y, u.z);
+    let q = Vec3::new(
+        5.0 * (x + 0.06 * (7.0 * v).sin()),
+        2.5 * v,
+        5.0 * (z + 0.06 * (6.0 * v).cos()),
+    );
+    let wisps = ((smoke_noise(q) - 0.45) / 0.15).clamp(0.0, 1.0);
+    let r2 = (x - 0.5).powi(2) + (z - 0.5).powi(2);
+    let column = 0.4 + 0.6 * (-r2 / (2.0 * 0.3 * 0.3)).exp();
+    (column * wisps * (1.0 - v * v)).clamp(0.0, 1.0)
+}
+
+/// The dimensionless density of `laser-smoke` (and of TOML's `density = "room-smoke"`) at the
+/// grid-space point `u` ∈ [0, 1]³ (y up): smoke filling the room, fractal noise at a feature
+/// size of a quarter of the grid, 0.6 + 1.6 (noise − ½) clamped to [0.05, 1.2], denser near the
+/// floor (× (1 − 0.4 v)).
+pub fn room_smoke_density(u: Vec3) -> f32 {
+    let q = Vec3::new(4.0 * u.x, 3.0 * u.y, 4.0 * u.z) + Vec3::new(3.7, 1.3, 8.9);
+    let n = (0.6 + 1.6 * (smoke_noise(q) - 0.5)).clamp(0.05, 1.2);
+    n * (1.0 - 0.4 * u.y)
+}
+
+/// Densities of a procedural grid of `res` voxels at the voxel centres of the unit cube (x
+/// fastest), as `DensityGrid::from_fn` samples them (also the data of the scenes' `.vol` files).
+pub fn voxel_densities(res: [u32; 3], f: impl Fn(Vec3) -> f32) -> Vec<f32> {
+    let mut data = Vec::with_capacity(res.iter().map(|&r| r as usize).product());
+    for k in 0..res[2] {
+        for j in 0..res[1] {
+            for i in 0..res[0] {
+                let u = Vec3::new(
+                    (i as f32 + 0.5) / res[0] as f32,
+                    (j as f32 + 0.5) / res[1] as f32,
+                    (k as f32 + 0.5) / res[2] as f32,
+                );
+                data.push(f(u).max(0.0));
+            }
+        }
+    }
+    data
+}
+
+/// Settings of the sec. 8.5 scenes: 16 spp, max depth 64, the beam radiance estimate.
+fn media_photon_settings(b: &mut SceneBuilder) {
+    b.settings.spp = Some(16);
+    b.settings.max_depth = Some(64);
+    b.settings.integrator = Some("beam".to_string());
+}
+
+/// Adds a grid medium `name` of `res` voxels of `density` filling `[min, max]`, extinction
+/// `sigma_t` (m⁻¹) at density 1, single-scattering `albedo`, isotropic, inside a null box of
+/// the same size.
+fn add_smoke(
+    b: &mut SceneBuilder,
+    name: &str,
+    [min, max]: [Vec3; 2],
+    res: [u32; 3],
+    density: fn(Vec3) -> f32,
+    sigma_t: f32,
+    albedo: Spectrum,
+) -> Result<(), SceneError> {
+    let grid = DensityGrid::new(
+        res,
+        voxel_densities(res, density),
+        unit_cube_to_box(min, max),
+    )
+    .map_err(SceneError::InvalidParameter)?;
+    let (sigma_a, sigma_s) = Medium::coefficients_from_albedo(Spectrum::splat(sigma_t), albedo);
+    let smoke = b.add_medium(
+        name,
+        Medium::grid(grid, sigma_a, sigma_s, PhaseFunction::default()),
+    )?;
+    add_medium_box(b, min, max, smoke)
+}
+
+/// Box of the `facet-smoke` grid and its null boundary (m): the room's width and depth, 1–2 mm
+/// inside the walls, from 1 mm above the floor to 0.4 m above the room's centre.
+pub const FACET_SMOKE_BOX: [Vec3; 2] = [
+    Vec3::new(-0.998, -0.999, -0.998),
+    Vec3::new(0.998, 0.4, 0.998),
+];
+/// Voxels of the `facet-smoke` grid (x, y, z).
+pub const FACET_SMOKE_RES: [u32; 3] = [32, 24, 32];
+/// Extinction of the `facet-smoke` smoke at density 1 (m⁻¹).
+pub const FACET_SMOKE_SIGMA_T: f32 = 2.2;
+/// Single-scattering albedo of the `facet-smoke` smoke (warm: mean 0.9).
+pub const FACET_SMOKE_ALBEDO: Spectrum = Spectrum::new(0.96, 0.9, 0.84);
+/// Centre and radius (m) of the faceted sphere of `facet-smoke`, levitating with its bottom
+/// 0.5 m above the floor.
+pub const FACET_SMOKE_SPHERE_CENTER: Vec3 = Vec3::new(0.0, -0.2, 0.0);
+pub const FACET_SMOKE_SPHERE_RADIUS: f32 = 0.3;
+/// Subdivisions of the icosahedron of the `facet-smoke` sphere (1: 80 facets).
+pub const FACET_SMOKE_SPHERE_SUBDIVISIONS: u32 = 1;
+/// Half the side (m) of the square ceiling light of `facet-smoke` (1 × 1 m) and its radiance
+/// (W/m²/sr): the colour of `mi.cornell_box()`'s light at 0.4 of its radiance, so 2.3 times
+/// its power (the light is 5.7 times larger).
+pub const FACET_SMOKE_LIGHT_HALF: f32 = 0.5;
+pub const FACET_SMOKE_LIGHT_RADIANCE: Spectrum = Spectrum::new(7.3548, 5.59492, 2.701428);
+
+/// The faceted sphere of `facet-smoke` (`scenes/meshes/facet-sphere.ply`).
+pub fn facet_smoke_sphere() -> TriangleMesh {
+    caustica_scene::shape::geodesic_sphere_mesh(
+        FACET_SMOKE_SPHERE_CENTER,
+        FACET_SMOKE_SPHERE_RADIUS,
+        FACET_SMOKE_SPHERE_SUBDIVISIONS,
+    )
+}
+
+/// `facet-smoke` (S-M1, seed 000 fig. 8.5): the Cornell room ([`cornell_room`], no boxes) with
+/// a 1 × 1 m ceiling light, warm smoke rising from the floor ([`rising_smoke_density`] on a
+/// [`FACET_SMOKE_RES`] grid filling [`FACET_SMOKE_BOX`], σ_t = [`FACET_SMOKE_SIGMA_T`] ×
+/// density, albedo [`FACET_SMOKE_ALBEDO`], isotropic) around a diffuse white faceted sphere (80
+/// flat facets, radius 0.3 m) levitating in it. Heterogeneous media in a diffuse environment;
+/// no prominent volume caustics.
+fn facet_smoke() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("facet-smoke");
+    media_photon_settings(&mut b);
+    let light = trs(
+        Vec3::new(0.0, 0.99, 0.0),
+        Vec3::X,
+        90.0,
+        Vec3::splat(FACET_SMOKE_LIGHT_HALF),
+    );
+    cornell_room_with_light(&mut b, Some((light, FACET_SMOKE_LIGHT_RADIANCE)), 128)?;
+    let sphere = b.add_material("sphere", diffuse(0.8, 0.8, 0.8))?;
+    b.add_shape(
+        ShapeGeometry::Mesh(facet_smoke_sphere()),
+        sphere,
+        None,
+        false,
+    )?;
+    add_smoke(
+        &mut b,
+        "smoke",
+        FACET_SMOKE_BOX,
+        FACET_SMOKE_RES,
+        rising_smoke_density,
+        FACET_SMOKE_SIGMA_T,
+        FACET_SMOKE_ALBEDO,
+    )?;
+    Ok(b)
+}
+
+/// The faceted silver hemisphere of `laser-smoke` on the floor: radius 0.35 m, a pentagonal
+/// cap reaching 52° from the apex (its facets lean 31.1° from the horizontal, so they reflect
+/// the vertical laser into five beams 62.2° from the vertical), two bands below it (40
+/// facets). The cap is turned so that the five beams leave at azimuths 11.5° + 72° k (from +x
+/// toward +z): none runs straight away from the camera (it would hide behind the incoming
+/// beam) and no two mirror each other across the image's vertical, so seen from the front the
+/// five beams and the laser lean at least 17° apart (the beam at 83.5° comes toward the
+/// camera).
+pub const LASER_SMOKE_DOME: caustica_scene::shape::DomeParams = caustica_scene::shape::DomeParams {
+    base: Vec3::new(0.0, -1.0, 0.0),
+    radius: 0.35,
+    cap_facets: 5,
+    cap_polar_deg: 52.0,
+    bands: 2,
+    azimuth_deg: 47.5,
+};
+/// Aperture centre of the `laser-smoke` beam (m), 1 cm under the ceiling above the apex.
+pub const LASER_SMOKE_BEAM_CENTER: Vec3 = Vec3::new(0.0, 0.99, 0.0);
+/// Radius of the `laser-smoke` beam (m): 1 % of the room's width.
+pub const LASER_SMOKE_BEAM_RADIUS: f32 = 0.02;
+/// Irradiance across the `laser-smoke` beam (W/m²): 1.26 W in all.
+pub const LASER_SMOKE_IRRADIANCE: f32 = 1000.0;
+/// Box of the `laser-smoke` grid and its null boundary (m): the whole room, 1–2 mm inside its
+/// walls, floor and ceiling.
+pub const LASER_SMOKE_BOX: [Vec3; 2] = [Vec3::splat(-0.998), Vec3::splat(0.998)];
+/// Voxels of the `laser-smoke` grid per axis.
+pub const LASER_SMOKE_RES: [u32; 3] = [32, 32, 32];
+/// Extinction of the `laser-smoke` smoke at density 1 (m⁻¹).
+pub const LASER_SMOKE_SIGMA_T: f32 = 0.6;
+/// Single-scattering albedo of the `laser-smoke` smoke (grey).
+pub const LASER_SMOKE_ALBEDO: f32 = 0.9;
+
+/// `laser-smoke` (S-M2, seed 000 fig. 8.6): the Cornell room without its ceiling light, filled
+/// with thin smoke ([`room_smoke_density`] on a 32³ grid filling [`LASER_SMOKE_BOX`], σ_t =
+/// [`LASER_SMOKE_SIGMA_T`] × density, albedo 0.9, isotropic); a narrow collimated beam
+/// (radius 2 cm, 1000 W/m², white) straight down from under the ceiling onto the apex of a
+/// faceted silver hemisphere ([`LASER_SMOKE_DOME`], smooth `Ag` conductor) on the floor, whose
+/// five cap facets reflect it into five beams through the smoke.
+fn laser_smoke() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("laser-smoke");
+    media_photon_settings(&mut b);
+    cornell_room_with_light(&mut b, None, 128)?;
+    let (eta, k) = conductor_preset("Ag")
+        .ok_or_else(|| SceneError::InvalidParameter("the Ag conductor preset is missing".into()))?;
+    let silver = b.add_material(
+        "silver",
+        Material::Conductor {
+            eta,
+            k,
+            specular: Spectrum::ONE,
+        },
+    )?;
+    b.add_shape(
+        ShapeGeometry::Mesh(caustica_scene::shape::faceted_dome_mesh(&LASER_SMOKE_DOME)),
+        silver,
+        None,
+        false,
+    )?;
+    add_smoke(
+        &mut b,
+        "smoke",
+        LASER_SMOKE_BOX,
+        LASER_SMOKE_RES,
+        room_smoke_density,
+        LASER_SMOKE_SIGMA_T,
+        Spectrum::splat(LASER_SMOKE_ALBEDO),
+    )?;
+    b.add_light(Light::Beam(BeamLight::new(
+        LASER_SMOKE_BEAM_CENTER,
+        Vec3::NEG_Y,
+        LASER_SMOKE_BEAM_RADIUS,
+        Spectrum::splat(LASER_SMOKE_IRRADIANCE),
+    )));
+    Ok(b)
+}
+
+/// Centre and radius (m) and index of refraction of the glass ball of `glass-smoke`.
+pub const GLASS_SMOKE_SPHERE_CENTER: Vec3 = Vec3::new(0.0, 1.2, 0.0);
+pub const GLASS_SMOKE_SPHERE_RADIUS: f32 = 0.5;
+pub const GLASS_SMOKE_IOR: f32 = 1.5;
+/// Height of the `glass-smoke` light above the floor (m), half its side (m) and its radiance
+/// (W/m²/sr): a 0.2 m square facing down, 40 W/sr along the axis (126 W in all).
+pub const GLASS_SMOKE_LIGHT_HEIGHT: f32 = 2.8;
+pub const GLASS_SMOKE_LIGHT_HALF: f32 = 0.1;
+pub const GLASS_SMOKE_LIGHT_RADIANCE: f32 = 1000.0;
+/// Extinction (m⁻¹) and single-scattering albedo of the `glass-smoke` smoke.
+pub const GLASS_SMOKE_SIGMA_T: f32 = 0.2;
+pub const GLASS_SMOKE_ALBEDO: f32 = 0.9;
+
+/// `glass-smoke` (S-M3, seed 000 fig. 8.7): a glass ball (IOR 1.5, radius 0.5 m, centre 1.2 m
+/// above the floor) under a small one-sided area light (0.2 m square, 1000 W/m²/sr, 1.6 m above
+/// the ball's centre, facing down), both in homogeneous smoke (σ_t = 0.2 m⁻¹, albedo 0.9,
+/// isotropic; the ball's outside is the smoke, its inside vacuum) filling a null box [−4, 4] ×
+/// [−0.001, 5] × [−4, 4] around an 8 × 8 m grey floor; the layout and camera of
+/// [`volume_caustic`]. The ball focuses the light into a bright cone under it (a volume
+/// caustic, L S+ M E) and a caustic on the floor (L S+ D E).
+fn glass_smoke() -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new("glass-smoke");
+    b.set_camera(camera(
+        Vec3::new(0.0, 1.1, 4.5),
+        Vec3::new(0.0, 0.8, 0.0),
+        40.0,
+        160,
+        120,
+    ));
+    b.settings.filter = FilterKind::Gaussian {
+        stddev: 0.5,
+        radius: 2.0,
+    };
+    media_photon_settings(&mut b);
+    let floor = b.add_material("floor", diffuse(0.5, 0.5, 0.5))?;
+    let glass = b.add_material("glass", dielectric(GLASS_SMOKE_IOR))?;
+    let black = b.add_material("light-black", diffuse(0.0, 0.0, 0.0))?;
+    let (sigma_a, sigma_s) = Medium::coefficients_from_albedo(
+        Spectrum::splat(GLASS_SMOKE_SIGMA_T),
+        Spectrum::splat(GLASS_SMOKE_ALBEDO),
+    );
+    let smoke = b.add_medium(
+        "smoke",
+        Medium::homogeneous(sigma_a, sigma_s, PhaseFunction::default()),
+    )?;
+    add_floor(&mut b, 4.0, floor)?;
+    b.add_shape_with_media(
+        ShapeGeometry::Sphere(Sphere {
+            center: GLASS_SMOKE_SPHERE_CENTER,
+            radius: GLASS_SMOKE_SPHERE_RADIUS,
+        }),
+        glass,
+        None,
+        false,
+        MediumInterface {
+            inside: NONE,
+            outside: smoke,
+        },
+    )?;
+    b.add_shape(
+        ShapeGeometry::Mesh(TriangleMesh::rectangle(&trs(
+            Vec3::new(0.0, GLASS_SMOKE_LIGHT_HEIGHT, 0.0),
+            Vec3::X,
+            90.0,
+            Vec3::splat(GLASS_SMOKE_LIGHT_HALF),
+        ))),
+        black,
+        Some(Spectrum::splat(GLASS_SMOKE_LIGHT_RADIANCE)),
+        false,
+    )?;
+    add_medium_box(
+        &mut b,
+        Vec3::new(-4.0, -0.001, -4.0),
+        Vec3::new(4.0, 5.0, 4.0),
+        smoke,
+    )?;
+    Ok(b)
+}
+
 #[cfg(test)]
 mod tests {
+    mod media_scenes;
+
     use super::*;
     use crate::parse_scene_file;
     use caustica_core::Ray;
@@ -1003,7 +1381,8 @@ mod tests {
         a.abs_diff_eq(b, tol)
     }
 
-    /// Everything a render depends on, shape by shape and light by light, within `tol` (m).
+    /// Everything a render depends on, shape by shape (meshes and spheres, and the media on
+    /// their sides) and light by light (directional, area and beam lights), within `tol` (m).
     fn assert_same_scene(name: &str, a: &SceneBuilder, b: &SceneBuilder, tol: f32) {
         assert_eq!(a.name, b.name);
         assert_eq!(a.material_names(), b.material_names(), "{name}");
@@ -1019,9 +1398,22 @@ mod tests {
             assert_eq!(sa.material, sb.material, "{name}: shape {i}");
             assert_eq!(sa.light, sb.light, "{name}: shape {i}");
             assert_eq!(sa.flip_normals, sb.flip_normals, "{name}: shape {i}");
-            let (ShapeGeometry::Mesh(ma), ShapeGeometry::Mesh(mb)) = (&sa.geometry, &sb.geometry)
-            else {
-                panic!("{name}: shape {i}: the case scenes are made of meshes")
+            assert_eq!(
+                (sa.medium_inside, sa.medium_outside),
+                (sb.medium_inside, sb.medium_outside),
+                "{name}: shape {i}: media"
+            );
+            let (ma, mb) = match (&sa.geometry, &sb.geometry) {
+                (ShapeGeometry::Mesh(ma), ShapeGeometry::Mesh(mb)) => (ma, mb),
+                (ShapeGeometry::Sphere(x), ShapeGeometry::Sphere(y)) => {
+                    assert!(close(x.center, y.center, tol), "{name}: shape {i}: centre");
+                    assert!(
+                        (x.radius - y.radius).abs() <= tol,
+                        "{name}: shape {i}: radius"
+                    );
+                    continue;
+                }
+                _ => panic!("{name}: shape {i}: geometries differ in kind"),
             };
             assert_eq!(ma.indices, mb.indices, "{name}: shape {i}");
             assert_eq!(ma.positions.len(), mb.positions.len(), "{name}: shape {i}");
@@ -1047,8 +1439,17 @@ mod tests {
                     );
                     assert_eq!(x.irradiance, y.irradiance, "{name}");
                 }
+                (Light::Beam(x), Light::Beam(y)) => {
+                    assert!(close(x.center, y.center, tol), "{name}: beam centre");
+                    assert!(close(x.direction(), y.direction(), 1e-6), "{name}: beam");
+                    assert!((x.radius - y.radius).abs() <= 1e-7, "{name}: beam radius");
+                    assert_eq!(x.irradiance, y.irradiance, "{name}");
+                }
                 (Light::Area(x), Light::Area(y)) => {
-                    assert_eq!(x.radiance, y.radiance, "{name}");
+                    for c in 0..3 {
+                        let (p, q) = (x.radiance.c[c], y.radiance.c[c]);
+                        assert!((p - q).abs() <= 1e-6 * p.abs(), "{name}: radiance");
+                    }
                     assert_eq!(x.two_sided, y.two_sided, "{name}");
                     let (AreaShape::Triangles(ta), AreaShape::Triangles(tb)) = (&x.shape, &y.shape)
                     else {

@@ -13,7 +13,10 @@ pub mod toml;
 pub mod vol;
 
 pub use self::toml::parse_toml_scene;
-pub use builtin::{DEFAULT_SCENE, builtin_names, builtin_scene, plume_density};
+pub use builtin::{
+    DEFAULT_SCENE, builtin_names, builtin_scene, plume_density, rising_smoke_density,
+    room_smoke_density,
+};
 pub use error::LoadError;
 pub use mitsuba::{load_mitsuba, parse_mitsuba};
 pub use obj::{load_obj, parse_obj};

@@ -8,7 +8,9 @@ use crate::media::{open_boundary_reason, open_boundary_warning};
 use crate::{load_obj, load_ply};
 use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
 use caustica_scene::camera::{FovAxis, PerspectiveCamera};
-use caustica_scene::light::{DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight};
+use caustica_scene::light::{
+    BeamLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight,
+};
 use caustica_scene::material::{Material, conductor_preset};
 use caustica_scene::medium::MediumInterface;
 use caustica_scene::scene::FilterKind;
@@ -529,6 +531,7 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
     // Nested BSDF / emitter.
     let mut material = None;
     let mut emission = None;
+    let mut beam = None;
     let mut media = MediumInterface::default();
     for c in std::mem::take(&mut p.children) {
         let side = c.attribute("name");
@@ -566,14 +569,16 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
             }
             "emitter" => {
                 let (et, epos) = ty(lo, d, c)?;
-                if et != "area" {
+                if et != "area" && et != "directionalarea" {
                     return Err(d.err_at(
                         epos,
-                        format!("emitter '{et}' cannot be attached to a shape (only 'area')"),
+                        format!(
+                            "emitter '{et}' cannot be attached to a shape (only 'area' or 'directionalarea')"
+                        ),
                     ));
                 }
                 let mut ep = lo.props(d, c)?;
-                emission = Some(ep.spectrum(d, "radiance")?.unwrap_or(Spectrum::ONE));
+                let radiance = ep.spectrum(d, "radiance")?.unwrap_or(Spectrum::ONE);
                 for cc in std::mem::take(&mut ep.children) {
                     lo.unsupported(
                         d,
@@ -582,9 +587,28 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
                     );
                 }
                 lo.leftovers(d, ep);
+                if et == "area" {
+                    emission = Some(radiance);
+                } else {
+                    beam = Some(DirectionalArea {
+                        radiance,
+                        type_pos: epos,
+                        node: c,
+                    });
+                }
             }
             other => lo.unsupported(d, c, format!("<{other}> inside {}", p.desc)),
         }
+    }
+    if let Some(e) = beam {
+        let shape = ShapeParts {
+            ty: &t,
+            geometry,
+            flip,
+            media,
+            has_bsdf: material.is_some(),
+        };
+        return directional_area(lo, d, p, shape, e);
     }
     // Mitsuba gives a shape without a BSDF a diffuse one of reflectance 0.5, except when the
     // shape is an area emitter: then the default BSDF is black (the light does not reflect).
@@ -631,6 +655,79 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
     }
     lo.b.add_shape_with_media(geometry, material, emission, flip, media)
         .map_err(|e| d.err_at(d.pos(n), e.to_string()))
+}
+
+/// A `directionalarea` emitter nested in a shape: its `radiance`, the position of its `type`
+/// attribute and its element.
+struct DirectionalArea<'a, 'i> {
+    radiance: Spectrum,
+    type_pos: usize,
+    node: Node<'a, 'i>,
+}
+
+/// What [`directional_area`] needs of the shape holding the emitter.
+struct ShapeParts<'t> {
+    ty: &'t str,
+    geometry: ShapeGeometry,
+    flip: bool,
+    media: MediumInterface,
+    /// A BSDF was nested or referenced.
+    has_bsdf: bool,
+}
+
+/// A disk with a `directionalarea` emitter (light leaving every point of the shape along its
+/// normal) becomes a collimated [`BeamLight`]: the disk's centre and radius, its normal
+/// (reversed by `flip_normals`) as the direction, and the emitter's `radiance` as the
+/// irradiance across the beam (W/m²: Mitsuba 3's `directionalarea` gives each emitted ray the
+/// weight `radiance` × area, so the beam carries `radiance` × π r² watts). The disk itself is
+/// not a surface in caustica (a BSDF given to it is unused, noted as an approximation); its
+/// exterior medium, if any, is the light's. Any other shape is an error at the emitter's type.
+fn directional_area(
+    lo: &mut Loader,
+    d: &Doc,
+    p: Props,
+    shape: ShapeParts,
+    e: DirectionalArea,
+) -> Result<(), LoadError> {
+    let ShapeGeometry::Disk(disk) = shape.geometry else {
+        return Err(d.err_at(
+            e.type_pos,
+            format!(
+                "a 'directionalarea' emitter needs a disk, not a '{}' shape (caustica imports it \
+                 as a collimated beam from the disk)",
+                shape.ty
+            ),
+        ));
+    };
+    if e.radiance.min_component() < 0.0 {
+        return Err(d.err_at(
+            d.pos(e.node),
+            "directionalarea: radiance must be non-negative",
+        ));
+    }
+    if shape.has_bsdf {
+        lo.approximated(
+            d,
+            p.node,
+            "the BSDF of a directionalarea disk is unused (the beam's aperture is not a surface)",
+        );
+    }
+    let direction = if shape.flip {
+        -disk.normal
+    } else {
+        disk.normal
+    };
+    lo.leftovers(d, p);
+    lo.b.add_light(Light::Beam(BeamLight::new(
+        disk.center,
+        direction,
+        disk.radius,
+        e.radiance,
+    )));
+    if shape.media.outside != caustica_scene::intersection::NONE {
+        lo.b.set_light_medium(lo.b.lights().len() - 1, shape.media.outside);
+    }
+    Ok(())
 }
 
 pub(super) fn emitter(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> {
@@ -707,13 +804,16 @@ pub(super) fn emitter(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError
             )?;
             Light::Environment(EnvironmentLight::constant(l))
         }
-        "area" => {
-            return Err(d.err_at(tpos, "an area emitter must be nested inside a <shape>"));
+        "area" | "directionalarea" => {
+            return Err(d.err_at(
+                tpos,
+                format!("an {t} emitter must be nested inside a <shape>"),
+            ));
         }
         other => {
             return Err(d.err_at(
                 tpos,
-                format!("unknown emitter type '{other}' (supported: area, point, spot, directional, constant)"),
+                format!("unknown emitter type '{other}' (supported: area, directionalarea, point, spot, directional, constant)"),
             ));
         }
     };

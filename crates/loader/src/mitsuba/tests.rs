@@ -368,6 +368,83 @@ fn emitters_convert() {
 }
 
 #[test]
+fn directionalarea_disks_become_beam_lights() {
+    // A disk of radius 0.02 m at (0, 0.99, 0) facing down (+z rotated 90° about x), a second
+    // one flipped (facing up) in a medium, with a BSDF.
+    let body = r#"<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.5"/></medium>
+<shape type="disk">
+  <transform name="to_world"><scale value="0.02"/><rotate x="1" angle="90"/><translate y="0.99"/></transform>
+  <emitter type="directionalarea"><rgb name="radiance" value="1000, 500, 250"/></emitter>
+</shape>
+<shape type="disk"><boolean name="flip_normals" value="true"/>
+  <transform name="to_world"><scale value="2"/><rotate x="1" angle="90"/><translate x="5"/></transform>
+  <bsdf type="diffuse"/><ref name="exterior" id="fog"/>
+  <emitter type="directionalarea"/>
+</shape>"#;
+    let b = parse(&format!("{body}\n{CAM}")).unwrap();
+    assert_eq!(b.shape_count(), 0, "the apertures are not surfaces");
+    let [Light::Beam(l), Light::Beam(m)] = b.lights() else {
+        panic!("two beams: {:?}", b.lights())
+    };
+    assert!(l.center.abs_diff_eq(Vec3::new(0.0, 0.99, 0.0), 1e-6));
+    assert!(
+        l.direction().abs_diff_eq(-Vec3::Y, 1e-6),
+        "{}",
+        l.direction()
+    );
+    assert!((l.radius - 0.02).abs() < 1e-7);
+    // radiance is the irradiance across the beam: power = radiance × π r² (W).
+    assert_eq!(l.irradiance.to_rgb(), [1000.0, 500.0, 250.0]);
+    let pi = std::f32::consts::PI;
+    let p = b.lights()[0].power().to_rgb();
+    for (c, e) in p.iter().zip([1000.0, 500.0, 250.0]) {
+        assert!((c - e * pi * 4e-4).abs() < 1e-5 * c, "{p:?}");
+    }
+    // flip_normals reverses the beam; default radiance 1; the exterior medium is the light's.
+    assert!(m.direction().abs_diff_eq(Vec3::Y, 1e-6));
+    assert!((m.radius - 2.0).abs() < 1e-6 && m.irradiance == Spectrum::ONE);
+    let w = b.pending_warnings();
+    assert!(
+        w.len() == 1 && w[0].contains("BSDF of a directionalarea disk") && w[0].contains(":7"),
+        "{w:?}"
+    );
+    let scene = b.build().unwrap();
+    assert_eq!(scene.light_media, vec![NONE, 0]);
+
+    // Anything but a disk, or at the top level: errors naming the line (and column of the
+    // emitter's type).
+    expect_err(
+        parse(
+            r#"<shape type="rectangle">
+<emitter type="directionalarea"/></shape>"#,
+        ),
+        3,
+        Some(16),
+        &["directionalarea", "disk", "rectangle"],
+    );
+    expect_err(
+        parse(r#"<shape type="sphere"><emitter type="directionalarea"/></shape>"#),
+        2,
+        Some(37),
+        &["directionalarea", "disk", "sphere"],
+    );
+    expect_err(
+        parse(r#"<emitter type="directionalarea"/>"#),
+        2,
+        Some(16),
+        &["directionalarea", "inside a <shape>"],
+    );
+    expect_err(
+        parse(
+            r#"<shape type="disk"><emitter type="directionalarea"><rgb name="radiance" value="-1"/></emitter></shape>"#,
+        ),
+        2,
+        None,
+        &["directionalarea", "non-negative"],
+    );
+}
+
+#[test]
 fn sensor_film_sampler_integrator() {
     let body = r#"<integrator type="ptracer"><integer name="max_depth" value="5"/></integrator>
 <sensor type="perspective"><float name="fov" value="30"/><string name="fov_axis" value="y"/>

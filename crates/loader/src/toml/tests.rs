@@ -444,6 +444,11 @@ fn the_integrator_table_names_the_method_and_its_photon_options() {
         ),
         (Some(5000), Some(4.0), Some(0))
     );
+    // The volume photon-mapping estimators too.
+    for m in ["vpm", "beam"] {
+        let b = parse(&format!("{CAMERA}[integrator]\ntype = \"{m}\"\n")).unwrap();
+        assert_eq!(b.settings.integrator.as_deref(), Some(m));
+    }
     // Without the table: nothing suggested.
     let b = parse(CAMERA).unwrap();
     assert_eq!((b.settings.integrator, b.settings.photons), (None, None));
@@ -756,7 +761,7 @@ fn bad_media_are_errors_naming_line_and_field() {
             "{CAMERA}{grid}density = \"fire\"\nres = [4, 4, 4]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
         ),
         7,
-        &["fire", "plume"],
+        &["fire", "plume", "rising-smoke", "room-smoke"],
     );
     expect_parse_error(
         &format!("{CAMERA}{grid}density = \"plume\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"),

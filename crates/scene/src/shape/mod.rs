@@ -11,7 +11,10 @@ pub mod sphere;
 pub use aabb::Aabb;
 pub use disk::Disk;
 pub use mesh::{SanitizeReport, TriangleMesh};
-pub use procedural::{RingParams, WaveParams, ring_mesh, water_wave_mesh};
+pub use procedural::{
+    DomeParams, RingParams, WaveParams, faceted_dome_mesh, geodesic_sphere_mesh, ring_mesh,
+    water_wave_mesh,
+};
 pub use sphere::Sphere;
 
 use crate::intersection::NONE;

@@ -1,6 +1,8 @@
 //! Procedural meshes of the case-study scenes (seed 000 ch. 6, seed 002 fig. 1): a sinusoidal
-//! water-wave height field and a thick cylindrical ring. The built-in scenes build them here;
-//! `scenes/meshes/*.ply` are these meshes written out for the TOML and Mitsuba versions.
+//! water-wave height field and a thick cylindrical ring; and of the participating-media scenes
+//! (seed 000 sec. 8.5): a flat-shaded geodesic sphere and a faceted dome with a pentagonal cap.
+//! The built-in scenes build them here; `scenes/meshes/*.ply` are these meshes written out for
+//! the TOML and Mitsuba versions.
 
 use super::TriangleMesh;
 use caustica_core::Vec3;
@@ -163,6 +165,199 @@ pub fn ring_mesh(p: &RingParams) -> TriangleMesh {
     m
 }
 
+/// Reverses every triangle whose winding normal points toward `center` (so that the normals
+/// of a mesh star-shaped about `center` point away from it).
+fn orient_away_from(m: &mut TriangleMesh, center: Vec3) {
+    for t in &mut m.indices {
+        let [a, b, c] = t.map(|k| m.positions[k as usize]);
+        if (b - a).cross(c - a).dot((a + b + c) / 3.0 - center) < 0.0 {
+            t.swap(1, 2);
+        }
+    }
+}
+
+/// A flat-shaded geodesic sphere of `radius` (m) around `center`: the regular icosahedron with
+/// each triangle split into four `subdivisions` times (20 · 4^`subdivisions` triangles: 80 for
+/// 1), every vertex on the sphere. Closed, welded (each edge shared by two triangles), wound
+/// counter-clockwise seen from outside and without vertex normals, so every facet shades flat.
+pub fn geodesic_sphere_mesh(center: Vec3, radius: f32, subdivisions: u32) -> TriangleMesh {
+    let phi = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut verts: Vec<[f64; 3]> = vec![
+        [-1.0, phi, 0.0],
+        [1.0, phi, 0.0],
+        [-1.0, -phi, 0.0],
+        [1.0, -phi, 0.0],
+        [0.0, -1.0, phi],
+        [0.0, 1.0, phi],
+        [0.0, -1.0, -phi],
+        [0.0, 1.0, -phi],
+        [phi, 0.0, -1.0],
+        [phi, 0.0, 1.0],
+        [-phi, 0.0, -1.0],
+        [-phi, 0.0, 1.0],
+    ];
+    let unit = |v: [f64; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        [v[0] / l, v[1] / l, v[2] / l]
+    };
+    for v in &mut verts {
+        *v = unit(*v);
+    }
+    let mut faces: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions {
+        let mut midpoints = std::collections::HashMap::new();
+        let mut mid = |a: u32, b: u32, verts: &mut Vec<[f64; 3]>| -> u32 {
+            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (p, q) = (verts[a as usize], verts[b as usize]);
+                verts.push(unit([p[0] + q[0], p[1] + q[1], p[2] + q[2]]));
+                verts.len() as u32 - 1
+            })
+        };
+        let mut next = Vec::with_capacity(4 * faces.len());
+        for [a, b, c] in faces {
+            let (ab, bc, ca) = (
+                mid(a, b, &mut verts),
+                mid(b, c, &mut verts),
+                mid(c, a, &mut verts),
+            );
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        faces = next;
+    }
+    let mut m = TriangleMesh {
+        positions: verts
+            .iter()
+            .map(|v| center + Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32) * radius)
+            .collect(),
+        indices: faces,
+        ..TriangleMesh::default()
+    };
+    orient_away_from(&mut m, center);
+    m
+}
+
+/// A faceted dome (a low-poly hemisphere) standing on the plane y = `base.y`: an apex at
+/// `base + radius · y`, a cap of `cap_facets` triangles around it (the pentagonal cap of
+/// `laser-smoke` for 5), then `bands` bands of 2 · `cap_facets` vertices per ring down to the
+/// rim on the base plane; open at the bottom.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DomeParams {
+    /// Centre of the rim circle (m).
+    pub base: Vec3,
+    /// Radius of the sphere every vertex lies on (m).
+    pub radius: f32,
+    /// Triangles around the apex (≥ 3).
+    pub cap_facets: u32,
+    /// Polar angle of the cap's ring from the apex (degrees, in (0, 90)).
+    pub cap_polar_deg: f32,
+    /// Bands of quads (split into two triangles) below the cap (≥ 1); the rings below the cap
+    /// are spaced evenly in polar angle down to 90°.
+    pub bands: u32,
+    /// Azimuth of the cap ring's first vertex (degrees from +x toward +z).
+    pub azimuth_deg: f32,
+}
+
+impl DomeParams {
+    /// Unit outward normal of cap facet `k` (the one between cap vertices k and k + 1): it
+    /// leans away from the apex by `atan(tan(α/2) / cos(π/n))` (α the cap's polar angle, n
+    /// the facet count) toward the azimuth midway between its two ring vertices.
+    pub fn cap_normal(&self, k: u32) -> Vec3 {
+        let n = self.cap_facets.max(3) as f64;
+        let half = (self.cap_polar_deg as f64).to_radians() / 2.0;
+        let tilt = (half.tan() / (PI / n).cos()).atan();
+        let az = (self.azimuth_deg as f64).to_radians() + PI * (2.0 * k as f64 + 1.0) / n;
+        Vec3::new(
+            (tilt.sin() * az.cos()) as f32,
+            tilt.cos() as f32,
+            (tilt.sin() * az.sin()) as f32,
+        )
+    }
+}
+
+/// The dome of `p` as a flat-shaded triangle mesh (no vertex normals, wound counter-clockwise
+/// seen from outside): `cap_facets` · (1 + 3 + 4 (`bands` − 1)) triangles, of which the first
+/// `cap_facets` are the cap, in the order of [`DomeParams::cap_normal`]. Its boundary is the
+/// rim on the base plane.
+pub fn faceted_dome_mesh(p: &DomeParams) -> TriangleMesh {
+    let n = p.cap_facets.max(3);
+    let bands = p.bands.max(1);
+    let r = p.radius as f64;
+    let a0 = (p.azimuth_deg as f64).to_radians();
+    let cap = (p.cap_polar_deg as f64).to_radians();
+    let at = |polar: f64, az: f64| {
+        let (s, c) = polar.sin_cos();
+        p.base
+            + Vec3::new(
+                (r * s * az.cos()) as f32,
+                (r * c) as f32,
+                (r * s * az.sin()) as f32,
+            )
+    };
+    let mut m = TriangleMesh::default();
+    m.positions.push(p.base + Vec3::new(0.0, p.radius, 0.0));
+    for k in 0..n {
+        m.positions
+            .push(at(cap, a0 + 2.0 * PI * k as f64 / n as f64));
+    }
+    // Rings below the cap: 2n vertices each, the even ones under the cap's vertices; the last
+    // one on the base plane (y exactly base.y).
+    for i in 1..=bands {
+        let polar = cap + (PI / 2.0 - cap) * i as f64 / bands as f64;
+        for k in 0..2 * n {
+            let mut q = at(polar, a0 + PI * k as f64 / n as f64);
+            if i == bands {
+                q.y = p.base.y;
+            }
+            m.positions.push(q);
+        }
+    }
+    let ring = |i: u32, k: u32| -> u32 {
+        if i == 0 {
+            1 + k % n
+        } else {
+            1 + n + (i - 1) * 2 * n + k % (2 * n)
+        }
+    };
+    for k in 0..n {
+        m.indices.push([0, ring(0, k), ring(0, k + 1)]);
+    }
+    for k in 0..n {
+        let (a, b) = (ring(0, k), ring(0, k + 1));
+        let (q0, q1, q2) = (ring(1, 2 * k), ring(1, 2 * k + 1), ring(1, 2 * k + 2));
+        m.indices.extend([[a, q0, q1], [a, q1, b], [b, q1, q2]]);
+    }
+    for i in 1..bands {
+        for k in 0..2 * n {
+            let (a, b) = (ring(i, k), ring(i, k + 1));
+            let (c, d) = (ring(i + 1, k), ring(i + 1, k + 1));
+            m.indices.extend([[a, c, d], [a, d, b]]);
+        }
+    }
+    orient_away_from(&mut m, p.base);
+    m
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -309,5 +504,72 @@ mod tests {
                 assert_eq!(ng.y > 0.0, centroid.y > 0.25, "annulus at {centroid}");
             }
         }
+    }
+
+    #[test]
+    fn geodesic_sphere_is_closed_flat_and_on_the_sphere() {
+        let c = Vec3::new(0.1, -0.2, 0.3);
+        for (sub, faces) in [(0, 20), (1, 80), (2, 320)] {
+            let m = geodesic_sphere_mesh(c, 0.5, sub);
+            assert_eq!(m.indices.len(), faces);
+            assert_eq!(m.positions.len(), faces / 2 + 2, "Euler: V = F/2 + 2");
+            assert!(m.normals.is_none(), "flat-shaded");
+            assert!(boundary_edges(&m).is_empty(), "the sphere has a boundary");
+            for p in &m.positions {
+                assert!(((*p - c).length() - 0.5).abs() < 1e-6);
+            }
+            for t in &m.indices {
+                let [a, b, cc] = t.map(|k| m.positions[k as usize]);
+                assert!(geometric_normal(&m, t).dot((a + b + cc) / 3.0 - c) > 0.0);
+            }
+            // Inscribed: the volume is below the sphere's and grows with subdivision.
+            let v = signed_volume(&geodesic_sphere_mesh(Vec3::ZERO, 0.5, sub));
+            let sphere = 4.0 / 3.0 * PI * 0.125;
+            assert!(v > 0.6 * sphere && v < sphere, "{v}");
+        }
+    }
+
+    #[test]
+    fn dome_has_a_pentagonal_cap_and_its_rim_on_the_base() {
+        let p = DomeParams {
+            base: Vec3::new(0.0, -1.0, 0.0),
+            radius: 0.35,
+            cap_facets: 5,
+            cap_polar_deg: 40.0,
+            bands: 2,
+            azimuth_deg: 18.0,
+        };
+        let m = faceted_dome_mesh(&p);
+        assert_eq!(m.indices.len(), 5 * (1 + 3 + 4));
+        assert!(m.normals.is_none(), "flat-shaded");
+        for q in &m.positions {
+            assert!(((*q - p.base).length() - 0.35).abs() < 1e-6);
+            assert!(q.y >= p.base.y);
+        }
+        // The boundary is the rim: 10 edges on the base plane.
+        let boundary = boundary_edges(&m);
+        assert_eq!(boundary.len(), 10);
+        for (a, b) in boundary {
+            for v in [a, b] {
+                assert_eq!(f32::from_bits(v[1]), -1.0);
+            }
+        }
+        // Every facet faces outward, upward (the dome stands on the base plane); the first
+        // five meet at the apex and have the normals cap_normal gives.
+        for (i, t) in m.indices.iter().enumerate() {
+            let ng = geometric_normal(&m, t);
+            let [a, b, c] = t.map(|k| m.positions[k as usize]);
+            assert!(ng.dot((a + b + c) / 3.0 - p.base) > 0.0, "triangle {i}");
+            assert!(ng.y > -1e-6, "triangle {i} faces down");
+            if i < 5 {
+                assert!(t.contains(&0), "cap triangle {i} misses the apex");
+                let want = p.cap_normal(i as u32);
+                assert!(ng.abs_diff_eq(want, 1e-5), "cap {i}: {ng} vs {want}");
+            }
+        }
+        // Tilt atan(tan 20° / cos 36°) = 24.2°; the cap normal of facet 3 is at azimuth 270°.
+        let tilt = p.cap_normal(0).y.acos().to_degrees();
+        assert!((tilt - 24.22).abs() < 0.01, "{tilt}");
+        assert!(p.cap_normal(3).z < -0.4 && p.cap_normal(3).x.abs() < 1e-6);
     }
 }

@@ -9,7 +9,7 @@ use ::toml::Spanned;
 use caustica_scene::medium::{DensityGrid, Medium};
 
 /// The procedural densities `density = "…"` names.
-pub(crate) const DENSITIES: &[&str] = &["plume"];
+pub(crate) const DENSITIES: &[&str] = &["plume", "rising-smoke", "room-smoke"];
 
 pub(crate) fn medium(cx: &Ctx, m: &Spanned<MediumDesc>) -> Result<Medium, LoadError> {
     let span = m.span();
@@ -74,8 +74,10 @@ pub(crate) fn medium(cx: &Ctx, m: &Spanned<MediumDesc>) -> Result<Medium, LoadEr
                     DensityGrid::new(g.res, g.data, to_world)
                 }
                 (None, Some(name), Some(res)) => {
-                    let f = match name.as_str() {
+                    let f: fn(caustica_core::Vec3) -> f32 = match name.as_str() {
                         "plume" => crate::builtin::plume_density,
+                        "rising-smoke" => crate::builtin::rising_smoke_density,
+                        "room-smoke" => crate::builtin::room_smoke_density,
                         other => {
                             return Err(err(format!(
                                 "unknown density '{other}' (built in: {})",

@@ -14,6 +14,8 @@ pub(crate) enum IntegratorType {
     Dpm,
     Pdm,
     Pds,
+    Vpm,
+    Beam,
 }
 
 impl IntegratorType {
@@ -25,6 +27,8 @@ impl IntegratorType {
             IntegratorType::Dpm => "dpm",
             IntegratorType::Pdm => "pdm",
             IntegratorType::Pds => "pds",
+            IntegratorType::Vpm => "vpm",
+            IntegratorType::Beam => "beam",
         }
     }
 }
