@@ -220,6 +220,16 @@ impl RenderSettings {
             opts.photons.footprints.smoothing = caustica_render::Smoothing::new(s)?;
             opts.photons.auto.smoothing = false;
         }
+        if self.photon.volume_smoothing.is_none()
+            && let Some(s) = scene.settings.volume_smoothing
+        {
+            opts.photons.volume.smoothing = Some(caustica_render::Smoothing::new(s)?);
+        }
+        if self.photon.volume_photons.is_none()
+            && let Some(n) = scene.settings.volume_photons
+        {
+            opts.photons.volume.photons = n as usize;
+        }
         if self.photon.final_gather.is_none()
             && let Some(g) = scene.settings.final_gather
         {

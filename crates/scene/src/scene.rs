@@ -39,6 +39,10 @@ pub struct SceneSettings {
     pub photons: Option<u32>,
     /// Smoothing of photon differentials the scene suggests (pdm, pds; positive).
     pub smoothing: Option<f32>,
+    /// Smoothing of volume photon differentials the scene suggests (vpd; positive).
+    pub volume_smoothing: Option<f32>,
+    /// Volume photons the scene suggests for its photon integrator.
+    pub volume_photons: Option<u32>,
     /// Final-gather rays per camera sample the scene suggests (pm, dpm, pdm, pds; 0 = the
     /// global map seen directly).
     pub final_gather: Option<u32>,

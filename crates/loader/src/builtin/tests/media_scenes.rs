@@ -119,14 +119,20 @@ fn media_scenes_match_their_toml_and_mitsuba_files() {
             assert_same_scene(&label, &builtin, other, 1e-5);
             assert_same_media(&label, &builtin, other);
         }
-        // The built-in and the TOML file suggest the beam radiance estimate; the Mitsuba file
-        // names the Mitsuba integrator that can load it (ptracer for the directionalarea laser).
+        // The built-in and the TOML file suggest vpd with the same volume smoothing; the
+        // Mitsuba file names the Mitsuba integrator that can load it (ptracer for the
+        // directionalarea laser).
         assert_eq!(
             builtin.settings.integrator.as_deref(),
-            Some("beam"),
+            Some("vpd"),
             "{name}"
         );
-        assert_eq!(toml.settings.integrator.as_deref(), Some("beam"), "{name}");
+        assert_eq!(toml.settings.integrator.as_deref(), Some("vpd"), "{name}");
+        assert!(builtin.settings.volume_smoothing.is_some(), "{name}");
+        assert_eq!(
+            builtin.settings.volume_smoothing, toml.settings.volume_smoothing,
+            "{name}"
+        );
         let want = if name == "laser-smoke" {
             "ptracer"
         } else {

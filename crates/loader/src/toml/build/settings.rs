@@ -55,14 +55,24 @@ pub(crate) fn integrator(
     settings.integrator = Some(d.ty.name().to_string());
     settings.photons = d.photons.map(|c| c.0);
     settings.final_gather = d.final_gather;
-    if let Some(s) = d.smoothing {
-        if !(s.is_finite() && s > 0.0) {
-            return Err(cx.err(
-                desc.span(),
-                format!("[integrator] smoothing must be a positive finite number, got {s}"),
-            ));
+    settings.volume_photons = d.volume_photons.map(|c| c.0);
+    for (name, value, slot) in [
+        ("smoothing", d.smoothing, &mut settings.smoothing),
+        (
+            "volume_smoothing",
+            d.volume_smoothing,
+            &mut settings.volume_smoothing,
+        ),
+    ] {
+        if let Some(s) = value {
+            if !(s.is_finite() && s > 0.0) {
+                return Err(cx.err(
+                    desc.span(),
+                    format!("[integrator] {name} must be a positive finite number, got {s}"),
+                ));
+            }
+            *slot = Some(s);
         }
-        settings.smoothing = Some(s);
     }
     Ok(())
 }

@@ -16,6 +16,7 @@ pub(crate) enum IntegratorType {
     Pds,
     Vpm,
     Beam,
+    Vpd,
 }
 
 impl IntegratorType {
@@ -29,6 +30,7 @@ impl IntegratorType {
             IntegratorType::Pds => "pds",
             IntegratorType::Vpm => "vpm",
             IntegratorType::Beam => "beam",
+            IntegratorType::Vpd => "vpd",
         }
     }
 }
@@ -42,6 +44,10 @@ pub(crate) struct IntegratorDesc {
     pub(crate) photons: Option<Count>,
     /// Smoothing s of photon differentials (`--smoothing`; pdm, pds).
     pub(crate) smoothing: Option<f32>,
+    /// Smoothing s of volume photon differentials (`--volume-smoothing`; vpd).
+    pub(crate) volume_smoothing: Option<f32>,
+    /// Volume photons (`--volume-photons`).
+    pub(crate) volume_photons: Option<Count>,
     /// Final-gather rays per camera sample (`--final-gather`; 0 = the global map seen directly).
     pub(crate) final_gather: Option<u32>,
 }
