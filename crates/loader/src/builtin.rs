@@ -791,8 +791,8 @@ pub fn voxel_densities(res: [u32; 3], f: impl Fn(Vec3) -> f32) -> Vec<f32> {
 /// Volume smoothing of `facet-smoke`, `laser-smoke` and `glass-smoke` (vpd's `s`): the
 /// collimated laser's kernels never widen (its directional differentials are zero), so it needs
 /// a far larger `s` than the area-lit scenes.
-pub const FACET_SMOKE_S: f32 = 4.0;
-pub const LASER_SMOKE_S: f32 = 64.0;
+pub const FACET_SMOKE_S: f32 = 8.0;
+pub const LASER_SMOKE_S: f32 = 128.0;
 pub const GLASS_SMOKE_S: f32 = 8.0;
 
 /// Settings of the sec. 8.5 scenes: 16 spp, max depth 64, photon differentials in media (vpd)
