@@ -4,17 +4,22 @@
 # k-NN per step), the beam estimate with k-NN pilot radii (`beam`, the ablation "kernel shape vs
 # integration scheme") and volume photon differentials (`vpd`, ellipsoidal kernels from each
 # photon's differentials) against an unbiased reference, the volumetric light tracer.
-#   1. sweeps: vpm's --volume-k, beam's --volume-k, vpd's --volume-smoothing at N (RMSE, SSIM,
-#      relative mean difference, times);
-#   2. the RMSE- and SSIM-optimal setting of each method;
-#   3. how many photons vpm needs to reach vpd's best RMSE: vpm at 2N, 4N, 8N, ... (a small k
-#      sweep around k_opt * f^0.57 at each count f N), until it gets there or reaches MATCH_MAX;
+#   1. stage 1 sweeps at SPP: vpm's --volume-k, beam's --volume-k, vpd's --volume-smoothing at N
+#      (ascending; a sweep stops once PAST values in a row are worse than its best in both RMSE
+#      and SSIM); RMSE, SSIM, relative mean difference, times;
+#   2. stage 2 at FINAL_SPP: each method's stage-1 RMSE- and SSIM-optimal settings again, and the
+#      RMSE-optimal one halved while that helps (at SPP the kernels of vpd, thin ellipsoids, alias:
+#      its error still falls with camera samples, so the comparison is made at FINAL_SPP); the
+#      optima of this stage are the study's;
+#   3. how many photons vpm needs to reach vpd's best RMSE: vpm at 2N, 4N, 8N, ... at FINAL_SPP
+#      (k around k_opt * f^0.57 at f N), until it gets there, reaches MATCH_MAX or the scene has
+#      would pass SCENE_BUDGET seconds (its time so far + 1.7 x the last count's);
 #   4. where the estimates lose: relative mean difference over regions (the medium's silhouette
 #      edge, its inside, the halo just outside, and inside / outside glass spheres seen directly),
 #      error images at the optima;
-#   plus vpm with REF_PHOTONS (3 M, the seed's reference) against the light tracer, and a check
-#   that camera spp is not what limits the photon methods (the optima again at SPP_CHECK x spp).
-# All photon-method renders: --volume-only --no-auto-bandwidth --seed SEED -q --spp SPP.
+#   plus vpm with REF_PHOTONS photons (3 M, the seed's reference; k = REF_K, at SPP) against the
+#   light tracer.
+# All photon-method renders: --volume-only --no-auto-bandwidth --seed SEED -q.
 # --volume-only keeps only light scattered by media straight to the camera along the camera ray's
 # first segment; `lighttrace --volume-only` renders the same paths without bias (seed notes Q-M11).
 # Every render is its own process: "wall" is measured around it with date, "photons" is the
@@ -23,17 +28,22 @@
 #   bash bench/volume_differentials.sh [out dir (default ~/.cache/caustica/volume-differentials)]
 # Environment (defaults in brackets):
 #   CAUSTICA_BIN [./target/fast/caustica]
-#   SCENES ["facet-smoke:80000 laser-smoke:80000 glass-smoke:10000"]: NAME:N[:WIDTH] (WIDTH
-#     renders at --width WIDTH, for large stand-in scenes); scenes the binary lacks are skipped
+#   SCENES ["facet-smoke:80000 laser-smoke:80000 glass-smoke:10000::8192"]: NAME:N[:WIDTH[:RSPP]]
+#     (WIDTH renders at --width WIDTH, for large stand-in scenes; RSPP: this scene's REF_SPP, its
+#     check at RSPP x CHECK_SPP / REF_SPP); scenes the binary lacks are skipped
 #   SPP [4], REF_SPP [2048] (light paths per pixel), CHECK_SPP [REF_SPP/4] (the second light
 #     tracer render, seed REF_SEED+1: its RMSE against the reference is the noise floor),
 #   SEED [1], REF_SEED [7], VPM_KS ["8 16 32 64 128 256"], BEAM_KS [VPM_KS],
-#   VPD_SS ["1 2 4 8 16 32"], MATCH_MAX [3000000], REF_PHOTONS [3000000], SPP_CHECK [4] (0: off),
+#   VPD_SS ["2 4 8 16 32 64 128 256"; the collimated beam of laser-smoke needs s ≈ 64], PAST [1], FINAL_SPP [16], MATCH_MAX [3000000], REF_PHOTONS
+#   [3000000], REF_K [128], SCENE_BUDGET [900] (seconds per scene after which no further photon
+#   count is started), CROPS ["glass-smoke=cone:68,64,26,34"]: extra rectangular regions,
+#   SCENE=NAME:X,Y,W,H (the volume caustic's cone under glass-smoke's ball),
 #   DOCS [docs/results/volume-differentials], PY (python with numpy + matplotlib; default
 #   tools/peers/.venv/bin/python, else the venv of tools/peers/venv.sh, matplotlib added to it).
 # Results: OUT/results.csv (one row per render and region), OUT/SCENE/*.exr|png|log, then
 # tools/summarize_volume_differentials.py writes DOCS/{README tables, results.csv, plots, index.html}.
-# Existing renders are reused (delete OUT/SCENE to start a scene over).
+# Existing renders are reused when made with the same command (delete OUT/SCENE to start a scene over); so is an earlier photon-count
+# scan (OUT/SCENE/match-status.txt; RESCAN=1 continues it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 t_start=$(date +%s)
@@ -41,7 +51,7 @@ out="${1:-$HOME/.cache/caustica/volume-differentials}"
 bin="${CAUSTICA_BIN:-./target/fast/caustica}"
 [ -x "$bin" ] || { echo "no caustica binary at $bin (set CAUSTICA_BIN)"; exit 2; }
 bin="$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")"
-scenes="${SCENES:-facet-smoke:80000 laser-smoke:80000 glass-smoke:10000}"
+scenes="${SCENES:-facet-smoke:80000 laser-smoke:80000 glass-smoke:10000::8192}"
 spp="${SPP:-4}"
 ref_spp="${REF_SPP:-2048}"
 check_spp="${CHECK_SPP:-$((ref_spp / 4))}"
@@ -49,10 +59,14 @@ seed="${SEED:-1}"
 ref_seed="${REF_SEED:-7}"
 vpm_ks="${VPM_KS:-8 16 32 64 128 256}"
 beam_ks="${BEAM_KS:-$vpm_ks}"
-vpd_ss="${VPD_SS:-1 2 4 8 16 32}"
+vpd_ss="${VPD_SS:-2 4 8 16 32 64 128 256}"
 match_max="${MATCH_MAX:-3000000}"
 ref_photons="${REF_PHOTONS:-3000000}"
-spp_check="${SPP_CHECK:-4}"
+fspp="${FINAL_SPP:-16}"
+past="${PAST:-1}"
+ref_k="${REF_K:-128}"
+scene_budget="${SCENE_BUDGET:-900}"
+crops="${CROPS:-glass-smoke=cone:68,64,26,34}"
 docs="${DOCS:-docs/results/volume-differentials}"
 summ=tools/summarize_volume_differentials.py
 if [ -z "${PY:-}" ]; then
@@ -71,7 +85,9 @@ echo "caustica: $bin ($("$bin" --version 2>/dev/null || true)); $(nproc) cores; 
 render() {
   local name="$1"; shift
   local exr="$dir/$name.exr" log="$dir/$name.log"
-  if [ ! -f "$exr" ] || [ ! -f "$log" ]; then
+  # reuse a render made with the same command (a bare `render NAME` reuses whatever is there)
+  if [ ! -f "$exr" ] || [ ! -f "$log" ] || \
+     { [ $# -gt 0 ] && [ "$(head -1 "$log")" != "command: caustica render $scene ${size[*]} $*" ]; }; then
     local t0 t1
     t0=$(date +%s.%N)
     "$bin" render "$scene" "${size[@]}" "$@" -o "$exr" --png "$dir/$name.png" >"$log.tmp" 2>&1 \
@@ -120,109 +136,151 @@ best() {
     END { if (seen) print b }' "$csv"
 }
 lt() { awk -v a="$1" -v b="$2" 'BEGIN{exit !(a < b)}'; }
+half() { awk -v v="$1" -v p="$2" 'BEGIN{ if (p=="k") printf "%d", v / 2; else printf "%g", v / 2 }'; }
+
+# sweep METHOD FLAG PARAM "VALUES" (ascending): stage 1 at SPP; stops once PAST values in a row are
+# worse than the best so far in both RMSE and SSIM (the larger bandwidths are the costly renders)
+sweep() {
+  local m=$1 flag=$2 p=$3 v br="" bs="" worse=0 improved name
+  for v in $4; do
+    name="$m-n$N-$p$v"
+    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$v" --spp "$spp" "${common[@]}"
+    row sweep "$m" "$N" "$p" "$v" "$spp" "$name"
+    improved=0
+    if [ -z "$br" ] || lt "$m_rmse" "$br"; then br=$m_rmse; improved=1; fi
+    if [ -z "$bs" ] || lt "$bs" "$m_ssim"; then bs=$m_ssim; improved=1; fi
+    if [ "$improved" = 1 ]; then worse=0; else worse=$((worse + 1)); fi
+    [ "$worse" -lt "$past" ] || { echo "  ($m: stopped after $p = $v)"; break; }
+  done
+}
+# refine METHOD FLAG PARAM: stage 2 at FINAL_SPP: stage 1's RMSE- and SSIM-optimal values, then
+# halving the RMSE-optimal one while that lowers the RMSE (more camera samples remove aliasing
+# noise, so the optimum can only move to less smoothing; at most 3 halvings)
+refine() {
+  local m=$1 flag=$2 p=$3 vr vs v lo name prev i
+  read -r vr _ <<<"$(best sweep "$m" rmse)"; read -r vs _ <<<"$(best sweep "$m" ssim)"
+  for v in $vr $([ "$vs" = "$vr" ] || echo "$vs"); do
+    name="$m-n$N-$p$v-spp$fspp"
+    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$v" --spp "$fspp" "${common[@]}"
+    row final "$m" "$N" "$p" "$v" "$fspp" "$name"
+    [ "$v" = "$vr" ] && prev=$m_rmse
+  done
+  v=$vr
+  for i in 1 2 3; do
+    lo=$(half "$v" "$p"); { [ "$p" = k ] && [ "$lo" -lt 2 ]; } && break
+    name="$m-n$N-$p$lo-spp$fspp"
+    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$lo" --spp "$fspp" "${common[@]}"
+    row final "$m" "$N" "$p" "$lo" "$fspp" "$name"
+    lt "$m_rmse" "$prev" || break
+    prev=$m_rmse; v=$lo
+  done
+}
 
 for entry in $scenes; do
-  IFS=: read -r scene N width <<<"$entry"
+  IFS=: read -r scene N width rspp <<<"$entry"
+  rspp="${rspp:-$ref_spp}"; cspp=$((rspp * check_spp / ref_spp))
   if ! grep -qx "$scene" "$out/scenes.txt"; then
     echo "== $scene: not a built-in scene of $bin; skipped"; continue
   fi
+  t_scene=$(date +%s)
   dir="$out/$scene"; mkdir -p "$dir"
   size=(); [ -z "$width" ] || size=(--width "$width")
   common=(--volume-only --no-auto-bandwidth --seed "$seed" -q)
-  echo "== $scene: $N volume photons, $spp spp${width:+, width $width}"
+  echo "== $scene: $N volume photons, sweeps at $spp spp, optima at $fspp spp${width:+, width $width}"
 
   # ---- references ---------------------------------------------------------------------------
-  render "ref" --integrator lighttrace --volume-only --spp "$ref_spp" --seed "$ref_seed" -q
-  row ref lighttrace "" spp "$ref_spp" "$ref_spp" ref ref
-  render "ref-check" --integrator lighttrace --volume-only --spp "$check_spp" --seed "$((ref_seed + 1))" -q
-  row ref-check lighttrace "" spp "$check_spp" "$check_spp" ref-check
+  render "ref" --integrator lighttrace --volume-only --spp "$rspp" --seed "$ref_seed" -q
+  row ref lighttrace "" spp "$rspp" "$rspp" ref ref
+  render "ref-check" --integrator lighttrace --volume-only --spp "$cspp" --seed "$((ref_seed + 1))" -q
+  row ref-check lighttrace "" spp "$cspp" "$cspp" ref-check
   # region masks from the reference (and glass spheres of scenes/SCENE.toml, if any)
-  "$bin" convert "$dir/ref.exr" "$dir/ref.pfm"
-  "$PY" "$summ" masks "$dir/ref.pfm" "$dir" ${width:+--width "$width"} \
+  "$bin" convert "$dir/ref.exr" "$dir/ref.pfm" >/dev/null
+  crop_args=()
+  for c in $crops; do [ "${c%%=*}" != "$scene" ] || crop_args+=(--crop "${c#*=}"); done
+  "$PY" "$summ" masks "$dir/ref.pfm" "$dir" "${crop_args[@]}" \
     $([ -f "scenes/$scene.toml" ] && echo "--toml scenes/$scene.toml") | sed 's/^/  /'
   regions=$(cat "$dir/regions.txt")
 
-  # ---- 1. sweeps at N -----------------------------------------------------------------------
-  for k in $vpm_ks; do
-    render "vpm-n$N-k$k" --integrator vpm --volume-photons "$N" --volume-k "$k" --spp "$spp" "${common[@]}"
-    row sweep vpm "$N" k "$k" "$spp" "vpm-n$N-k$k"
-  done
-  for k in $beam_ks; do
-    render "beam-n$N-k$k" --integrator beam --volume-photons "$N" --volume-k "$k" --spp "$spp" "${common[@]}"
-    row sweep beam "$N" k "$k" "$spp" "beam-n$N-k$k"
-  done
-  for s in $vpd_ss; do
-    render "vpd-n$N-s$s" --integrator vpd --volume-photons "$N" --volume-smoothing "$s" --spp "$spp" "${common[@]}"
-    row sweep vpd "$N" s "$s" "$spp" "vpd-n$N-s$s"
-  done
-  read -r kv_r rv_r _ <<<"$(best sweep vpm rmse)"; read -r kv_s _ sv_s <<<"$(best sweep vpm ssim)"
-  read -r kb_r rb_r _ <<<"$(best sweep beam rmse)"; read -r kb_s _ sb_s <<<"$(best sweep beam ssim)"
-  read -r sd_r rd_r _ <<<"$(best sweep vpd rmse)"; read -r sd_s _ sd_ssim <<<"$(best sweep vpd ssim)"
-  echo "  optima (RMSE; SSIM): vpm k=$kv_r $rv_r; k=$kv_s $sv_s | beam k=$kb_r $rb_r; k=$kb_s $sb_s | vpd s=$sd_r $rd_r; s=$sd_s $sd_ssim"
+  # ---- 1. stage 1: sweeps at N, SPP ---------------------------------------------------------
+  sweep vpm --volume-k k "$vpm_ks"
+  sweep beam --volume-k k "$beam_ks"
+  sweep vpd --volume-smoothing s "$vpd_ss"
+  # ---- 2. stage 2: the optima at FINAL_SPP ---------------------------------------------------
+  refine vpm --volume-k k
+  refine beam --volume-k k
+  refine vpd --volume-smoothing s
+  read -r kv_r rv_r _ <<<"$(best final vpm rmse)"; read -r kv_s _ sv_s <<<"$(best final vpm ssim)"
+  read -r kb_r rb_r _ <<<"$(best final beam rmse)"; read -r kb_s _ sb_s <<<"$(best final beam ssim)"
+  read -r sd_r rd_r _ <<<"$(best final vpd rmse)"; read -r sd_s _ sd_ssim <<<"$(best final vpd ssim)"
+  echo "  optima at $fspp spp (RMSE; SSIM): vpm k=$kv_r $rv_r; k=$kv_s $sv_s | beam k=$kb_r $rb_r; k=$kb_s $sb_s | vpd s=$sd_r $rd_r; s=$sd_s $sd_ssim"
 
-  # ---- secondary reference: vpm with REF_PHOTONS (k scaled like the match scan's centre) ------
-  kref=$(awk -v k="$kv_r" -v f="$(echo "$ref_photons / $N" | bc -l)" 'BEGIN{printf "%d", k * f^0.57 + 0.5}')
-  render "vpm-n$ref_photons-k$kref" --integrator vpm --volume-photons "$ref_photons" --volume-k "$kref" --spp "$spp" "${common[@]}"
-  row vpmref vpm "$ref_photons" k "$kref" "$spp" "vpm-n$ref_photons-k$kref"
-  vpmref="vpm-n$ref_photons-k$kref"
+  # ---- secondary reference: vpm with REF_PHOTONS, k = REF_K, at SPP -------------------------
+  vpmref="vpm-n$ref_photons-k$ref_k"
+  render "$vpmref" --integrator vpm --volume-photons "$ref_photons" --volume-k "$ref_k" --spp "$spp" "${common[@]}"
+  row vpmref vpm "$ref_photons" k "$ref_k" "$spp" "$vpmref"
 
-  # ---- 2. optima: regions, error images, against the vpm reference --------------------------
-  optima=("vpm:vpm-n$N-k$kv_r:k:$kv_r" "beam:beam-n$N-k$kb_r:k:$kb_r" "vpd:vpd-n$N-s$sd_r:s:$sd_r")
-  [ "$kv_s" = "$kv_r" ] || optima+=("vpm:vpm-n$N-k$kv_s:k:$kv_s")
-  [ "$kb_s" = "$kb_r" ] || optima+=("beam:beam-n$N-k$kb_s:k:$kb_s")
-  [ "$sd_s" = "$sd_r" ] || optima+=("vpd:vpd-n$N-s$sd_s:s:$sd_s")
+  # ---- regions, error images, against the vpm reference, at the optima ----------------------
+  optima=("vpm:vpm-n$N-k$kv_r-spp$fspp:k:$kv_r" "beam:beam-n$N-k$kb_r-spp$fspp:k:$kb_r" "vpd:vpd-n$N-s$sd_r-spp$fspp:s:$sd_r")
+  [ "$kv_s" = "$kv_r" ] || optima+=("vpm:vpm-n$N-k$kv_s-spp$fspp:k:$kv_s")
+  [ "$sd_s" = "$sd_r" ] || optima+=("vpd:vpd-n$N-s$sd_s-spp$fspp:s:$sd_s")
   escale=$(awk -v r="$rv_r" 'BEGIN{printf "%.6g", 3 * r}')   # one colour scale per scene: 3 x vpm's best RMSE
-  for o in "${optima[@]}" "vpm:$vpmref:k:$kref"; do
+  for o in "${optima[@]}" "vpm:$vpmref:k:$ref_k"; do
     IFS=: read -r m name p v <<<"$o"
-    render "$name"   # reuse: sets the times for the row
+    render "$name"   # present: sets the times for the rows
     n=$(echo "$name" | sed -E 's/^[a-z]+-n([0-9]+)-.*/\1/')
-    for region in $regions; do row region "$m" "$n" "$p" "$v" "$spp" "$name" ref "$region"; done
-    [ "$name" = "$vpmref" ] || row vs-vpmref "$m" "$n" "$p" "$v" "$spp" "$name" "$vpmref"
+    ospp=$(sed -nE 's/.*--spp ([0-9]+).*/\1/p' "$dir/$name.log" | head -1)
+    for region in $regions; do row region "$m" "$n" "$p" "$v" "$ospp" "$name" ref "$region"; done
+    [ "$name" = "$vpmref" ] || row vs-vpmref "$m" "$n" "$p" "$v" "$ospp" "$name" "$vpmref"
     "$bin" compare "$dir/$name.exr" "$dir/ref.exr" --error-image "$dir/err-$name.png" --error-scale "$escale" >/dev/null
   done
   "$bin" compare "$dir/ref-check.exr" "$dir/ref.exr" --error-image "$dir/err-ref-check.png" --error-scale "$escale" >/dev/null
 
-  # ---- camera spp check: the RMSE optima at SPP_CHECK x spp ---------------------------------
-  if [ "$spp_check" -gt 1 ]; then
-    hs=$((spp * spp_check))
-    render "vpm-n$N-k$kv_r-spp$hs" --integrator vpm --volume-photons "$N" --volume-k "$kv_r" --spp "$hs" "${common[@]}"
-    row sppcheck vpm "$N" k "$kv_r" "$hs" "vpm-n$N-k$kv_r-spp$hs"
-    render "beam-n$N-k$kb_r-spp$hs" --integrator beam --volume-photons "$N" --volume-k "$kb_r" --spp "$hs" "${common[@]}"
-    row sppcheck beam "$N" k "$kb_r" "$hs" "beam-n$N-k$kb_r-spp$hs"
-    render "vpd-n$N-s$sd_r-spp$hs" --integrator vpd --volume-photons "$N" --volume-smoothing "$sd_r" --spp "$hs" "${common[@]}"
-    row sppcheck vpd "$N" s "$sd_r" "$hs" "vpd-n$N-s$sd_r-spp$hs"
-  fi
-
-  # ---- 3. photons vpm needs to reach vpd's best RMSE ----------------------------------------
-  # at f N: k in {kc/2, kc, 2 kc}, kc = k_opt f^0.57 (the AMISE-optimal k of a 3-D k-NN estimate
-  # grows as N^(4/7)); the scan stops at the first count whose best RMSE <= vpd's, or at MATCH_MAX
-  if lt "$rd_r" "$rv_r"; then
-    f=1
+  # ---- 3. photons vpm needs to reach vpd's best RMSE (at FINAL_SPP) --------------------------
+  # at f N: k in {kc/2, kc} (kc = k_opt f^0.57: the AMISE-optimal k of a 3-D k-NN estimate grows
+  # as N^(4/7)), then once more halved or doubled toward the better one; the scan stops at the
+  # first count whose best RMSE <= vpd's, at MATCH_MAX, or when the scene has used SCENE_BUDGET s
+  status=none; t_count=0
+  if [ -f "$dir/match-status.txt" ] && [ -z "${RESCAN:-}" ]; then
+    status=$(cat "$dir/match-status.txt")
+    echo "  photon-count scan: kept from the earlier run ($status; RESCAN=1 scans again)"
+  elif lt "$rd_r" "$rv_r"; then
+    f=1; status=max
     while :; do
-      f=$((f * 2)); n=$((N * f))
-      if [ "$n" -ge "$match_max" ]; then n=$match_max; fi
-      fr=$(echo "$n / $N" | bc -l)
-      kc=$(awk -v k="$kv_r" -v f="$fr" 'BEGIN{printf "%d", k * f^0.57 + 0.5}')
-      for k in $(( (kc + 1) / 2 )) "$kc" $((kc * 2)); do
-        render "vpm-n$n-k$k" --integrator vpm --volume-photons "$n" --volume-k "$k" --spp "$spp" "${common[@]}"
-        row match vpm "$n" k "$k" "$spp" "vpm-n$n-k$k"
+      # no new count once the scene's time plus 1.7x the last count's would pass SCENE_BUDGET
+      if [ $(( $(date +%s) - t_scene + 17 * ${t_count:-0} / 10 )) -ge "$scene_budget" ]; then status=time; break; fi
+      t_c0=$(date +%s)
+      f=$((f * 2)); n=$((N * f)); [ "$n" -lt "$match_max" ] || n=$match_max
+      kc=$(awk -v k="$kv_r" -v f="$(echo "$n / $N" | bc -l)" 'BEGIN{printf "%d", k * f^0.57 + 0.5}')
+      k1=$(( (kc + 1) / 2 )); [ "$k1" -ge 2 ] || k1=2
+      for k in "$k1" "$kc"; do
+        render "vpm-n$n-k$k-spp$fspp" --integrator vpm --volume-photons "$n" --volume-k "$k" --spp "$fspp" "${common[@]}"
+        row match vpm "$n" k "$k" "$fspp" "vpm-n$n-k$k-spp$fspp"
       done
-      read -r _ rb _ <<<"$(best match vpm rmse "$n")"
-      echo "  vpm at $n photons: best RMSE $rb (vpd's best $rd_r)"
-      if ! lt "$rd_r" "$rb" || [ "$n" -ge "$match_max" ]; then break; fi
+      read -r kb _ <<<"$(best match vpm rmse "$n")"
+      if [ "$kb" = "$k1" ]; then k=$(( (k1 + 1) / 2 )); else k=$((kc * 2)); fi
+      if [ "$k" -ge 2 ] && [ "$k" != "$k1" ]; then
+        render "vpm-n$n-k$k-spp$fspp" --integrator vpm --volume-photons "$n" --volume-k "$k" --spp "$fspp" "${common[@]}"
+        row match vpm "$n" k "$k" "$fspp" "vpm-n$n-k$k-spp$fspp"
+      fi
+      t_count=$(( $(date +%s) - t_c0 ))
+      read -r kb rb _ <<<"$(best match vpm rmse "$n")"
+      echo "  vpm at $n photons: best RMSE $rb (k = $kb; vpd's best $rd_r)"
+      if ! lt "$rd_r" "$rb"; then status=reached; break; fi
+      [ "$n" -lt "$match_max" ] || break
     done
   else
     echo "  vpm's best RMSE ($rv_r) is already at or below vpd's ($rd_r): no photon-count scan"
   fi
-  echo "  ($scene done, $(( $(date +%s) - t_start )) s since start)"
+  echo "$status" >"$dir/match-status.txt"
+  echo "  ($scene: $(( $(date +%s) - t_scene )) s; $(( $(date +%s) - t_start )) s since start)"
 done
 
 # ---- summary: tables, plots, HTML page -----------------------------------------------------
 cmdline="bash bench/volume_differentials.sh${1:+ $1}"
-for v in SPP REF_SPP CHECK_SPP SEED REF_SEED VPM_KS BEAM_KS VPD_SS MATCH_MAX REF_PHOTONS SPP_CHECK SCENES; do
+for v in SPP FINAL_SPP REF_SPP CHECK_SPP SEED REF_SEED VPM_KS BEAM_KS VPD_SS PAST MATCH_MAX REF_PHOTONS REF_K SCENE_BUDGET CROPS SCENES; do
   [ -z "${!v:-}" ] || cmdline="$v=\"${!v}\" $cmdline"
 done
 cmdline="CAUSTICA_BIN=$bin $cmdline"
 "$PY" "$summ" summarize "$out" "$docs" --command "$cmdline" --spp "$spp" --ref-spp "$ref_spp" --check-spp "$check_spp" \
-  --ref-photons "$ref_photons" --scenes "$scenes" --bin "$bin"
+  --ref-photons "$ref_photons" --final-spp "$fspp" --ref-k "$ref_k" --scenes "$scenes" --bin "$bin"
 echo "total wall time $(( $(date +%s) - t_start )) s; results: $csv, $docs/"

@@ -145,6 +145,14 @@ def cmd_masks(a):
                 anyhit |= big > 0
             regions["sphere-in"] = inside
             regions["sphere-out"] = ~anyhit
+    notes = []
+    for c in a.crop or []:
+        name, rect = c.split(":")
+        x, y0, cw, ch = map(int, rect.split(","))
+        m = np.zeros((h, w), bool); m[y0:y0 + ch, x:x + cw] = True
+        regions[name] = m
+        notes.append(f"{name}=the rectangle x,y,w,h = {rect} (CROPS)")
+    open(os.path.join(a.dir, "region-notes.txt"), "w").write("".join(n + "\n" for n in notes))
     kept = []
     for name, m in regions.items():
         if m.sum() >= 50:
@@ -181,6 +189,19 @@ def setting(r):
     return f"{r['param']} = {r['value']}"
 
 
+def denoise(d, e):
+    """RMSE against a noiseless reference: sqrt(RMSE^2 - sigma_ref^2) (independent noise)."""
+    s = d.get("ref_noise") or 0.0
+    return math.sqrt(max(e * e - s * s, 0.0))
+
+
+def edge(d, m, r):
+    """' (edge of the sweep)' if r's value is the largest or smallest rendered for method m."""
+    vals = [float(x["value"]) for x in d["sweep"][m] + d["final"][m]]
+    v = float(r["value"])
+    return " (largest swept)" if v >= max(vals) else " (smallest swept)" if v <= min(vals) else ""
+
+
 def loglog(n0, e0, n1, e1, e):
     if e0 == e1:
         return n0
@@ -205,30 +226,44 @@ def scene_summary(scene, N, rows, work, docs, a):
     chk = [r for r in S if r["part"] == "ref-check" and whole(r)]
     d["ref_wall"] = ref[0]["wall_s"] if ref else None
     d["check"] = chk[0] if chk else None
+    d["ref_spp"] = int(ref[0]["spp"]) if ref else a.ref_spp
     if chk:
         # independent renders: RMSE(check, ref)^2 = s_c^2 + s_r^2, s_c^2 = s_r^2 * R / C
-        d["ref_noise"] = chk[0]["rmse"] / math.sqrt(1 + a.ref_spp / a.check_spp)
+        d["ref_noise"] = chk[0]["rmse"] / math.sqrt(1 + d["ref_spp"] / chk[0]["spp"])
     sw = {m: sorted([r for r in S if r["part"] == "sweep" and r["method"] == m and whole(r)],
                     key=lambda r: float(r["value"])) for m in METHODS}
     d["sweep"] = sw
+    fin = {m: sorted([r for r in S if r["part"] == "final" and r["method"] == m and whole(r)],
+                     key=lambda r: float(r["value"])) for m in METHODS}
+    d["final"] = fin
     opt = {}
     for m in METHODS:
-        if sw[m]:
-            opt[m] = {"rmse": min(sw[m], key=lambda r: r["rmse"]), "ssim": max(sw[m], key=lambda r: r["ssim"])}
+        if fin[m]:
+            opt[m] = {"rmse": min(fin[m], key=lambda r: r["rmse"]), "ssim": max(fin[m], key=lambda r: r["ssim"])}
     d["opt"] = opt
+    d["opt1"] = {m: {"rmse": min(sw[m], key=lambda r: r["rmse"]), "ssim": max(sw[m], key=lambda r: r["ssim"])}
+                 for m in METHODS if sw[m]}
+    st = os.path.join(work, scene, "match-status.txt")
+    d["status"] = open(st).read().strip() if os.path.isfile(st) else "none"
     vr = [r for r in S if r["part"] == "vpmref" and whole(r)]
     d["vpmref"] = vr[0] if vr else None
     d["vs_vpmref"] = {r["image"]: r for r in S if r["part"] == "vs-vpmref"}
-    d["spp"] = {r["method"]: r for r in S if r["part"] == "sppcheck" and whole(r)}
     reg = {}
     for r in S:
         if r["part"] == "region":
             reg.setdefault(r["image"], {})[r["region"]] = r
     d["regions"] = reg
+    rn = os.path.join(work, scene, "region-notes.txt")
+    d["region_text"] = dict(REGION_TEXT)
+    if os.path.isfile(rn):
+        for line in open(rn):
+            if "=" in line:
+                k, v = line.strip().split("=", 1)
+                d["region_text"][k] = v
     # photon-count scan: best vpm RMSE / SSIM per count (N from the sweep)
     scan = {}
     for r in S:
-        if (r["part"] == "match" or (r["part"] == "sweep" and r["method"] == "vpm")) and whole(r):
+        if (r["part"] == "match" or (r["part"] == "final" and r["method"] == "vpm")) and whole(r):
             scan.setdefault(int(r["photons"]), []).append(r)
     d["scan"] = {n: (min(rs, key=lambda r: r["rmse"]), max(rs, key=lambda r: r["ssim"]))
                  for n, rs in sorted(scan.items())}
@@ -242,7 +277,7 @@ def scene_summary(scene, N, rows, work, docs, a):
         if good(pts[0][1]):
             d[key] = ("already", pts[0][0])
             continue
-        d[key] = ("more", pts[-1][0])
+        d[key] = ("more", pts[-1][0], d["status"])
         for (n0, e0), (n1, e1) in zip(pts, pts[1:]):
             if not good(e0) and good(e1):
                 if metric == "rmse":
@@ -279,26 +314,35 @@ def plots(d, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(1, 3, figsize=(12.5, 3.4))
+    fig, ax = plt.subplots(1, 3, figsize=(12.5, 4.0))
+    handles = ([], []), ([], [])
     sw = d["sweep"]
     for i, metric in enumerate(("rmse", "ssim")):
         a = ax[i]
         for m in ("vpm", "beam"):
             if sw[m]:
                 a.plot([float(r["value"]) for r in sw[m]], [r[metric] for r in sw[m]], "o-",
-                       color=COLOURS[m], label=f"{m} (k, bottom axis)")
+                       color=COLOURS[m], label=f"{m} at {a_spp} spp (k, bottom axis)")
+        for m in ("vpm", "beam"):
+            if d["final"][m]:
+                a.plot([float(r["value"]) for r in d["final"][m]], [r[metric] for r in d["final"][m]], "o",
+                       mfc="none", ms=9, color=COLOURS[m], label=f"{m} at {a_fspp} spp")
         a.set_xscale("log", base=2); a.set_xlabel("k (vpm, beam)")
         if sw["vpd"]:
             b = a.twiny()
             b.plot([float(r["value"]) for r in sw["vpd"]], [r[metric] for r in sw["vpd"]], "s--",
                    color=COLOURS["vpd"], label="vpd (s, top axis)")
+            if d["final"]["vpd"]:
+                b.plot([float(r["value"]) for r in d["final"]["vpd"]], [r[metric] for r in d["final"]["vpd"]], "s",
+                       mfc="none", ms=9, color=COLOURS["vpd"], label=f"vpd at {a_fspp} spp")
             b.set_xscale("log", base=2); b.set_xlabel("s (vpd)", color=COLOURS["vpd"])
-            b.legend(loc="upper right" if metric == "rmse" else "lower right", fontsize=7)
+            if metric == "rmse":
+                handles = a.get_legend_handles_labels(), b.get_legend_handles_labels()
         if metric == "rmse" and d.get("ref_noise"):
             a.axhline(d["ref_noise"], color="grey", lw=0.8, ls=":", label="reference noise")
         if metric == "rmse":
             a.set_yscale("log")
-        a.set_ylabel(metric.upper()); a.legend(loc="upper left", fontsize=7); a.grid(alpha=0.3)
+        a.set_ylabel(metric.upper()); a.grid(alpha=0.3)
     a = ax[2]
     ns = list(d["scan"])
     a.plot(ns, [d["scan"][n][0]["rmse"] for n in ns], "o-", color=COLOURS["vpm"], label="vpm, best k per count")
@@ -315,7 +359,9 @@ def plots(d, path):
     a.set_xscale("log"); a.set_yscale("log"); a.set_xlabel("volume photons"); a.set_ylabel("RMSE")
     a.legend(fontsize=7); a.grid(alpha=0.3, which="both")
     fig.suptitle(f"{d['scene']}: error against the light tracer (--volume-only)", fontsize=10)
-    fig.tight_layout()
+    (h1, l1), (h2, l2) = handles
+    fig.legend(h1 + h2, l1 + l2, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     fig.savefig(path + ".tmp.png", dpi=72)
     plt.close(fig)
     small_png(path + ".tmp.png", path, 64)
@@ -330,12 +376,22 @@ def match_text(d, metric):
     mr = d.get("match_" + metric)
     if not mr:
         return "—"
-    kind, n = mr
+    kind, n = mr[:2]
     if kind == "already":
         return f"vpm already matches at N = {d['N']}"
     if kind == "more":
-        return f"> {int(n)} photons (> {n / d['N']:.3g}× N; not reached in the scan)"
-    return f"≈ {n:.3g} photons = {n / d['N']:.3g}× N"
+        why = {"time": "scan stopped by the time budget", "max": "not reached up to MATCH_MAX"}.get(
+            mr[2] if len(mr) > 2 else "", "not reached in the scan")
+        if len(d["scan"]) == 1:
+            why = "no scan: vpm is not behind in RMSE" if metric == "ssim" else why
+        extra = ""
+        pts = [(k, v[0]["rmse"]) for k, v in d["scan"].items()]
+        if metric == "rmse" and len(pts) >= 2 and pts[-1][1] < pts[-2][1]:
+            (n0, e0), (n1, e1) = pts[-2], pts[-1]
+            x = loglog(n0, e0, n1, e1, d["opt"]["vpd"]["rmse"]["rmse"])
+            extra = f"; extrapolating the last two counts log-log: ≈ {x / d['N']:.3g}× N"
+        return f"> {int(n)} photons (> {n / d['N']:.3g}× N; {why}{extra})"
+    return f"≈ {n:,.0f} photons = {n / d['N']:.3g}× N (log-log between the bracketing counts)"
 
 
 def scene_md(d):
@@ -344,68 +400,80 @@ def scene_md(d):
     o += [f"## {sc} ({N} volume photons)", ""]
     if d.get("check"):
         c = d["check"]
-        o += [f"Reference: light tracer `--volume-only`, {int(a_ref_spp)} light paths/pixel "
+        o += [f"Reference: light tracer `--volume-only`, {d['ref_spp']} light paths/pixel "
               f"(wall {t(d['ref_wall'])} s). Noise floor: an independent render with {int(c['spp'])} "
               f"paths/pixel (seed + 1) against it: RMSE {f4(c['rmse'])}, SSIM {f4(c['ssim'])}, "
               f"rel. mean {pct(c['relmean'])}; the reference's own RMSE is then ≈ {f4(d['ref_noise'])}.", ""]
-    o += ["**Sweeps** (whole image against the reference; times in s: wall of the process, photon "
-          "pass, camera pass = summary time − photon pass; bold: RMSE-optimal, italic: SSIM-optimal):", "",
+    o1 = d["opt1"]
+    o += [f"**Stage 1: sweeps at {a_spp} spp** (whole image against the reference; times in s: wall of the "
+          "process, photon pass, camera pass = summary time − photon pass; bold: RMSE-optimal, italic: "
+          "SSIM-optimal; a sweep stops once a value is worse than its best in both RMSE and SSIM):", "",
           "| method | setting | RMSE | SSIM | rel. mean diff. | median radius (m) | march step (m) | wall | photons | camera |",
           "|---|---|---|---|---|---|---|---|---|---|"]
     for m in METHODS:
         for r in d["sweep"][m]:
             e, s = f4(r["rmse"]), f4(r["ssim"])
-            if m in opt and r is opt[m]["rmse"]:
+            if m in o1 and r is o1[m]["rmse"]:
                 e = f"**{e}**"
-            if m in opt and r is opt[m]["ssim"]:
+            if m in o1 and r is o1[m]["ssim"]:
                 s = f"*{s}*"
             o.append(f"| {m} | {setting(r)} | {e} | {s} | {pct(r['relmean'])} | {f4(r['median_radius'])} | "
                      f"{f4(r['step'])} | {t(r['wall_s'])} | {t(r['photons_s'])} | {t(r['camera_s'])} |")
     o.append("")
+    o += [f"**Stage 2: at {a_fspp} spp** (stage 1's optima, then the RMSE-optimal bandwidth halved while "
+          f"the RMSE falls; the columns at {a_spp} spp repeat stage 1 for the same setting):", "",
+          f"| method | setting | RMSE | SSIM | rel. mean diff. | RMSE at {a_spp} spp | SSIM at {a_spp} spp | wall | photons | camera |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
+    for m in METHODS:
+        lo = {r["value"]: r for r in d["sweep"][m]}
+        for r in d["final"][m]:
+            e, s = f4(r["rmse"]), f4(r["ssim"])
+            if m in opt and r is opt[m]["rmse"]:
+                e = f"**{e}**"
+            if m in opt and r is opt[m]["ssim"]:
+                s = f"*{s}*"
+            r0 = lo.get(r["value"])
+            o.append(f"| {m} | {setting(r)} | {e} | {s} | {pct(r['relmean'])} | {f4(r0['rmse']) if r0 else '—'} | "
+                     f"{f4(r0['ssim']) if r0 else '—'} | {t(r['wall_s'])} | {t(r['photons_s'])} | {t(r['camera_s'])} |")
+    o.append("")
     if "vpm" in opt and "vpd" in opt:
         v, p, b = opt["vpm"], opt["vpd"], opt.get("beam")
-        o += ["**At the optima:**", "",
-              "| method | RMSE-optimal | RMSE | SSIM there | rel. mean diff. | wall (s) | SSIM-optimal | SSIM | RMSE there |",
-              "|---|---|---|---|---|---|---|---|---|"]
+        o += [f"**At the optima** (stage 2, {a_fspp} spp):", "",
+              "| method | RMSE-optimal | RMSE | RMSE less the reference's noise | SSIM there | rel. mean diff. | wall (s) | photons (s) | camera (s) | SSIM-optimal | SSIM | RMSE there |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for m in METHODS:
             if m in opt:
                 r, s = opt[m]["rmse"], opt[m]["ssim"]
-                o.append(f"| {m} | {setting(r)} | {f4(r['rmse'])} | {f4(r['ssim'])} | {pct(r['relmean'])} | "
-                         f"{t(r['wall_s'])} | {setting(s)} | {f4(s['ssim'])} | {f4(s['rmse'])} |")
+                o.append(f"| {m} | {setting(r)}{edge(d, m, r)} | {f4(r['rmse'])} | {f4(denoise(d, r['rmse']))} | {f4(r['ssim'])} | {pct(r['relmean'])} | "
+                         f"{t(r['wall_s'])} | {t(r['photons_s'])} | {t(r['camera_s'])} | {setting(s)}{edge(d, m, s)} | {f4(s['ssim'])} | {f4(s['rmse'])} |")
         vr = d.get("vpmref")
         if vr:
-            o.append(f"| vpm {int(vr['photons'])} (secondary reference) | {setting(vr)} | {f4(vr['rmse'])} | "
-                     f"{f4(vr['ssim'])} | {pct(vr['relmean'])} | {t(vr['wall_s'])} | | | |")
+            o.append(f"| vpm {int(vr['photons'])} photons, {int(vr['spp'])} spp (secondary reference) | {setting(vr)} | {f4(vr['rmse'])} | {f4(denoise(d, vr['rmse']))} | "
+                     f"{f4(vr['ssim'])} | {pct(vr['relmean'])} | {t(vr['wall_s'])} | {t(vr['photons_s'])} | {t(vr['camera_s'])} | | | |")
         o.append("")
         o += [f"* RMSE ratio vpd / vpm at the RMSE optima: **{p['rmse']['rmse'] / v['rmse']['rmse']:.3g}** "
               f"({f4(p['rmse']['rmse'])} / {f4(v['rmse']['rmse'])})"
               + (f"; beam / vpm {b['rmse']['rmse'] / v['rmse']['rmse']:.3g}, vpd / beam "
                  f"{p['rmse']['rmse'] / b['rmse']['rmse']:.3g}." if b else "."),
+              f"* The same with the reference's own noise taken out (√(RMSE² − σ_ref²), σ_ref = {f4(d.get('ref_noise'))}): "
+              f"vpd / vpm {denoise(d, p['rmse']['rmse']) / denoise(d, v['rmse']['rmse']):.3g}.",
               f"* SSIM at the SSIM optima: vpm {f4(v['ssim']['ssim'])}, "
               + (f"beam {f4(b['ssim']['ssim'])}, " if b else "") + f"vpd {f4(p['ssim']['ssim'])}.",
               f"* Photons vpm needs to reach vpd's best RMSE ({f4(p['rmse']['rmse'])}): {match_text(d, 'rmse')}; "
               f"vpd's best SSIM ({f4(p['ssim']['ssim'])}): {match_text(d, 'ssim')}.", ""]
     if len(d["scan"]) > 1:
-        o += ["**vpm by photon count** (best of its k values at each count; N's row is the sweep):", "",
+        o += [f"**vpm by photon count** ({a_fspp} spp; best of its k values at each count; N's row is stage 2):", "",
               "| volume photons | × N | best RMSE | its k | best SSIM | its k | wall of the RMSE-best (s) |", "|---|---|---|---|---|---|---|"]
         for n, (br, bs) in d["scan"].items():
             ks = sorted({r["value"] for r in [br, bs]})
             o.append(f"| {n} | {n / N:.3g} | {f4(br['rmse'])} | {br['value']} | {f4(bs['ssim'])} | {bs['value']} | {t(br['wall_s'])} |")
-        o.append("")
-    if d["spp"]:
-        o += ["**Camera samples**: the RMSE optima again at more spp (same photons):", "",
-              "| method | setting | spp | RMSE | at the study's spp | SSIM | at the study's spp |", "|---|---|---|---|---|---|---|"]
-        for m in METHODS:
-            if m in d["spp"] and m in opt:
-                r, r0 = d["spp"][m], opt[m]["rmse"]
-                o.append(f"| {m} | {setting(r)} | {int(r['spp'])} | {f4(r['rmse'])} | {f4(r0['rmse'])} | {f4(r['ssim'])} | {f4(r0['ssim'])} |")
         o.append("")
     if d["regions"]:
         names = []
         for reg in d["regions"].values():
             names += [k for k in reg if k not in names]
         o += ["**Where the estimates differ from the reference** (relative mean difference and RMSE "
-              "per region, at the RMSE optima; regions: " + "; ".join(f"{k}: {REGION_TEXT.get(k, k)}" for k in names) + "):", "",
+              "per region, at the RMSE optima; regions: " + "; ".join(f"{k}: {d['region_text'].get(k, k)}" for k in names) + "):", "",
               "| image | " + " | ".join(f"{k} rel. mean | {k} RMSE" for k in names) + " |",
               "|---|" + "---|---|" * len(names)]
         for img, reg in d["regions"].items():
@@ -442,9 +510,9 @@ def html_page(ds, a):
          f"<style>{css}</style></head><body>",
          "<h1>Volume photon differentials vs ray-marched volume photon mapping (seed 000 sec. 8.5), measured</h1>",
          f"<p>Regenerate: <code>{html.escape(a.command)}</code>. Media only (<code>--volume-only</code>: light scattered "
-         f"by media straight to the camera along the first segment), {a.spp} spp, seed 1, <code>--no-auto-bandwidth</code>; "
-         f"reference: the light tracer <code>--volume-only</code> with {a.ref_spp} light paths per pixel. Each "
-         "method at its RMSE-optimal setting; error images: signed luminance difference against the reference "
+         f"by media straight to the camera along the first segment), sweeps at {a.spp} spp, optima at {a.final_spp} spp, seed 1, <code>--no-auto-bandwidth</code>; "
+         f"reference: the light tracer <code>--volume-only</code> (light paths per pixel per scene below). Each "
+         f"method at its RMSE-optimal setting ({a.final_spp} spp); error images: signed luminance difference against the reference "
          "(blue: darker, red: brighter), one colour scale per scene (3 × vpm's best RMSE). See README.md for the tables.</p>"]
     for d in ds:
         opt, im = d["opt"], d["imgs"]
@@ -453,7 +521,7 @@ def html_page(ds, a):
         def fig(key, cap):
             if key in im:
                 figs.append(f'<figure><img src="{im[key]}" alt="{html.escape(cap)}"><figcaption>{html.escape(cap)}</figcaption></figure>')
-        ref_cap = f"reference: light tracer, {a.ref_spp} paths/pixel, {t(d['ref_wall'])} s"
+        ref_cap = f"reference: light tracer, {d['ref_spp']} paths/pixel, {t(d['ref_wall'])} s"
         if d.get("ref_noise"):
             ref_cap += f"; its noise ≈ RMSE {f4(d['ref_noise'])}"
         fig("ref", ref_cap)
@@ -496,12 +564,12 @@ def html_page(ds, a):
     return "\n".join(o) + "\n"
 
 
-a_ref_spp = 0
+a_ref_spp = a_spp = a_fspp = 0
 
 
 def cmd_summarize(a):
-    global a_ref_spp
-    a_ref_spp = a.ref_spp
+    global a_ref_spp, a_spp, a_fspp
+    a_ref_spp, a_spp, a_fspp = a.ref_spp, a.spp, a.final_spp
     os.makedirs(a.docs, exist_ok=True)
     rows = load(a.work)
     shutil.copy(os.path.join(a.work, "results.csv"), os.path.join(a.docs, "results.csv"))
@@ -516,8 +584,9 @@ def cmd_summarize(a):
          f"    {a.command}", "",
          "Every image is media only (`--volume-only`: light scattered by media straight to the camera along the "
          "camera ray's first segment, seed notes Q-M11), so the volume estimators of ch. 8 are compared alone. "
-         f"The photon methods use `--no-auto-bandwidth --seed 1 -q --spp {a.spp}`; the reference is "
-         f"`lighttrace --volume-only --spp {a.ref_spp} --seed 7` (unbiased for these paths). "
+         f"The photon methods use `--no-auto-bandwidth --seed 1 -q`, bandwidth sweeps at `--spp {a.spp}` and the "
+         f"optima (and the photon-count scan) at `--spp {a.final_spp}`; the reference is "
+         "`lighttrace --volume-only --seed 7` (unbiased for these paths; light paths per pixel per scene below). "
          "Metrics (`caustica compare IMG REF`) are over the whole image unless a region is named: RMSE on linear "
          "radiance, SSIM on the display image, relative mean difference (image mean / reference mean − 1).", "",
          "Methods: `vpm` ray marching with k-NN per step (eq. 8.3; `--volume-k k`, step half the median radius); "
@@ -557,10 +626,12 @@ def main():
     m = sub.add_parser("masks")
     m.add_argument("ref"); m.add_argument("dir")
     m.add_argument("--toml"); m.add_argument("--width", type=int)
+    m.add_argument("--crop", action="append", help="NAME:X,Y,W,H, an extra rectangular region")
     s = sub.add_parser("summarize")
     s.add_argument("work"); s.add_argument("docs")
     s.add_argument("--spp", type=int, required=True); s.add_argument("--ref-spp", type=int, required=True)
     s.add_argument("--check-spp", type=int, required=True); s.add_argument("--ref-photons", type=int, required=True)
+    s.add_argument("--final-spp", type=int, required=True); s.add_argument("--ref-k", type=int, default=128)
     s.add_argument("--scenes", required=True); s.add_argument("--bin", default="")
     s.add_argument("--command", default="bash bench/volume_differentials.sh")
     a = ap.parse_args()
