@@ -769,25 +769,6 @@ pub fn room_smoke_density(u: Vec3) -> f32 {
     n * (1.0 - 0.4 * u.y)
 }
 
-/// Densities of a procedural grid of `res` voxels at the voxel centres of the unit cube (x
-/// fastest), as `DensityGrid::from_fn` samples them (also the data of the scenes' `.vol` files).
-pub fn voxel_densities(res: [u32; 3], f: impl Fn(Vec3) -> f32) -> Vec<f32> {
-    let mut data = Vec::with_capacity(res.iter().map(|&r| r as usize).product());
-    for k in 0..res[2] {
-        for j in 0..res[1] {
-            for i in 0..res[0] {
-                let u = Vec3::new(
-                    (i as f32 + 0.5) / res[0] as f32,
-                    (j as f32 + 0.5) / res[1] as f32,
-                    (k as f32 + 0.5) / res[2] as f32,
-                );
-                data.push(f(u).max(0.0));
-            }
-        }
-    }
-    data
-}
-
 /// Volume smoothing of `facet-smoke`, `laser-smoke` and `glass-smoke` (vpd's `s`): the
 /// collimated laser's kernels never widen (its directional differentials are zero), so it needs
 /// a far larger `s` than the area-lit scenes.
@@ -830,12 +811,8 @@ fn add_smoke(
     sigma_t: f32,
     albedo: Spectrum,
 ) -> Result<(), SceneError> {
-    let grid = DensityGrid::new(
-        res,
-        voxel_densities(res, density),
-        unit_cube_to_box(min, max),
-    )
-    .map_err(SceneError::InvalidParameter)?;
+    let grid = DensityGrid::from_fn(res, unit_cube_to_box(min, max), density)
+        .map_err(SceneError::InvalidParameter)?;
     let (sigma_a, sigma_s) = Medium::coefficients_from_albedo(Spectrum::splat(sigma_t), albedo);
     let smoke = b.add_medium(
         name,

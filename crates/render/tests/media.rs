@@ -563,40 +563,32 @@ fn volume_photon_differentials_survive_thousands_of_scatterings() {
     };
     opts.photons.volume.photons = 20_000;
     opts.photons.volume.smoothing = Some(caustica_render::Smoothing::new(2.0).unwrap());
-    let out = render(
-        &scene,
-        IntegratorKind::VolumePhotonDifferentials,
-        &opts,
-        &RenderControl::silent(),
-    )
-    .expect("valid options");
-    let img = out.film.to_image();
-    assert!(img.data.iter().all(|p| p.iter().all(|c| c.is_finite())));
+    // The image (finite everywhere) and the notes' line on the photon differentials.
+    let run = |opts: &RenderOptions| {
+        let out = render(
+            &scene,
+            IntegratorKind::VolumePhotonDifferentials,
+            opts,
+            &RenderControl::silent(),
+        )
+        .expect("valid options");
+        let img = out.film.to_image();
+        assert!(img.data.iter().all(|p| p.iter().all(|c| c.is_finite())));
+        let note = out
+            .notes
+            .into_iter()
+            .find(|n| n.starts_with("volume photon differentials"))
+            .expect("the notes count the photon differentials");
+        (img, note)
+    };
+    let (img, note) = run(&opts);
     assert!(img.data.iter().any(|p| p[1] > 0.0), "the sphere is lit");
-    let note = out
-        .notes
-        .iter()
-        .find(|n| n.starts_with("volume photon differentials"))
-        .expect("the notes count the photon differentials");
     // HG's area factors have E[k] = 1 but E[ln k] < 0: over thousands of events the vectors
     // shrink until the kernels are flat, which are dropped and counted.
     assert!(!note.contains(" 0 dropped with a flat kernel"), "{note}");
     // The minimum semi-axis keeps them (widened, counted), and the image stays finite.
     opts.photons.volume.min_semi_axis = Some(0.01);
-    let out = render(
-        &scene,
-        IntegratorKind::VolumePhotonDifferentials,
-        &opts,
-        &RenderControl::silent(),
-    )
-    .expect("valid options");
-    let img = out.film.to_image();
-    assert!(img.data.iter().all(|p| p.iter().all(|c| c.is_finite())));
-    let note = out
-        .notes
-        .iter()
-        .find(|n| n.starts_with("volume photon differentials"))
-        .expect("the notes count the photon differentials");
+    let (_, note) = run(&opts);
     assert!(note.contains(" 0 dropped with a flat kernel"), "{note}");
     assert!(
         note.contains("widened to the minimum semi-axis 0.01 m"),

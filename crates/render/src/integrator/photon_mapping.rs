@@ -70,7 +70,7 @@ impl PhotonMaps {
         };
         Self::with_caustic(scene, opts, progress, |progress| match kind {
             // Only the volume estimate is wanted: no surface is shaded.
-            _ if opts.volume_only => (CausticEstimate::Splatted, None, RenderStats::default()),
+            _ if opts.volume_only => (CausticEstimate::None, None, RenderStats::default()),
             IntegratorKind::DiffusionPhotonMapping => {
                 density(CausticEstimator::Diffusion, progress)
             }

@@ -32,6 +32,8 @@ pub enum CausticEstimate {
     /// Nothing stored: the vertex is recorded and the footprints are splatted onto it later
     /// (`pds`, seed 002 sec. 3.3).
     Splatted,
+    /// No caustic light is wanted: `--volume-only` renders shade no surface.
+    None,
 }
 
 impl CausticEstimate {
@@ -113,7 +115,7 @@ impl CausticEstimate {
             CausticEstimate::Density { map, estimator, .. } => SCRATCH
                 .with(|b| map.estimate_with(v, &opts.estimate, estimator, &mut b.borrow_mut())),
             CausticEstimate::Footprints(map) => map.radiance(v),
-            CausticEstimate::Splatted => Spectrum::ZERO,
+            CausticEstimate::Splatted | CausticEstimate::None => Spectrum::ZERO,
         }
     }
 
@@ -122,7 +124,7 @@ impl CausticEstimate {
         match self {
             CausticEstimate::Density { map, .. } => map.paths,
             CausticEstimate::Footprints(map) => map.paths,
-            CausticEstimate::Splatted => 0,
+            CausticEstimate::Splatted | CausticEstimate::None => 0,
         }
     }
 
@@ -139,7 +141,7 @@ impl CausticEstimate {
         match self {
             CausticEstimate::Density { map, .. } => map.len(),
             CausticEstimate::Footprints(map) => map.len(),
-            CausticEstimate::Splatted => 0,
+            CausticEstimate::Splatted | CausticEstimate::None => 0,
         }
     }
 
@@ -152,7 +154,7 @@ impl CausticEstimate {
         match self {
             CausticEstimate::Density { map, .. } => map.memory_bytes(),
             CausticEstimate::Footprints(map) => map.memory_bytes(),
-            CausticEstimate::Splatted => 0,
+            CausticEstimate::Splatted | CausticEstimate::None => 0,
         }
     }
 }

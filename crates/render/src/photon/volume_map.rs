@@ -317,15 +317,6 @@ impl VolumeMap {
         l
     }
 
-    /// Eq. 8.3 with the step `step` (m) instead of the map's; zero for a map without a k-d
-    /// tree (photon differentials).
-    pub fn march_with_step(&self, scene: &Scene, span: &MediumSpan, step: f32, u: f32) -> Spectrum {
-        match &self.tree {
-            Some(tree) => self.march(tree, scene, span, step, u),
-            None => Spectrum::ZERO,
-        }
-    }
-
     /// Eq. 8.3: k-NN estimates (or fixed-radius ones) at jittered points every `step` metres.
     fn march(
         &self,
@@ -498,7 +489,8 @@ mod tests {
                 let beam = map.beam(&scene, &span)[0] as f64;
                 let mut errs = Vec::new();
                 for step in [0.04f32, 0.01, 0.0025, 0.000625] {
-                    let m = map.march_with_step(&scene, &span, step, 0.5)[0] as f64;
+                    let tree = map.tree.as_ref().expect("balls have a k-d tree");
+                    let m = map.march(tree, &scene, &span, step, 0.5)[0] as f64;
                     errs.push((m - beam).abs());
                 }
                 assert!(beam > 0.0);

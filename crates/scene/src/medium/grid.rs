@@ -90,6 +90,12 @@ impl DensityGrid {
         to_world: Affine3A,
         f: impl Fn(Vec3) -> f32,
     ) -> Result<Self, String> {
+        Self::new(res, Self::sample_fn(res, f), to_world)
+    }
+
+    /// The densities [`DensityGrid::from_fn`] stores: `f` at the voxel centres of the unit cube,
+    /// x fastest, clamped at 0 (also the data of the built-in scenes' `.vol` files).
+    pub fn sample_fn(res: [u32; 3], f: impl Fn(Vec3) -> f32) -> Vec<f32> {
         let mut data = Vec::with_capacity(res.iter().map(|&r| r as usize).product());
         for k in 0..res[2] {
             for j in 0..res[1] {
@@ -103,7 +109,7 @@ impl DensityGrid {
                 }
             }
         }
-        Self::new(res, data, to_world)
+        data
     }
 
     pub fn resolution(&self) -> [u32; 3] {

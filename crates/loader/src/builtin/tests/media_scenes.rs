@@ -67,7 +67,7 @@ fn write_media_scene_files() {
         std::fs::write(scenes_dir().join("meshes").join(file), text).unwrap();
     }
     for (file, res, f, bbox) in media_grids() {
-        let bytes = crate::vol::encode_vol(res, 1, bbox, &voxel_densities(res, f));
+        let bytes = crate::vol::encode_vol(res, 1, bbox, &DensityGrid::sample_fn(res, f));
         std::fs::write(scenes_dir().join("mitsuba").join(file), bytes).unwrap();
     }
 }
@@ -88,7 +88,7 @@ fn media_scene_files_are_up_to_date() {
     for (file, res, f, bbox) in media_grids() {
         let g = crate::vol::read_vol(&scenes_dir().join("mitsuba").join(file)).unwrap();
         assert_eq!((g.res, g.channels, g.bbox), (res, 1, bbox), "{file}");
-        let want = voxel_densities(res, f);
+        let want = DensityGrid::sample_fn(res, f);
         let worst = g
             .data
             .iter()

@@ -124,10 +124,9 @@ pub fn volume_kernel(du: Vec3, dv: Vec3, dir: Vec3, rule: KernelRule) -> Option<
     let bound = match rule.axes {
         // D_w x ⊥ D_u x, D_v x and |D_w x| = max(|D_u x|, |D_v x|) ≤ the cross-section's major
         // axis: the largest semi-axis is the cross-section ellipse's (closed form, 2 × 2).
-        AxesRule::Projected if rule.min_semi_axis.is_none() || !widened => {
-            cross_section_major_semi_axis(du, dv)?
-        }
-        _ => axes_bounding_radius(du, dv, dw)?,
+        // (Widened kernels too: their D_w x has the widened major axis' length.)
+        AxesRule::Projected => cross_section_major_semi_axis(du, dv)?,
+        AxesRule::PaperLiteral => axes_bounding_radius(du, dv, dw)?,
     };
     (inv_volume.is_finite() && inv_volume > 0.0 && bound > 0.0).then_some((
         Ellipsoid {
@@ -334,6 +333,37 @@ mod tests {
         assert!((k.bound - h).abs() < 1e-5 * h);
         for v in [Vec3::X, Vec3::Y, Vec3::Z, dir] {
             assert!(((k.m * v).length() - v.length() / h).abs() < 1e-3 / h);
+        }
+    }
+
+    #[test]
+    fn the_closed_form_bound_is_the_largest_semi_axis() {
+        // The projected rule's 2 × 2 bound against the general Gram-matrix one, for random
+        // vectors (widened or not).
+        let mut rng = caustica_core::sampling::Pcg32::new(2, 7);
+        let mut u = || 2.0 * rng.next_f32() - 1.0;
+        for i in 0..2000 {
+            let dir = Vec3::new(u(), u(), u()).normalize();
+            let (du, dv) = (Vec3::new(u(), u(), u()), Vec3::new(u(), u(), u()) * 0.3);
+            let rule = KernelRule {
+                min_semi_axis: (i % 2 == 0).then_some(0.2),
+                ..KernelRule::default()
+            };
+            let Some((k, _)) = volume_kernel(du, dv, dir, rule) else {
+                continue;
+            };
+            let [a, b, c] = volume_axes(du, dv, dir, AxesRule::Projected).unwrap();
+            let general = if rule.min_semi_axis.is_some() {
+                // Widened: the bound must contain the unit filter ball's image.
+                caustica_density::beam::filter_bounding_radius(k.m).unwrap()
+            } else {
+                axes_bounding_radius(a, b, c).unwrap()
+            };
+            assert!(
+                (k.bound - general).abs() <= 1e-4 * general,
+                "{} vs {general}",
+                k.bound
+            );
         }
     }
 
