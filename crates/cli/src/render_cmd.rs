@@ -76,6 +76,15 @@ pub struct RenderSettings {
     /// option that lowers it (a positive finite number).
     #[arg(long, value_name = "GB", allow_negative_numbers = true)]
     pub memory: Option<f64>,
+    /// Frame of an animated scene at which the shutter opens (frames may be fractional;
+    /// default: the scene's, else 0). Static scenes ignore it.
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::values::finite_f32)]
+    pub frame: Option<f32>,
+    /// How long the shutter stays open, in frames (seed 003's exposure e; seconds = E / fps;
+    /// ≥ 0, 0 = an instant; default: the scene's, else 0). Moving meshes are blurred over it by
+    /// every integrator that samples time (path, lighttrace, and the photon methods' photons).
+    #[arg(long, value_name = "E", allow_negative_numbers = true, value_parser = crate::values::finite_f32)]
+    pub shutter: Option<f32>,
     #[command(flatten)]
     pub photon: crate::photon_args::PhotonArgs,
 }
@@ -141,7 +150,11 @@ impl RenderSettings {
             width: self.width,
             height: self.height,
         };
-        let scene = load(self.scene.as_deref(), &defines, size)?;
+        let shutter = ShutterOverride {
+            frame: self.frame,
+            length: self.shutter,
+        };
+        let scene = load_at(self.scene.as_deref(), &defines, size, shutter)?;
         for w in &scene.warnings {
             eprintln!("warning: {w}");
         }
@@ -302,6 +315,23 @@ impl Resolution {
 /// Loads a scene given as a path or built-in name; `defines` override Mitsuba `<default>`s,
 /// `size` the image size.
 pub fn load(scene: Option<&str>, defines: &[(String, String)], size: Resolution) -> Result<Scene> {
+    load_at(scene, defines, size, ShutterOverride::default())
+}
+
+/// `--frame` and `--shutter`: the shutter's opening and length (frames) replacing the scene's.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ShutterOverride {
+    pub frame: Option<f32>,
+    pub length: Option<f32>,
+}
+
+/// [`load`] with the shutter of `shutter`.
+pub fn load_at(
+    scene: Option<&str>,
+    defines: &[(String, String)],
+    size: Resolution,
+    shutter: ShutterOverride,
+) -> Result<Scene> {
     let name = scene.unwrap_or(loader::DEFAULT_SCENE);
     let path = Path::new(name);
     let builder = if path.extension().is_some() || path.exists() {
@@ -328,6 +358,15 @@ pub fn load(scene: Option<&str>, defines: &[(String, String)], size: Resolution)
             (camera.width, camera.height) = (w, h);
             builder.set_camera(camera);
         }
+    }
+    if shutter.frame.is_some() || shutter.length.is_some() {
+        let s = builder.shutter();
+        let s = caustica_scene::Shutter::new(
+            shutter.frame.unwrap_or(s.open),
+            shutter.length.unwrap_or(s.length),
+        )
+        .context("--frame/--shutter")?;
+        builder.set_shutter(s);
     }
     builder
         .build()

@@ -2,12 +2,17 @@
 
 use glam::Vec3;
 
-/// A ray `o + t d`, `t ∈ (0, t_max)`. `d` is normalised by every producer in caustica.
+/// A ray `o + t d`, `t ∈ (0, t_max)`, at scene time `time`. `d` is normalised by every
+/// producer in caustica.
 #[derive(Clone, Copy, Debug)]
 pub struct Ray {
     pub o: Vec3,
     pub d: Vec3,
     pub t_max: f32,
+    /// Scene time (frames) at which the ray meets the geometry: moving meshes are
+    /// interpolated to it. 0 for rays made by [`Ray::new`]; rays spawned from a surface hit
+    /// inherit the hit's time.
+    pub time: f32,
 }
 
 impl Ray {
@@ -17,11 +22,22 @@ impl Ray {
             o,
             d,
             t_max: f32::INFINITY,
+            time: 0.0,
         }
     }
     #[inline]
     pub fn with_t_max(o: Vec3, d: Vec3, t_max: f32) -> Self {
-        Self { o, d, t_max }
+        Self {
+            o,
+            d,
+            t_max,
+            time: 0.0,
+        }
+    }
+    /// The same ray at scene time `time` (frames).
+    #[inline]
+    pub fn at_time(self, time: f32) -> Self {
+        Self { time, ..self }
     }
     #[inline]
     pub fn at(&self, t: f32) -> Vec3 {

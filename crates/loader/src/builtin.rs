@@ -13,7 +13,8 @@ use caustica_scene::medium::{DensityGrid, Medium, MediumInterface};
 use caustica_scene::phase::PhaseFunction;
 use caustica_scene::scene::{FilterKind, SceneBuilder};
 use caustica_scene::shape::{
-    RingParams, ShapeGeometry, Sphere, TriangleMesh, WaveParams, ring_mesh, water_wave_mesh,
+    RingParams, ShapeGeometry, Sphere, TriangleMesh, WaveParams, moving_water_wave, ring_mesh,
+    water_wave_mesh,
 };
 use caustica_scene::texture::Texture;
 
@@ -35,6 +36,7 @@ const NAMES: &[&str] = &[
     "facet-smoke",
     "laser-smoke",
     "glass-smoke",
+    "moving-wave",
 ];
 
 /// Names accepted by [`builtin_scene`].
@@ -60,6 +62,7 @@ pub fn builtin_scene(name: &str) -> Option<SceneBuilder> {
         "facet-smoke" => facet_smoke().ok(),
         "laser-smoke" => laser_smoke().ok(),
         "glass-smoke" => glass_smoke().ok(),
+        "moving-wave" => moving_wave().ok(),
         _ => None,
     }
 }
@@ -421,7 +424,22 @@ fn caustic_integrator(b: &mut SceneBuilder) {
 /// looking straight down, so it sees only the caustic (x to the image's right); the light
 /// tracer can connect floor points to it.
 fn water_wave() -> Result<SceneBuilder, SceneError> {
-    let mut b = SceneBuilder::new("water-wave");
+    water_wave_with("water-wave", |b, water| {
+        b.add_shape(
+            ShapeGeometry::Mesh(water_wave_mesh(&WATER_WAVE)),
+            water,
+            None,
+            false,
+        )
+    })
+}
+
+/// The refraction case with the water surface added by `wave` (given the water material).
+fn water_wave_with(
+    name: &str,
+    wave: impl FnOnce(&mut SceneBuilder, u32) -> Result<(), SceneError>,
+) -> Result<SceneBuilder, SceneError> {
+    let mut b = SceneBuilder::new(name);
     b.set_camera(camera_up(
         Vec3::new(0.0, 1.2, 0.0),
         Vec3::ZERO,
@@ -434,16 +452,31 @@ fn water_wave() -> Result<SceneBuilder, SceneError> {
     let floor = b.add_material("floor", diffuse(0.8, 0.8, 0.8))?;
     let water = b.add_material("water", dielectric(WATER_IOR))?;
     add_floor(&mut b, WATER_WAVE.half_width, floor)?;
-    b.add_shape(
-        ShapeGeometry::Mesh(water_wave_mesh(&WATER_WAVE)),
-        water,
-        None,
-        false,
-    )?;
+    wave(&mut b, water)?;
     b.add_light(Light::Directional(DirectionalLight::new(
         Vec3::NEG_Y,
         Spectrum::splat(0.5),
     )));
+    Ok(b)
+}
+
+/// Phase speed of `moving-wave` (m per frame): a twentieth of the 2 m wavelength, so one
+/// frame of exposure blurs the caustic bands by about a tenth of the camera's 1 m view.
+pub const MOVING_WAVE_STEP: f32 = 0.1;
+
+/// Keyframes of `moving-wave` (frames 0 … 24: one second at 25 fps).
+pub const MOVING_WAVE_FRAMES: u32 = 25;
+
+/// Seed 003 fig. 7–8 (S-T1): `water-wave` with its wave travelling toward +x by
+/// [`MOVING_WAVE_STEP`] per frame, the crests moving perpendicular to themselves; the shutter
+/// opens at frame 0 for one frame (seed 003's e = 1). The camera sees only the floor, so only
+/// the caustic is blurred by motion.
+fn moving_wave() -> Result<SceneBuilder, SceneError> {
+    let mut b = water_wave_with("moving-wave", |b, water| {
+        let (mesh, motion) = moving_water_wave(&WATER_WAVE, MOVING_WAVE_STEP, MOVING_WAVE_FRAMES);
+        b.add_moving_mesh(mesh, motion, water, false)
+    })?;
+    b.set_shutter(caustica_scene::Shutter::new(0.0, 1.0)?);
     Ok(b)
 }
 

@@ -60,6 +60,20 @@ pub struct Geometry {
     /// Normal and tangents of each mesh triangle in BVH order (unused for other primitives),
     /// so a hit only interpolates.
     tri_constants: Vec<TriangleConstants>,
+    /// The triangles of moving meshes, behind their own BVH over swept bounds.
+    moving: MovingTriangles,
+}
+
+/// Triangles of meshes with keyframed motion ([`crate::shape::MeshMotion`]), behind a BVH over
+/// each triangle's bounds swept over all its keyframes (the union of the keyframe boxes bounds
+/// the linear interpolation between them). A query at time `t` interpolates the triangle's
+/// vertices to `t` before the watertight test, so hits are exact for the interpolated mesh.
+/// Static shapes keep the fast path of [`Geometry::bvh`] untouched.
+#[derive(Default)]
+struct MovingTriangles {
+    bvh: WideBvh,
+    /// (shape, triangle) in BVH order.
+    ids: Vec<(u32, u32)>,
 }
 
 impl Geometry {
@@ -69,9 +83,16 @@ impl Geometry {
     pub fn build(shapes: Vec<Shape>) -> Self {
         // (shape, primitive) of every candidate primitive, in shape order.
         let mut ids: Vec<(u32, u32)> = Vec::new();
+        let mut moving_ids: Vec<(u32, u32)> = Vec::new();
         for (s, shape) in shapes.iter().enumerate() {
-            ids.extend((0..shape.primitive_count() as u32).map(|p| (s as u32, p)));
+            let prims = (0..shape.primitive_count() as u32).map(|p| (s as u32, p));
+            if moving_mesh(shape).is_some() {
+                moving_ids.extend(prims);
+            } else {
+                ids.extend(prims);
+            }
         }
+        let moving = MovingTriangles::build(&shapes, moving_ids);
         let geoms: Vec<Option<PrimGeom>> = ids
             .par_iter()
             .with_min_len(4096)
@@ -109,20 +130,7 @@ impl Geometry {
         let valid: Vec<u32> = (0..boxes.len() as u32)
             .filter(|&i| geoms[i as usize].is_some())
             .collect();
-        let vboxes: Vec<Aabb> = valid
-            .iter()
-            .map(|&i| {
-                // Pad each box by a few ulps of its coordinates so rays aimed at shared vertices
-                // and edges cannot slip through a slab test (which also grows its far distance).
-                let b = &boxes[i as usize];
-                let pad = (b.min.abs().max(b.max.abs()).max_element() * 4.0 * f32::EPSILON)
-                    .max(f32::MIN_POSITIVE);
-                Aabb {
-                    min: b.min - pad,
-                    max: b.max + pad,
-                }
-            })
-            .collect();
+        let vboxes: Vec<Aabb> = valid.iter().map(|&i| pad(boxes[i as usize])).collect();
         let vtris: Vec<Option<[Vec3; 3]>> = valid
             .iter()
             .map(|&i| match geoms[i as usize] {
@@ -148,12 +156,16 @@ impl Geometry {
                 _ => TriangleConstants::default(),
             })
             .collect();
-        let bounds = order.iter().fold(Aabb::EMPTY, |mut b, &i| {
+        let mut bounds = order.iter().fold(Aabb::EMPTY, |mut b, &i| {
             let pb = &boxes[i as usize];
             b.grow(pb.min);
             b.grow(pb.max);
             b
         });
+        if let Some(mb) = moving.bounds(&shapes) {
+            bounds.grow(mb.min);
+            bounds.grow(mb.max);
+        }
         Self {
             shapes,
             bvh,
@@ -161,7 +173,13 @@ impl Geometry {
             prims,
             prim_ids,
             tri_constants,
+            moving,
         }
+    }
+
+    /// True if some mesh moves (then queries depend on the ray's time).
+    pub fn has_motion(&self) -> bool {
+        !self.moving.ids.is_empty()
     }
 
     /// Number of primitives in the BVH.
@@ -172,7 +190,10 @@ impl Geometry {
     /// The two prepared rays of a traversal, or `None` when nothing can be hit.
     #[inline(always)]
     fn rays(&self, ray: &Ray) -> Option<(TriangleRay, BoxRay)> {
-        if self.prims.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+        if (self.prims.is_empty() && self.moving.ids.is_empty())
+            || ray.t_max.is_nan()
+            || ray.t_max <= 0.0
+        {
             return None;
         }
         Some((TriangleRay::new(ray.o, ray.d), BoxRay::new(ray.o, ray.d)))
@@ -182,9 +203,47 @@ impl Geometry {
     fn closest(&self, ray: &Ray) -> Option<WideHit> {
         let (tr, br) = self.rays(ray)?;
         let (o, d) = (ray.o, ray.d);
-        self.bvh.closest(&tr, &br, ray.t_max, |k, t_max| {
+        let hit = self.bvh.closest(&tr, &br, ray.t_max, |k, t_max| {
             self.prims[k as usize].intersect(&tr, o, d, t_max)
-        })
+        });
+        if self.moving.ids.is_empty() {
+            return hit;
+        }
+        let t_max = hit.map_or(ray.t_max, |h| h.t);
+        let base = self.prims.len() as u32;
+        match self.moving.bvh.closest(&tr, &br, t_max, |k, t_max| {
+            self.moving_intersect(k, &tr, ray.time, t_max)
+        }) {
+            // Moving triangles are numbered after the static primitives.
+            Some(h) => Some(WideHit {
+                prim: base + h.prim,
+                ..h
+            }),
+            None => hit,
+        }
+    }
+
+    /// Hit of moving triangle `k` (moving-BVH order) at `time` closer than `t_max`.
+    #[inline]
+    fn moving_intersect(
+        &self,
+        k: u32,
+        tr: &TriangleRay,
+        time: f32,
+        t_max: f32,
+    ) -> Option<(f32, f32, f32)> {
+        let (s, p) = self.moving.ids[k as usize];
+        let v = self.moving_triangle(s, p, time)?;
+        tr.intersect(t_max, v[0], v[1], v[2])
+    }
+
+    /// Vertices of triangle `p` of moving shape `s` at `time`.
+    #[inline]
+    fn moving_triangle(&self, s: u32, p: u32, time: f32) -> Option<[Vec3; 3]> {
+        let shape = self.shapes.get(s as usize)?;
+        let (m, motion) = moving_mesh(shape)?;
+        let idx = m.indices.get(p as usize)?;
+        Some(idx.map(|i| motion.position(i as usize, time)))
     }
 
     /// Closest hit along `ray` with `t ∈ (0, ray.t_max)`.
@@ -207,7 +266,10 @@ impl Geometry {
         let (o, d) = (ray.o, ray.d);
         self.bvh.any(&tr, &br, ray.t_max, |k, t_max| {
             self.prims[k as usize].intersect(&tr, o, d, t_max)
-        })
+        }) || (!self.moving.ids.is_empty()
+            && self.moving.bvh.any(&tr, &br, ray.t_max, |k, t_max| {
+                self.moving_intersect(k, &tr, ray.time, t_max)
+            }))
     }
 
     /// World bounds of all shapes.
@@ -217,11 +279,17 @@ impl Geometry {
 
     /// The full record of a hit found by the traversal.
     fn interaction(&self, ray: &Ray, hit: WideHit) -> SurfaceInteraction {
+        if let Some(&(s, p)) = (hit.prim as usize)
+            .checked_sub(self.prims.len())
+            .and_then(|k| self.moving.ids.get(k))
+        {
+            return self.moving_interaction(ray, hit, s, p);
+        }
         let geom = &self.prims[hit.prim as usize];
         let (shape_id, prim_id) = self.prim_ids[hit.prim as usize];
         let shape = &self.shapes[shape_id as usize];
         let p_ray = ray.at(hit.t);
-        let mut sh = match (&shape.geometry, geom) {
+        let sh = match (&shape.geometry, geom) {
             (ShapeGeometry::Mesh(m), PrimGeom::Triangle(v)) => m.surface_at(
                 prim_id as usize,
                 v,
@@ -234,13 +302,53 @@ impl Geometry {
             // Unreachable (triangles come from meshes only); keep a sane record anyway.
             (_, PrimGeom::Triangle(_)) => flat_hit(p_ray, -ray.d),
         };
+        self.record(shape, shape_id, prim_id, hit.t, ray.time, sh)
+    }
+
+    /// The record of a hit on moving triangle `prim_id` of shape `shape_id`: the triangle, its
+    /// normal, tangents and vertex normals at the ray's time.
+    fn moving_interaction(
+        &self,
+        ray: &Ray,
+        hit: WideHit,
+        shape_id: u32,
+        prim_id: u32,
+    ) -> SurfaceInteraction {
+        let shape = &self.shapes[shape_id as usize];
+        let sh = match (
+            moving_mesh(shape),
+            self.moving_triangle(shape_id, prim_id, ray.time),
+        ) {
+            (Some((m, motion)), Some(v)) => {
+                let i = prim_id as usize;
+                let normals = m.indices.get(i).and_then(|idx| {
+                    let n = idx.map(|k| motion.normal(k as usize, ray.time));
+                    Some([n[0]?, n[1]?, n[2]?])
+                });
+                m.surface_with_normals(i, &v, normals, &m.constants_of(i, &v), hit.b1, hit.b2)
+            }
+            _ => flat_hit(ray.at(hit.t), -ray.d),
+        };
+        self.record(shape, shape_id, prim_id, hit.t, ray.time, sh)
+    }
+
+    /// The full record from a shape's surface data.
+    fn record(
+        &self,
+        shape: &Shape,
+        shape_id: u32,
+        prim_id: u32,
+        t: f32,
+        time: f32,
+        mut sh: ShapeHit,
+    ) -> SurfaceInteraction {
         if shape.flip_normals {
             sh.ng = -sh.ng;
             sh.ns = -sh.ns;
         }
         SurfaceInteraction {
             p: sh.p,
-            t: hit.t,
+            t,
             ng: sh.ng,
             ns: sh.ns,
             uv: sh.uv,
@@ -253,6 +361,7 @@ impl Geometry {
             light: shape.light,
             medium_inside: shape.medium_inside,
             medium_outside: shape.medium_outside,
+            time,
         }
     }
 
@@ -263,6 +372,15 @@ impl Geometry {
     pub fn triangle_vertices(&self, si: &SurfaceInteraction) -> Option<TriangleVertices> {
         let (shape, m) = self.mesh_of(si)?;
         let i = si.prim as usize;
+        if let Some(motion) = &shape.motion {
+            // At the hit's time (flip_normals is already baked into the keyframes' normals).
+            let idx = m.indices.get(i)?;
+            let n = idx.map(|k| motion.normal(k as usize, si.time));
+            return Some(TriangleVertices {
+                p: idx.map(|k| motion.position(k as usize, si.time)),
+                n: all_three(n),
+            });
+        }
         let n = m.triangle_normals(i);
         Some(TriangleVertices {
             p: m.triangle(i)?,
@@ -274,6 +392,26 @@ impl Geometry {
         })
     }
 
+    /// The time derivatives of the vertices and vertex normals of the triangle hit at `si`
+    /// (m and normal per frame; seed 003 eq. 5 before the exposure factor): the forward
+    /// difference of the keyframe interval of `si.time`, backward at the last keyframe; zero
+    /// for static shapes. `None` unless `si` is on a mesh.
+    pub fn triangle_velocities(&self, si: &SurfaceInteraction) -> Option<TriangleVertices> {
+        let (shape, m) = self.mesh_of(si)?;
+        let idx = m.indices.get(si.prim as usize)?;
+        let Some(motion) = &shape.motion else {
+            return Some(TriangleVertices {
+                p: [Vec3::ZERO; 3],
+                n: m.normals.as_ref().map(|_| [Vec3::ZERO; 3]),
+            });
+        };
+        let n = idx.map(|k| motion.normal_velocity(k as usize, si.time));
+        Some(TriangleVertices {
+            p: idx.map(|k| motion.velocity(k as usize, si.time)),
+            n: all_three(n),
+        })
+    }
+
     /// The shape of `si` and its mesh, if it is one.
     fn mesh_of(&self, si: &SurfaceInteraction) -> Option<(&Shape, &TriangleMesh)> {
         let shape = self.shapes.get(si.shape as usize)?;
@@ -281,6 +419,81 @@ impl Geometry {
             ShapeGeometry::Mesh(m) => Some((shape, m)),
             _ => None,
         }
+    }
+}
+
+/// The mesh and motion of a shape whose mesh moves.
+#[inline]
+fn moving_mesh(shape: &Shape) -> Option<(&TriangleMesh, &crate::shape::MeshMotion)> {
+    match (&shape.geometry, &shape.motion) {
+        (ShapeGeometry::Mesh(m), Some(motion)) => Some((m, motion)),
+        _ => None,
+    }
+}
+
+fn all_three(n: [Option<Vec3>; 3]) -> Option<[Vec3; 3]> {
+    Some([n[0]?, n[1]?, n[2]?])
+}
+
+impl MovingTriangles {
+    /// The BVH over `ids`' triangles swept over their keyframes; triangles with bad indices
+    /// or non-finite vertices are skipped.
+    fn build(shapes: &[Shape], ids: Vec<(u32, u32)>) -> Self {
+        let boxes: Vec<Option<Aabb>> = ids
+            .par_iter()
+            .map(|&(s, p)| {
+                let (m, motion) = moving_mesh(&shapes[s as usize])?;
+                let idx = m.indices.get(p as usize)?;
+                let mut b = Aabb::EMPTY;
+                for frame in &motion.positions {
+                    for &k in idx {
+                        let v = *frame.get(k as usize)?;
+                        if !v.is_finite() {
+                            return None;
+                        }
+                        b.grow(v);
+                    }
+                }
+                Some(b)
+            })
+            .collect();
+        let ids: Vec<(u32, u32)> = ids
+            .into_iter()
+            .zip(&boxes)
+            .filter_map(|(id, b)| b.map(|_| id))
+            .collect();
+        let boxes: Vec<Aabb> = boxes.into_iter().flatten().map(pad).collect();
+        if boxes.is_empty() {
+            return Self::default();
+        }
+        let bvh = WideBvh::build(&boxes, &vec![None; boxes.len()]);
+        let ids = bvh.order().iter().map(|&k| ids[k as usize]).collect();
+        Self { bvh, ids }
+    }
+
+    /// Bounds of every moving triangle over all its keyframes.
+    fn bounds(&self, shapes: &[Shape]) -> Option<Aabb> {
+        let mut b = Aabb::EMPTY;
+        for &(s, p) in &self.ids {
+            let (m, motion) = moving_mesh(&shapes[s as usize])?;
+            for frame in &motion.positions {
+                for &k in m.indices.get(p as usize)? {
+                    b.grow(frame[k as usize]);
+                }
+            }
+        }
+        (!self.ids.is_empty()).then_some(b)
+    }
+}
+
+/// A box padded by a few ulps of its coordinates so rays aimed at shared vertices and edges
+/// cannot slip through a slab test (which also grows its far distance).
+fn pad(b: Aabb) -> Aabb {
+    let pad =
+        (b.min.abs().max(b.max.abs()).max_element() * 4.0 * f32::EPSILON).max(f32::MIN_POSITIVE);
+    Aabb {
+        min: b.min - pad,
+        max: b.max + pad,
     }
 }
 

@@ -47,6 +47,8 @@ pub struct SurfaceInteraction {
     /// [`NONE`] means the shape is not a medium boundary ([`SurfaceInteraction::medium_toward`]).
     pub medium_inside: u32,
     pub medium_outside: u32,
+    /// Scene time (frames) of the hit: the ray's; rays spawned here inherit it.
+    pub time: f32,
 }
 
 impl SurfaceInteraction {
@@ -99,7 +101,7 @@ impl SurfaceInteraction {
     #[inline]
     pub fn spawn_ray(&self, d: Vec3) -> Ray {
         let side = if d.dot(self.ng) >= 0.0 { 1.0 } else { -1.0 };
-        Ray::new(self.p + self.ng * (side * self.offset()), d)
+        Ray::new(self.p + self.ng * (side * self.offset()), d).at_time(self.time)
     }
 
     /// Shadow ray from this surface toward the point `target`, stopping just short of it.
@@ -110,6 +112,6 @@ impl SurfaceInteraction {
         let o = self.p + self.ng * (side * self.offset());
         let to = target - o;
         let dist = to.length();
-        Ray::with_t_max(o, to / dist, dist * (1.0 - 1e-4))
+        Ray::with_t_max(o, to / dist, dist * (1.0 - 1e-4)).at_time(self.time)
     }
 }

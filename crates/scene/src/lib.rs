@@ -46,4 +46,4 @@ pub mod wide_bvh;
 
 pub use error::SceneError;
 pub use intersection::SurfaceInteraction;
-pub use scene::{Scene, SceneBuilder};
+pub use scene::{Scene, SceneBuilder, Shutter};

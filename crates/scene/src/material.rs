@@ -479,6 +479,7 @@ mod tests {
             light: crate::intersection::NONE,
             medium_inside: crate::intersection::NONE,
             medium_outside: crate::intersection::NONE,
+            time: 0.0,
         };
         let a = Spectrum::new(0.2, 0.3, 0.4);
         let b = Spectrum::new(0.9, 0.8, 0.7);

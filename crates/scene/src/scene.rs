@@ -75,9 +75,29 @@ pub struct Scene {
     /// follow rays through index-matched boundaries and media (otherwise they take the fast
     /// path of plain closest-hit and shadow rays).
     pub has_media: bool,
+    /// The camera's shutter (frames); only moving meshes depend on it.
+    pub shutter: Shutter,
 }
 
 impl Scene {
+    /// True if some mesh moves while the shutter is open (then rays carry a time).
+    #[inline]
+    pub fn has_motion(&self) -> bool {
+        self.geometry.has_motion()
+    }
+
+    /// The time of a camera ray or light path for the uniform number `u`: uniform over the
+    /// shutter in a moving scene, the shutter's opening otherwise (no random number is needed,
+    /// so static renders do not change).
+    #[inline]
+    pub fn sample_time(&self, u: impl FnOnce() -> f32) -> f32 {
+        if self.has_motion() && self.shutter.length > 0.0 {
+            self.shutter.time(u())
+        } else {
+            self.shutter.open
+        }
+    }
+
     /// Closest hit along `ray`.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
@@ -149,6 +169,52 @@ pub struct SceneBuilder {
     camera_medium: Option<u32>,
     /// Explicit media of lights (light index, medium).
     light_media: Vec<(usize, u32)>,
+    shutter: Shutter,
+}
+
+/// When the camera's shutter is open, in frames of the scene's animation: from `open` for
+/// `length` frames (seed 003's exposure `e`; the shutter time in seconds is `length / fps`).
+/// Camera rays and light paths sample their time in `[open, open + length]`; a static scene
+/// ignores it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shutter {
+    /// Time (frames) the shutter opens.
+    pub open: f32,
+    /// How long it stays open (frames, ≥ 0; 0: an instant).
+    pub length: f32,
+}
+
+impl Default for Shutter {
+    fn default() -> Self {
+        Self {
+            open: 0.0,
+            length: 0.0,
+        }
+    }
+}
+
+impl Shutter {
+    /// The shutter from frame `open` for `length ≥ 0` frames (both finite).
+    pub fn new(open: f32, length: f32) -> Result<Self, SceneError> {
+        if !(open.is_finite() && length.is_finite() && length >= 0.0) {
+            return Err(SceneError::InvalidParameter(format!(
+                "the shutter must open at a finite frame and stay open for a finite \
+                 non-negative number of frames, got open {open}, length {length}"
+            )));
+        }
+        Ok(Self { open, length })
+    }
+
+    /// The time `open + u · length` (frames) for `u ∈ [0, 1)`.
+    #[inline]
+    pub fn time(&self, u: f32) -> f32 {
+        self.open + u * self.length
+    }
+
+    /// Time the shutter closes (frames).
+    pub fn close(&self) -> f32 {
+        self.open + self.length
+    }
 }
 
 impl SceneBuilder {
@@ -349,6 +415,64 @@ impl SceneBuilder {
         Ok(())
     }
 
+    /// Adds a mesh that moves with `motion` (its keyframes' vertex count must be the mesh's;
+    /// the mesh's own positions are ignored in favour of the first keyframe's). Moving meshes
+    /// cannot emit. A vertex that moves farther in one frame than 10× the diagonal of the
+    /// mesh's first-frame bounds is refused as degenerate motion (the error names the frame).
+    pub fn add_moving_mesh(
+        &mut self,
+        mut mesh: crate::shape::TriangleMesh,
+        mut motion: crate::shape::MeshMotion,
+        material: u32,
+        flip_normals: bool,
+    ) -> Result<(), SceneError> {
+        if motion.positions.first().map(Vec::len) != Some(mesh.positions.len()) {
+            return Err(SceneError::InvalidParameter(format!(
+                "a moving mesh has {} vertices but its first frame {}",
+                mesh.positions.len(),
+                motion.positions.first().map_or(0, Vec::len)
+            )));
+        }
+        mesh.positions.clone_from(&motion.positions[0]);
+        if let (Some(n), Some(kn)) = (&mut mesh.normals, &motion.normals) {
+            n.clone_from(&kn[0]);
+        }
+        let b = mesh.bounds();
+        let diag = (b.max - b.min).length();
+        for (k, w) in motion.positions.windows(2).enumerate() {
+            if let Some(i) = (0..w[0].len()).find(|&i| {
+                let d = (w[1][i] - w[0][i]).length();
+                !(d <= 10.0 * diag) || w[1][i].abs().max_element() > MAX_COORDINATE
+            }) {
+                return Err(SceneError::InvalidParameter(format!(
+                    "degenerate motion: vertex {i} moves {} m between frames {k} and {} \
+                     (more than 10x the mesh's size {diag} m, or beyond ±{MAX_COORDINATE:e})",
+                    (w[1][i] - w[0][i]).length(),
+                    k + 1
+                )));
+            }
+        }
+        if flip_normals {
+            motion.flip_normals();
+        }
+        let before = self.shapes.len();
+        self.add_shape(ShapeGeometry::Mesh(mesh), material, None, flip_normals)?;
+        if let Some(shape) = self.shapes.get_mut(before) {
+            shape.motion = Some(std::sync::Arc::new(motion));
+        }
+        Ok(())
+    }
+
+    /// Sets the camera's shutter (frames; default: the instant 0).
+    pub fn set_shutter(&mut self, shutter: Shutter) {
+        self.shutter = shutter;
+    }
+
+    /// The camera's shutter.
+    pub fn shutter(&self) -> Shutter {
+        self.shutter
+    }
+
     pub fn add_light(&mut self, light: Light) {
         self.lights.push(light);
     }
@@ -411,9 +535,31 @@ impl SceneBuilder {
             )));
         }
         let has_media = !self.media.is_empty() || self.materials.iter().any(|m| m.is_null());
+        // Moving meshes keep the keyframes the shutter needs; those that do not move there
+        // become static (the fast path).
+        let shutter = self.shutter;
+        let mut shapes = self.shapes;
+        for shape in &mut shapes {
+            let Some(motion) = shape.motion.take() else {
+                continue;
+            };
+            let w = motion.window(shutter.open, shutter.close());
+            if w.moves() {
+                shape.motion = Some(std::sync::Arc::new(w));
+            } else if let ShapeGeometry::Mesh(m) = &mut shape.geometry {
+                m.positions = (0..m.positions.len())
+                    .map(|i| motion.position(i, shutter.open))
+                    .collect();
+                if let Some(n) = &mut m.normals {
+                    *n = (0..n.len())
+                        .map(|i| motion.normal(i, shutter.open).unwrap_or(n[i]))
+                        .collect();
+                }
+            }
+        }
         let light_origins: Vec<Option<caustica_core::Vec3>> =
             self.lights.iter().map(|l| l.medium_probe_point()).collect();
-        let geometry = Geometry::build(self.shapes);
+        let geometry = Geometry::build(shapes);
         let locate = |p: Option<caustica_core::Vec3>| match p {
             Some(p) if has_media => medium_at(&geometry, p),
             _ => NONE,
@@ -460,6 +606,7 @@ impl SceneBuilder {
             camera_medium,
             light_media,
             has_media,
+            shutter,
         })
     }
 }

@@ -59,7 +59,8 @@ pub fn trace_light_path(
                         if !le.is_black() {
                             let o = offset_origin(es.ray.o, n, cs.wi);
                             let shadow =
-                                Ray::with_t_max(o, cs.wi, (cs.lens_p - o).length() * (1.0 - 1e-4));
+                                Ray::with_t_max(o, cs.wi, (cs.lens_p - o).length() * (1.0 - 1e-4))
+                                    .at_time(start.ray.time);
                             let tr =
                                 shadow_transmittance(scene, &shadow, start.medium, sampler, stats);
                             if !tr.is_black() {

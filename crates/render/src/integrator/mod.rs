@@ -302,7 +302,8 @@ pub fn render(
             let stage = stage.labelled("path tracing");
             render_pixels(&mut film, &filter, opts, &stage, |sampler, raster, st| {
                 let u_lens = sampler.next_2d();
-                let ray = cam.generate_ray(raster, u_lens).ray;
+                let time = scene.sample_time(|| sampler.next_1d());
+                let ray = cam.generate_ray(raster, u_lens).ray.at_time(time);
                 path::radiance(scene, ray, sampler, opts, st)
             })
         }

@@ -85,7 +85,7 @@ pub fn radiance(
                 if !russian_roulette(&mut beta, depth, opts.limits.rr_depth, u_rr) {
                     break;
                 }
-                ray = Ray::new(p, ps.wi);
+                ray = Ray::new(p, ps.wi).at_time(ray.time);
                 continue;
             }
         };

@@ -458,7 +458,8 @@ pub(crate) fn render(
         &stage.part(PHOTON_SHARE, 1.0).labelled("camera pass"),
         |sampler, raster, st| {
             let u_lens = sampler.next_2d();
-            let ray = cam.generate_ray(raster, u_lens).ray;
+            let time = scene.sample_time(|| sampler.next_1d());
+            let ray = cam.generate_ray(raster, u_lens).ray.at_time(time);
             radiance(scene, &maps, ray, sampler, opts, st)
         },
     );

@@ -141,7 +141,8 @@ pub fn render_report(
         &stage.part(GLOBAL_END, EYE_END).labelled("camera pass"),
         |sampler, raster, pixel, out: &mut Vec<EyeVertex>, st| {
             let u_lens = sampler.next_2d();
-            let ray = cam.generate_ray(raster, u_lens).ray;
+            let time = scene.sample_time(|| sampler.next_1d());
+            let ray = cam.generate_ray(raster, u_lens).ray.at_time(time);
             photon_mapping::radiance_with(scene, &maps, ray, sampler, opts, st, &mut |v, beta| {
                 out.push(EyeVertex::new(v, beta, pixel));
                 Spectrum::ZERO

@@ -8,6 +8,7 @@
 use crate::stats::RenderStats;
 use crate::transport::limits::{PathLimits, russian_roulette};
 use crate::transport::medium::{Segment, trace_segment};
+use crate::transport::time::PathTime;
 use crate::transport::vertex::{MediumVertex, Vertex, emission_ray};
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum, Vec3};
@@ -155,6 +156,20 @@ pub fn walk_light_path_with(
     stats: &mut RenderStats,
     visitor: &mut impl LightVisitor,
 ) {
+    walk_light_path_at(scene, sampler, limits, stats, visitor, PathTime::Shutter)
+}
+
+/// [`walk_light_path_with`] at the time `time` chooses (in a moving scene one more number is
+/// drawn first, unless `time` is the instant).
+pub fn walk_light_path_at(
+    scene: &Scene,
+    sampler: &mut Sampler,
+    limits: &PathLimits,
+    stats: &mut RenderStats,
+    visitor: &mut impl LightVisitor,
+    time: PathTime,
+) {
+    let time = time.sample(scene, sampler);
     let u_light = sampler.next_1d();
     let u_pos = sampler.next_2d();
     let u_dir = sampler.next_2d();
@@ -167,7 +182,7 @@ pub fn walk_light_path_with(
     if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() {
         return;
     }
-    let mut ray = emission_ray(&es);
+    let mut ray = emission_ray(&es).at_time(time);
     let mut medium = scene.light_media.get(li).copied().unwrap_or(NONE);
     visitor.event(
         LightEvent::Start(&LightStart {
@@ -221,7 +236,7 @@ pub fn walk_light_path_with(
                 if !russian_roulette(&mut beta, depth, limits.rr_depth, u_rr) {
                     break;
                 }
-                ray = Ray::new(p, ps.wi);
+                ray = Ray::new(p, ps.wi).at_time(ray.time);
                 continue;
             }
         };

@@ -22,6 +22,7 @@ pub mod eye_walk;
 pub mod light_walk;
 pub mod limits;
 pub mod medium;
+pub mod time;
 pub mod vertex;
 
 pub use direct::sample_direct;
@@ -32,4 +33,5 @@ pub use light_walk::{
 };
 pub use limits::{PathLimits, russian_roulette};
 pub use medium::{Segment, trace_segment};
+pub use time::PathTime;
 pub use vertex::{Vertex, emission_ray, offset_origin};

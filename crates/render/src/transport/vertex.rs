@@ -74,7 +74,7 @@ pub fn offset_origin(p: Vec3, n: Vec3, d: Vec3) -> Vec3 {
 #[inline]
 pub fn emission_ray(es: &EmissionSample) -> Ray {
     match es.normal {
-        Some(n) => Ray::new(offset_origin(es.ray.o, n, es.ray.d), es.ray.d),
+        Some(n) => Ray::new(offset_origin(es.ray.o, n, es.ray.d), es.ray.d).at_time(es.ray.time),
         None => es.ray,
     }
 }
@@ -90,6 +90,8 @@ pub struct MediumVertex {
     /// The medium's index in `Scene::media`.
     pub medium: u32,
     pub phase: PhaseFunction,
+    /// Scene time (frames) of the path at this vertex.
+    pub time: f32,
 }
 
 impl MediumVertex {
@@ -101,6 +103,7 @@ impl MediumVertex {
             wo: -ray.d,
             medium,
             phase: scene.media[medium as usize].phase,
+            time: ray.time,
         }
     }
 
@@ -109,7 +112,7 @@ impl MediumVertex {
     pub fn ray_to(&self, target: Vec3) -> Ray {
         let to = target - self.p;
         let dist = to.length();
-        Ray::with_t_max(self.p, to / dist, dist * (1.0 - 1e-4))
+        Ray::with_t_max(self.p, to / dist, dist * (1.0 - 1e-4)).at_time(self.time)
     }
 }
 
@@ -186,7 +189,7 @@ impl Scatterer<'_> {
             Scatterer::Surface { v, medium } => {
                 (v.si.spawn_ray(wi), v.si.medium_toward(wi, *medium))
             }
-            Scatterer::Medium(m) => (Ray::new(m.p, wi), m.medium),
+            Scatterer::Medium(m) => (Ray::new(m.p, wi).at_time(m.time), m.medium),
         }
     }
 }

@@ -297,7 +297,12 @@ impl TriangleMesh {
     /// `e2`), or a frame around `ng` if that degenerates. Computed once per triangle when the
     /// BVH is built.
     pub fn triangle_constants(&self, i: usize) -> Option<TriangleConstants> {
-        let p = self.triangle(i)?;
+        Some(self.constants_of(i, &self.triangle(i)?))
+    }
+
+    /// [`Self::triangle_constants`] of triangle `i` with its vertices at `p` (a moving mesh's
+    /// vertices at some time).
+    pub fn constants_of(&self, i: usize, p: &[Vec3; 3]) -> TriangleConstants {
         let e1 = p[1] - p[0];
         let e2 = p[2] - p[0];
         let ng = e1.cross(e2).normalize_or_zero();
@@ -326,7 +331,7 @@ impl TriangleMesh {
                 let f = Frame::from_normal(ng);
                 (f.s, f.t)
             };
-        Some(TriangleConstants { ng, dpdu, dpdv })
+        TriangleConstants { ng, dpdu, dpdv }
     }
 
     /// Surface data of triangle `i` (vertices `p`, constants `c` from
@@ -342,10 +347,24 @@ impl TriangleMesh {
         b1: f32,
         b2: f32,
     ) -> ShapeHit {
+        self.surface_with_normals(i, p, self.triangle_normals(i), c, b1, b2)
+    }
+
+    /// [`Self::surface_at`] with the vertex normals `normals` (a moving mesh's at some time).
+    #[inline]
+    pub fn surface_with_normals(
+        &self,
+        i: usize,
+        p: &[Vec3; 3],
+        normals: Option<[Vec3; 3]>,
+        c: &TriangleConstants,
+        b1: f32,
+        b2: f32,
+    ) -> ShapeHit {
         let b0 = 1.0 - b1 - b2;
         let ng = c.ng;
         let pos = p[0] * b0 + p[1] * b1 + p[2] * b2;
-        let ns = match self.triangle_normals(i) {
+        let ns = match normals {
             Some(n) => {
                 let v = (n[0] * b0 + n[1] * b1 + n[2] * b2).normalize_or_zero();
                 if v == Vec3::ZERO || !v.is_finite() {

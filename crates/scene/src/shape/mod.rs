@@ -5,15 +5,17 @@
 pub mod aabb;
 pub mod disk;
 pub mod mesh;
+pub mod motion;
 pub mod procedural;
 pub mod sphere;
 
 pub use aabb::Aabb;
 pub use disk::Disk;
 pub use mesh::{SanitizeReport, TriangleMesh};
+pub use motion::MeshMotion;
 pub use procedural::{
-    DomeParams, RingParams, WaveParams, faceted_dome_mesh, geodesic_sphere_mesh, ring_mesh,
-    water_wave_mesh,
+    DomeParams, RingParams, WaveParams, faceted_dome_mesh, geodesic_sphere_mesh, moving_water_wave,
+    ring_mesh, water_wave_mesh,
 };
 pub use sphere::Sphere;
 
@@ -42,6 +44,9 @@ pub struct Shape {
     /// boundary (`crate::medium::MediumInterface`).
     pub medium_inside: u32,
     pub medium_outside: u32,
+    /// Keyframed vertex motion of a mesh (`None`: static). The mesh's own positions and
+    /// normals are those of the first keyframe.
+    pub motion: Option<std::sync::Arc<MeshMotion>>,
 }
 
 impl Shape {
@@ -53,6 +58,7 @@ impl Shape {
             flip_normals: false,
             medium_inside: NONE,
             medium_outside: NONE,
+            motion: None,
         }
     }
     /// Number of primitives (triangles; 1 for analytic shapes).

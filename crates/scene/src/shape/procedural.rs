@@ -4,7 +4,7 @@
 //! The built-in scenes build them here; `scenes/meshes/*.ply` are these meshes written out for
 //! the TOML and Mitsuba versions.
 
-use super::TriangleMesh;
+use super::{MeshMotion, TriangleMesh};
 use caustica_core::Vec3;
 use std::f64::consts::PI;
 
@@ -74,6 +74,43 @@ pub fn water_wave_mesh(p: &WaveParams) -> TriangleMesh {
     }
     m.normals = Some(normals);
     m
+}
+
+/// The water wave of `p` travelling toward +x by `phase_step` m per frame (the crests move
+/// perpendicular to themselves, seed 003 sec. 5), as keyframes `0 … frames − 1`: the mesh of
+/// [`water_wave_mesh`] at frame 0 and the [`MeshMotion`] whose keyframe `f` has the heights
+/// `h(x − f · phase_step)` and their exact normals. Vertices move vertically only.
+pub fn moving_water_wave(
+    p: &WaveParams,
+    phase_step: f32,
+    frames: u32,
+) -> (TriangleMesh, MeshMotion) {
+    let mesh = water_wave_mesh(p);
+    let frames = frames.max(1);
+    let mut positions = Vec::with_capacity(frames as usize);
+    let mut normals = Vec::with_capacity(frames as usize);
+    for f in 0..frames {
+        let shift = f as f64 * phase_step as f64;
+        positions.push(
+            mesh.positions
+                .iter()
+                .map(|v| Vec3::new(v.x, p.height(v.x as f64 - shift) as f32, v.z))
+                .collect::<Vec<_>>(),
+        );
+        normals.push(
+            mesh.positions
+                .iter()
+                .map(|v| {
+                    let n = p.normal(v.x as f64 - shift);
+                    Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32)
+                })
+                .collect::<Vec<_>>(),
+        );
+    }
+    let n = mesh.positions.len();
+    let motion = MeshMotion::new(0.0, positions, Some(normals), n)
+        .expect("keyframes of the generated mesh have its vertex count and are finite");
+    (mesh, motion)
 }
 
 /// A thick ring standing on y = 0 around the y axis: the solid between the cylinders of radii
