@@ -175,6 +175,18 @@ pub struct PhotonArgs {
     /// the ray ends inside it (default: the part of the chord the ray covers).
     #[arg(long, help_heading = "Participating media")]
     pub whole_chord: bool,
+    /// Temporal photon differentials (seed 003): pdm and pds trace their caustic photons at the
+    /// frame (--frame) with a time differential over the shutter (--shutter E frames) and sweep
+    /// each footprint along it. Only caustic light is blurred this way; a static scene renders
+    /// exactly as without it.
+    #[arg(long, help_heading = "Motion")]
+    pub temporal: bool,
+    /// Time-dependent photon mapping (Cammarano and Jensen 2002, the seeds' baseline): the
+    /// photon maps are traced at 1 + N evenly spaced times over the shutter and pooled
+    /// (0 = plain photon mapping at the frame). Default: each light path at a time uniform over
+    /// the shutter.
+    #[arg(long, value_name = "N", help_heading = "Motion")]
+    pub in_between_frames: Option<u32>,
 }
 
 impl PhotonArgs {
@@ -249,6 +261,8 @@ impl PhotonArgs {
         if self.whole_chord {
             o.volume.clip = caustica_density::beam::Clip::WholeChord;
         }
+        o.footprints.temporal = self.temporal;
+        o.in_between_frames = self.in_between_frames;
         // What neither the command line nor (see `RenderSettings::resolve`) the scene gives is
         // chosen automatically.
         let auto = !self.no_auto_bandwidth;
@@ -292,5 +306,7 @@ impl PhotonArgs {
             || self.min_semi_axis.is_some()
             || self.paper_axes
             || self.whole_chord
+            || self.temporal
+            || self.in_between_frames.is_some()
     }
 }

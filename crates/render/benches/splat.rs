@@ -76,6 +76,7 @@ fn photons() -> Vec<DiffPhoton> {
                 n: Vec3::Y,
                 flux: Spectrum::splat(1e-4),
                 depth: 2,
+                dt: Vec3::ZERO,
             }
         })
         .collect()

@@ -40,7 +40,7 @@ use crate::options::RenderOptions;
 use crate::photon::caustic::CAUSTIC_STREAM;
 use crate::photon::differential::{
     DiffPhoton, EMISSION_PARAMS, FootprintFilter, Landing, LandingTracer, RECORD_LANDING_PATHS,
-    count_caustic_paths, photons_from_landings, unit_budget,
+    TEMPORAL_PARAMS, count_caustic_paths, photons_from_landings, unit_budget,
 };
 use crate::photon::eye_map::EyeVertex;
 use crate::photon::plan::{PathSet, PathStream, PhotonBudget};
@@ -182,6 +182,7 @@ pub fn render_report(
                 target,
                 &stream,
                 &opts.limits,
+                opts.photons.footprints.path_time(),
                 target <= RECORD_LANDING_PATHS,
                 &mut |f| count_stage.report_and_go_on(f),
             );
@@ -224,7 +225,8 @@ pub fn render_report(
         stream,
         work,
         filter: FootprintFilter::new(&opts.photons.footprints),
-        tracer: LandingTracer::new(scene, &unit_budget(opts.photons.footprints.smoothing)),
+        tracer: LandingTracer::new(scene, &unit_budget(opts.photons.footprints.smoothing))
+            .with_time(&opts.photons.footprints, scene),
     };
     let done = splat_batches(
         film,
@@ -353,6 +355,25 @@ pub struct FootprintSplat<'a> {
     pub tracer: LandingTracer<'a>,
 }
 
+impl FootprintSplat<'_> {
+    /// The photons of chunk `c`'s paths with `N` differential parameters, and the counts of
+    /// collapsed and failed landings.
+    fn trace_landings<const N: usize>(
+        &self,
+        c: u64,
+        st: &mut RenderStats,
+    ) -> (Vec<DiffPhoton>, u64, u64) {
+        let mut landings: Vec<Landing<N>> = Vec::new();
+        let mut sampler = Sampler::new(self.stream.sampler, self.stream.seed);
+        self.work.for_each_path(c, |path| {
+            sampler.start_path(self.stream.stream, path);
+            self.tracer
+                .trace::<N>(&mut sampler, &self.opts.limits, &mut landings, st);
+        });
+        photons_from_landings(&landings, self.work.len())
+    }
+}
+
 impl SplatRule for FootprintSplat<'_> {
     type Photon = DiffPhoton;
     type Acc = [f64; 3];
@@ -367,18 +388,11 @@ impl SplatRule for FootprintSplat<'_> {
     }
 
     fn trace_chunk(&self, c: u64, st: &mut RenderStats) -> (Vec<DiffPhoton>, ChunkTotals) {
-        let mut landings: Vec<Landing> = Vec::new();
-        let mut sampler = Sampler::new(self.stream.sampler, self.stream.seed);
-        self.work.for_each_path(c, |path| {
-            sampler.start_path(self.stream.stream, path);
-            self.tracer.trace::<EMISSION_PARAMS>(
-                &mut sampler,
-                &self.opts.limits,
-                &mut landings,
-                st,
-            );
-        });
-        let (photons, collapsed, failed) = photons_from_landings(&landings, self.work.len());
+        let (photons, collapsed, failed) = if self.tracer.is_temporal() {
+            self.trace_landings::<TEMPORAL_PARAMS>(c, st)
+        } else {
+            self.trace_landings::<EMISSION_PARAMS>(c, st)
+        };
         let totals = ChunkTotals {
             photons: photons.len() as u64,
             collapsed,
@@ -448,6 +462,7 @@ mod tests {
             wi: Vec3::Y,
             n: Vec3::Y,
             flux: Spectrum::splat(2.0),
+            dt: Vec3::ZERO,
             depth: 2,
         }
     }

@@ -14,9 +14,10 @@ use crate::options::RenderOptions;
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
-    LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_with,
+    LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_at,
 };
 use crate::transport::limits::PathLimits;
+use crate::transport::time::PathTime;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec3};
 use caustica_scene::Scene;
@@ -81,7 +82,17 @@ pub fn trace_photons(
         &PathStream::new(opts, stream),
         0,
         progress,
-        |_, sampler, out, st| trace_one(scene, sampler, &limits, kind, out, st),
+        |_, sampler, out, st| {
+            trace_one(
+                scene,
+                sampler,
+                &limits,
+                opts.photons.photon_time(),
+                kind,
+                out,
+                st,
+            )
+        },
     );
     let inv_n = 1.0 / paths.max(1) as f32;
     for p in &mut photons {
@@ -146,6 +157,7 @@ fn trace_one(
     scene: &Scene,
     sampler: &mut Sampler,
     limits: &PathLimits,
+    time: PathTime,
     kind: MapKind,
     out: &mut Vec<Photon>,
     stats: &mut RenderStats,
@@ -208,5 +220,12 @@ fn trace_one(
             self.kind != MapKind::Caustic
         }
     }
-    walk_light_path_with(scene, sampler, limits, stats, &mut Store { kind, out });
+    walk_light_path_at(
+        scene,
+        sampler,
+        limits,
+        stats,
+        &mut Store { kind, out },
+        time,
+    );
 }

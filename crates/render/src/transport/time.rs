@@ -31,10 +31,9 @@ impl PathTime {
     pub fn sample(self, scene: &Scene, sampler: &mut Sampler) -> f32 {
         let shutter = scene.shutter;
         match self {
-            PathTime::Instant => shutter.open,
+            PathTime::Instant | PathTime::Slices(0 | 1) => shutter.open,
             PathTime::Shutter => scene.sample_time(|| sampler.next_1d()),
             PathTime::Slices(n) => scene.sample_time(|| {
-                let n = n.max(1);
                 let k = ((sampler.next_1d() * n as f32) as u32).min(n - 1);
                 k as f32 / n as f32
             }),

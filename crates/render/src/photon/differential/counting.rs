@@ -6,9 +6,10 @@ use super::trace::is_caustic_landing;
 use crate::photon::plan::{PathStream, trace_paths};
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
-    LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_with,
+    LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_at,
 };
 use crate::transport::limits::PathLimits;
+use crate::transport::time::PathTime;
 use caustica_core::sampling::Sampler;
 use caustica_scene::Scene;
 
@@ -41,13 +42,16 @@ pub fn count_caustic_paths(
     target: usize,
     stream: &PathStream,
     limits: &PathLimits,
+    time: PathTime,
     record: bool,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> CausticPaths {
     let mut progress = |found: usize| progress(found as f64 / target.max(1) as f64);
     if record {
         let (mut found, paths, stats) =
-            landings(scene, target, stream, limits, &mut progress, |path| path);
+            landings(scene, target, stream, limits, time, &mut progress, |path| {
+                path
+            });
         let landings = found.len();
         found.dedup();
         return CausticPaths {
@@ -58,7 +62,8 @@ pub fn count_caustic_paths(
         };
     }
     // Too many to record: count only (a zero-sized record per landing).
-    let (found, paths, stats) = landings(scene, target, stream, limits, &mut progress, |_| ());
+    let (found, paths, stats) =
+        landings(scene, target, stream, limits, time, &mut progress, |_| ());
     CausticPaths {
         paths,
         landings: found.len(),
@@ -73,6 +78,7 @@ fn landings<P: Copy + Send>(
     target: usize,
     stream: &PathStream,
     limits: &PathLimits,
+    time: PathTime,
     progress: &mut dyn FnMut(usize) -> bool,
     record: impl Fn(u64) -> P + Sync,
 ) -> (Vec<P>, u64, RenderStats) {
@@ -81,7 +87,7 @@ fn landings<P: Copy + Send>(
             out,
             record: record(path),
         };
-        walk_light_path_with(scene, sampler, limits, st, &mut count)
+        walk_light_path_at(scene, sampler, limits, st, &mut count, time)
     })
 }
 

@@ -19,10 +19,27 @@ pub struct DiffPhoton {
     pub flux: Spectrum,
     /// Edges from the light.
     pub depth: u16,
+    /// `D_t x` (m): the footprint's displacement over the exposure on the receiving plane
+    /// (seed 003 eq. 1, 5; seed 000 eq. 7.1), zero for ordinary photon differentials. The
+    /// space-time footprint is the ellipse swept from the centre to `centre + dt`.
+    pub dt: Vec3,
+}
+
+impl DiffPhoton {
+    /// Centre of the footprint's reach (m): the middle of its motion segment.
+    pub fn reach_center(&self) -> Vec3 {
+        self.footprint.center() + self.dt * 0.5
+    }
+
+    /// Radius of the footprint's reach around [`Self::reach_center`] (m): the gather radius
+    /// plus half the motion (seed 000 Q-T11's per-photon bound for segments).
+    pub fn reach_radius(&self) -> f32 {
+        self.footprint.gather_radius() + 0.5 * self.dt.length()
+    }
 }
 
 /// A caustic landing before the budget is known: its differential vectors for `N_e = 1`, for
-/// `N` differential parameters (2: the emission's).
+/// `N` differential parameters (2: the emission's; 3: and time, seed 003).
 #[derive(Clone, Copy, Debug)]
 pub struct Landing<const N: usize = 2> {
     /// Hit point (m).
@@ -36,16 +53,21 @@ pub struct Landing<const N: usize = 2> {
     pub depth: u16,
     /// Selection probability of the light the path started at.
     pub pmf: f32,
-    /// `D_u x`, `D_v x` on the receiving plane for `N_e = 1`; `None` when the differential
-    /// could not be propagated to it.
+    /// `D_u x`, `D_v x` (and `D_t x` for temporal photon differentials) on the receiving plane
+    /// for `N_e = 1`; `None` when the differential could not be propagated to it.
     pub dp: Option<[Vec3; N]>,
 }
 
 /// The photons of `landings` from `paths` emitted light paths: flux β/N, vectors scaled by
 /// `1/√(N pmf)` (eq. 5–6 with the light's share of the paths), footprints built on the
-/// landings' planes. Returns them with the counts of landings dropped for a collapsed footprint
-/// and for a failed propagation (no vectors, or vectors that are not finite).
-pub fn photons_from_landings(landings: &[Landing], paths: u64) -> (Vec<DiffPhoton>, u64, u64) {
+/// landings' planes. A third column is `D_t x`, which does not depend on the emission budget
+/// (it starts at zero and only moving geometry feeds it), so it is kept unscaled. Returns them
+/// with the counts of landings dropped for a collapsed footprint and for a failed propagation
+/// (no vectors, or vectors that are not finite).
+pub fn photons_from_landings<const N: usize>(
+    landings: &[Landing<N>],
+    paths: u64,
+) -> (Vec<DiffPhoton>, u64, u64) {
     let n = paths.max(1) as f64;
     let mut photons = Vec::with_capacity(landings.len());
     let (mut collapsed, mut failed) = (0u64, 0u64);
@@ -61,6 +83,11 @@ pub fn photons_from_landings(landings: &[Landing], paths: u64) -> (Vec<DiffPhoto
             failed += 1;
             continue;
         }
+        let dt = if N > 2 { dp[N - 1] } else { Vec3::ZERO };
+        if !dt.is_finite() {
+            failed += 1;
+            continue;
+        }
         match Footprint::new(l.p, dp[0] * scale, dp[1] * scale, l.n) {
             Ok(footprint) => photons.push(DiffPhoton {
                 footprint,
@@ -68,6 +95,7 @@ pub fn photons_from_landings(landings: &[Landing], paths: u64) -> (Vec<DiffPhoto
                 n: l.n,
                 flux,
                 depth: l.depth,
+                dt,
             }),
             Err(DiffError::CollapsedFootprint) => collapsed += 1,
             Err(_) => failed += 1,
@@ -89,6 +117,37 @@ pub struct FootprintFilter {
     pub normal_distance: f32,
 }
 
+/// `c₁ = ∫₋₁¹ π K(s²) ds` for the 2-D kernel `k` (normalised to 1 over the unit disc, so `π K`
+/// has mean 1 there): the kernel mass per unit of filter-space length that sweeping a
+/// footprint adds (seed 000 Q-T4). Closed forms: uniform 2, Epanechnikov `2(1 − y)` 8/3,
+/// Silverman (= biweight) `3(1 − y)²` 16/5, cubic `4(1 − y)³` 128/35, cone
+/// `(1 − √y/g)/(1 − 2/(3g))` `(2 − 1/g)/(1 − 2/(3g))`; the truncated Gaussian by quadrature.
+#[inline]
+pub fn sweep_mass(k: Kernel) -> f32 {
+    match k {
+        Kernel::Uniform => 2.0,
+        Kernel::Epanechnikov => 8.0 / 3.0,
+        Kernel::Biweight | Kernel::Silverman => 16.0 / 5.0,
+        Kernel::Cubic => 128.0 / 35.0,
+        Kernel::Cone { g } => (2.0 - 1.0 / g) / (1.0 - 2.0 / (3.0 * g)),
+        Kernel::Gaussian => sweep_mass_by_quadrature(k, 200),
+    }
+}
+
+/// [`sweep_mass`] by Simpson's rule with `n` (even) intervals.
+pub fn sweep_mass_by_quadrature(k: Kernel, n: usize) -> f32 {
+    let f = |i: usize| {
+        let s = -1.0 + 2.0 * i as f64 / n as f64;
+        std::f64::consts::PI * k.eval((s * s) as f32, Dim::Two) as f64
+    };
+    let h = 2.0 / n as f64;
+    let mut sum = f(0) + f(n);
+    for i in 1..n {
+        sum += f(i) * if i % 2 == 1 { 4.0 } else { 2.0 };
+    }
+    (sum * h / 3.0) as f32
+}
+
 impl FootprintFilter {
     /// `π K(|M_p (x − x_p)|) / A_p` (1/m², eq. 10–12 without the BRDF and flux) of photon `ph`
     /// at `x` on a surface with unit normal `n` oriented toward the viewer, or `None` when the
@@ -99,6 +158,9 @@ impl FootprintFilter {
     /// like the disc test of `pm`).
     #[inline]
     pub fn weight(&self, ph: &DiffPhoton, x: Vec3, n: Vec3) -> Option<f32> {
+        if ph.dt != Vec3::ZERO {
+            return self.swept_weight(ph, x, n);
+        }
         let fp = &ph.footprint;
         // Inside the ellipse: |M_p (x − x_p)| < 1 (eq. 12), the cheapest and most selective test.
         let u2 = fp.to_filter(x).length_squared();
@@ -115,6 +177,39 @@ impl FootprintFilter {
 }
 
 impl FootprintFilter {
+    /// The space-time footprint's weight (seed 003 eq. 6–8; seed 000 eq. 7.6–7.8): the kernel
+    /// centred at the point `x'_p = x_p + τ* D_t x` of the motion segment closest to `x` *in
+    /// filter space*, `τ* = clamp(z·m / m·m, 0, 1)` with `z = M_p (x − x_p)`, `m = M_p D_t x`
+    /// (the Euclidean closest point of the text loses up to half the energy of elongated
+    /// footprints; seed 000 Q-T3), divided by the swept area
+    /// `A_eff = A_p (1 + c₁ |m| / π)`. For the uniform kernel `A_eff` is eq. 7.7,
+    /// `A_p + l |D_t x|`, exactly; for other kernels it is the generalisation that keeps each
+    /// footprint's integral equal to its flux (Q-T4; eq. 7.7 would over-count by up to 4/3 for
+    /// Epanechnikov, 8/5 for Silverman). Same side, normal and plane tests as
+    /// [`Self::weight`], measured from `x'_p`.
+    fn swept_weight(&self, ph: &DiffPhoton, x: Vec3, n: Vec3) -> Option<f32> {
+        let fp = &ph.footprint;
+        let z = fp.to_filter(x);
+        let m = fp.to_filter(fp.center() + ph.dt);
+        let mm = m.length_squared();
+        let tau = if mm > 0.0 {
+            (z.dot(m) / mm).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let u2 = (z - m * tau).length_squared();
+        if u2.is_nan() || u2 >= 1.0 || ph.wi.dot(n) <= 0.0 || ph.n.dot(n) < NORMAL_COS {
+            return None;
+        }
+        let c = fp.center() + ph.dt * tau;
+        if (x - c).dot(fp.normal()).abs() > self.normal_distance * fp.gather_radius() {
+            return None;
+        }
+        let area = fp.area() * (1.0 + sweep_mass(self.kernel) * mm.sqrt() / std::f32::consts::PI);
+        let w = std::f32::consts::PI * self.kernel.eval(u2, Dim::Two) / area;
+        (w > 0.0 && w.is_finite()).then_some(w)
+    }
+
     /// The filter of `settings`.
     pub fn new(settings: &FootprintSettings) -> Self {
         Self {
@@ -134,7 +229,8 @@ impl FootprintFilter {
         let slab = fp.normal().abs() * (self.normal_distance.min(1.0) * fp.gather_radius());
         let half = (u * u + v * v).sqrt() + slab;
         let c = fp.center();
-        (half.is_finite() && c.is_finite()).then_some((c - half, c + half))
+        let (lo, hi) = (c.min(c + ph.dt), c.max(c + ph.dt));
+        (half.is_finite() && lo.is_finite() && hi.is_finite()).then_some((lo - half, hi + half))
     }
 }
 

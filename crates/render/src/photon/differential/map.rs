@@ -42,11 +42,8 @@ impl PdmMap {
     /// The map of `traced`'s footprints, evaluated with `filter`.
     pub fn with_filter(traced: TracedDiffPhotons, filter: FootprintFilter) -> Self {
         let photons = traced.photons;
-        let centres: Vec<Vec3> = photons.iter().map(|p| p.footprint.center()).collect();
-        let radii: Vec<f32> = photons
-            .iter()
-            .map(|p| p.footprint.gather_radius())
-            .collect();
+        let centres: Vec<Vec3> = photons.iter().map(|p| p.reach_center()).collect();
+        let radii: Vec<f32> = photons.iter().map(|p| p.reach_radius()).collect();
         let buckets = RadiusBuckets::build(&centres, &radii);
         Self {
             photons,

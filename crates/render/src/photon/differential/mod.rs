@@ -73,5 +73,6 @@ pub use counting::{CausticPaths, RECORD_LANDING_PATHS, count_caustic_paths};
 pub use footprint::{DiffPhoton, FootprintFilter, Landing, photons_from_landings};
 pub use map::PdmMap;
 pub use trace::{
-    EMISSION_PARAMS, LandingTracer, TracedDiffPhotons, trace_photon_differentials, unit_budget,
+    EMISSION_PARAMS, LandingTracer, TEMPORAL_PARAMS, TracedDiffPhotons, trace_photon_differentials,
+    unit_budget,
 };

@@ -4,21 +4,23 @@
 //! [`super`]).
 
 use super::footprint::{DiffPhoton, Landing, photons_from_landings};
-use crate::options::{RenderOptions, Smoothing};
+use crate::options::{FootprintSettings, RenderOptions, Smoothing};
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::photon::tracer::{NO_CAUSTIC_PATHS, shortfall};
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
     LightEvent, LightMediumVertex, LightScatter, LightStart, LightVertex, LightVisitor,
-    walk_light_path_with,
+    walk_light_path_at,
 };
 use crate::transport::limits::PathLimits;
+use crate::transport::time::PathTime;
 use crate::transport::vertex::Vertex;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Vec3};
 use caustica_differentials::{
     DiffError, EmissionBasis, EmissionBudget, FlatTriangle, PhongTriangle, RayDiff, SurfaceHit,
-    Transferred, emission_basis, emit_with_basis, emit_with_lengths, transfer_to_fixed_plane,
+    Transferred, TriangleMotion, emission_basis, emit_with_basis, emit_with_lengths,
+    transfer_to_fixed_plane,
 };
 use caustica_scene::bsdf::BsdfFlags;
 use caustica_scene::phase::PhaseSample;
@@ -54,18 +56,28 @@ pub fn trace_photon_differentials(
     opts: &RenderOptions,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedDiffPhotons {
-    let tracer = LandingTracer::new(scene, &unit_budget(smoothing));
+    let tracer = LandingTracer::new(scene, &unit_budget(smoothing))
+        .with_time(&opts.photons.footprints, scene);
     let limits = opts.limits;
-    let (landings, paths, stats) = trace_budget(
-        budget,
-        &PathStream::new(opts, stream),
-        0,
-        progress,
-        |_, sampler, out, st| tracer.trace::<EMISSION_PARAMS>(sampler, &limits, out, st),
-    );
-    let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
-    let warning = shortfall("caustic", landings.len(), paths, budget).map(|w| {
-        if landings.is_empty() {
+    let stream = PathStream::new(opts, stream);
+    // Two parameters (emission), or three with time (seed 003).
+    let (photons, collapsed, failed, landings, paths, stats) = if tracer.is_temporal() {
+        let (landings, paths, stats) =
+            trace_budget(budget, &stream, 0, progress, |_, sm, out, st| {
+                tracer.trace::<TEMPORAL_PARAMS>(sm, &limits, out, st)
+            });
+        let (p, c, f) = photons_from_landings(&landings, paths);
+        (p, c, f, landings.len(), paths, stats)
+    } else {
+        let (landings, paths, stats) =
+            trace_budget(budget, &stream, 0, progress, |_, sm, out, st| {
+                tracer.trace::<EMISSION_PARAMS>(sm, &limits, out, st)
+            });
+        let (p, c, f) = photons_from_landings(&landings, paths);
+        (p, c, f, landings.len(), paths, stats)
+    };
+    let warning = shortfall("caustic", landings, paths, budget).map(|w| {
+        if landings == 0 {
             format!("{w}: {NO_CAUSTIC_PATHS}")
         } else {
             w
@@ -74,7 +86,7 @@ pub fn trace_photon_differentials(
     TracedDiffPhotons {
         photons,
         paths,
-        landings: landings.len(),
+        landings,
         collapsed,
         failed,
         stats,
@@ -86,6 +98,10 @@ pub fn trace_photon_differentials(
 /// on the light and direction, or the two directions of a point light). Temporal photon
 /// differentials (seed 003) trace `EMISSION_PARAMS + 1`.
 pub const EMISSION_PARAMS: usize = 2;
+
+/// The differential parameters of a temporal photon differential: emission's two and time
+/// (seed 003 eq. 1–2: the third columns `D_t x`, `D_t ω`).
+pub const TEMPORAL_PARAMS: usize = EMISSION_PARAMS + 1;
 
 /// The budget of [`trace_photon_differentials`] and [`LandingTracer`] (`N_e = 1`, see the
 /// module docs) for smoothing `s`.
@@ -100,6 +116,11 @@ pub struct LandingTracer<'a> {
     pub(crate) scene: &'a Scene,
     /// Per light: the lengths and fixed basis of [`LightEmission`].
     pub(crate) lights: Vec<LightEmission>,
+    /// When the light paths happen.
+    pub(crate) time: PathTime,
+    /// Seed 003's exposure e (frames): the time differential's offset, `D_t q = e (q_{f+1} −
+    /// q_f)` (eq. 5); 0 for ordinary photon differentials.
+    pub(crate) exposure: f32,
 }
 
 /// What every photon differential of one light shares.
@@ -127,7 +148,31 @@ impl<'a> LandingTracer<'a> {
                 }
             })
             .collect();
-        Self { scene, lights }
+        Self {
+            scene,
+            lights,
+            time: PathTime::Shutter,
+            exposure: 0.0,
+        }
+    }
+
+    /// The tracer with the time rule of `settings`: temporal photon differentials trace at the
+    /// shutter's opening with the shutter's length as exposure (only where the scene moves;
+    /// a static scene gives ordinary photon differentials exactly), else photons at times
+    /// uniform over the shutter.
+    pub fn with_time(mut self, settings: &FootprintSettings, scene: &Scene) -> Self {
+        self.time = settings.path_time();
+        self.exposure = if settings.temporal && scene.has_motion() {
+            scene.shutter.length
+        } else {
+            0.0
+        };
+        self
+    }
+
+    /// True if the differentials carry a time column.
+    pub fn is_temporal(&self) -> bool {
+        self.exposure > 0.0
     }
 
     /// Traces one light path (the sampler positioned on it) and pushes its caustic landings
@@ -140,10 +185,10 @@ impl<'a> LandingTracer<'a> {
         stats: &mut RenderStats,
     ) {
         let mut v = DiffVisitor {
-            ray: DiffRay::new(self.scene, &self.lights),
+            ray: DiffRay::new(self.scene, &self.lights).with_exposure(self.exposure),
             out,
         };
-        walk_light_path_with(self.scene, sampler, limits, stats, &mut v);
+        walk_light_path_at(self.scene, sampler, limits, stats, &mut v, self.time);
     }
 }
 
@@ -176,6 +221,8 @@ pub(crate) struct DiffRay<'a, const N: usize> {
     pub(crate) ray: Option<Result<RayDiff<N>, DiffError>>,
     /// Selection probability of the path's light.
     pub(crate) pmf: f32,
+    /// Exposure (frames) scaling the time column (`N − 1`) of moving triangles; 0: none.
+    exposure: f32,
 }
 
 impl<'a, const N: usize> DiffRay<'a, N> {
@@ -186,7 +233,14 @@ impl<'a, const N: usize> DiffRay<'a, N> {
             emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0),
             ray: None,
             pmf: 1.0,
+            exposure: 0.0,
         }
+    }
+
+    /// With the last of the `N` parameters time over `exposure` frames (seed 003 eq. 5).
+    pub(crate) fn with_exposure(mut self, exposure: f32) -> Self {
+        self.exposure = exposure;
+        self
     }
 
     /// A new path starts at `start`.
@@ -216,7 +270,7 @@ impl<'a, const N: usize> DiffRay<'a, N> {
 
     /// The differential transferred onto the surface at `si`, with the normal that scatters it.
     fn hit_at(&mut self, si: &SurfaceInteraction) -> Result<SurfaceHit<N>, DiffError> {
-        surface_hit(self.scene, si, &self.ray()?)
+        surface_hit(self.scene, si, &self.ray()?, self.exposure)
     }
 
     /// The differential transferred onto the plane where the photon lands at `si`: only the
@@ -309,12 +363,38 @@ fn follow<const N: usize>(out: RayDiff<N>, v: &Vertex, wi: Vec3) -> Result<RayDi
 
 /// Transfers `ray` onto the surface at `si` with the surface model of the hit shape (see the
 /// module docs): Phong or flat triangles, the sphere's curvature, the disk's plane.
+///
+/// With `exposure > 0` and `N ≥ 3`, the last parameter is time: a moving triangle's vertices
+/// and vertex normals get `D_t Q_k = e (q_{k,f+1} − q_{k,f})` and `D_t N_k = e (N_{k,f+1} −
+/// N_{k,f})` (seed 003 eq. 5, the forward difference of the frame, backward on the last; the
+/// normals' raw difference is the exact derivative of the linearly interpolated normals that
+/// eq. B.42 then normalises, where seed 000 Q-T6 suggests projecting it), and the transfer is
+/// eq. B.34 / B.37–B.51 with those columns (`hit_moving`). The emission columns see no motion
+/// (vertices do not depend on u, v).
 fn surface_hit<const N: usize>(
     scene: &Scene,
     si: &SurfaceInteraction,
     ray: &RayDiff<N>,
+    exposure: f32,
 ) -> Result<SurfaceHit<N>, DiffError> {
     if let Some(tri) = scene.geometry.triangle_vertices(si) {
+        if exposure > 0.0
+            && N > EMISSION_PARAMS
+            && let Some(vel) = scene.geometry.triangle_velocities(si)
+            && vel.p != [Vec3::ZERO; 3]
+        {
+            let mut motion = TriangleMotion::<N>::stationary();
+            for k in 0..3 {
+                motion.dq[k][N - 1] = vel.p[k] * exposure;
+                if let Some(dn) = vel.n {
+                    motion.dn[k][N - 1] = dn[k] * exposure;
+                }
+            }
+            return match tri.n {
+                Some(n) => PhongTriangle { q: tri.p, n }.hit_moving(ray, &motion),
+                None => FlatTriangle { q: tri.p }.hit_moving(ray, &motion),
+            };
+        }
         return match tri.n {
             Some(n) => PhongTriangle { q: tri.p, n }.hit(ray),
             None => FlatTriangle { q: tri.p }.hit(ray),
