@@ -15,7 +15,7 @@ pub use mesh::{SanitizeReport, TriangleMesh};
 pub use motion::MeshMotion;
 pub use procedural::{
     DomeParams, RingParams, WaveParams, faceted_dome_mesh, geodesic_sphere_mesh, moving_water_wave,
-    ring_mesh, water_wave_mesh,
+    ring_mesh, rod_mesh, water_wave_mesh,
 };
 pub use sphere::Sphere;
 

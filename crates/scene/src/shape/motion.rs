@@ -89,6 +89,37 @@ impl MeshMotion {
         })
     }
 
+    /// The keyframes of `mesh` moved rigidly (or by any affine map) by `transforms[k]` at
+    /// keyframe `k`: positions by the transform, normals by its inverse transpose. The
+    /// animated transforms of scene files and built-in scenes become keyframes this way, so
+    /// every motion is one representation (interpolated linearly between frames; a rotation's
+    /// in-between vertices are then on chords, not arcs).
+    pub fn from_transforms(
+        first_frame: f32,
+        mesh: &super::TriangleMesh,
+        transforms: &[caustica_core::Affine3A],
+    ) -> Result<Self, SceneError> {
+        let positions = transforms
+            .iter()
+            .map(|t| {
+                mesh.positions
+                    .iter()
+                    .map(|&p| t.transform_point3(p))
+                    .collect()
+            })
+            .collect();
+        let normals = mesh.normals.as_ref().map(|ns| {
+            transforms
+                .iter()
+                .map(|t| {
+                    let m = caustica_core::Mat3::from(t.matrix3).inverse().transpose();
+                    ns.iter().map(|&n| (m * n).normalize_or_zero()).collect()
+                })
+                .collect()
+        });
+        Self::new(first_frame, positions, normals, mesh.positions.len())
+    }
+
     /// Number of keyframes.
     pub fn frame_count(&self) -> usize {
         self.positions.len()

@@ -113,6 +113,59 @@ pub fn moving_water_wave(
     (mesh, motion)
 }
 
+/// A solid rod (a closed cylinder) of `radius` along +x from x = 0 to x = `length`, centred
+/// on the x axis: `segments` around, `rings` quads along; smooth outward vertex normals on the
+/// side (Phong-shaded glass), flat caps with their own vertices. Watertight.
+pub fn rod_mesh(radius: f32, length: f32, segments: u32, rings: u32) -> TriangleMesh {
+    let (ns, nr) = (segments.max(3), rings.max(1));
+    let mut m = TriangleMesh::default();
+    let mut normals = Vec::new();
+    let ring_dir = |i: u32| {
+        let a = 2.0 * PI * i as f64 / ns as f64;
+        Vec3::new(0.0, a.cos() as f32, a.sin() as f32)
+    };
+    // Side: (nr + 1) rings of ns vertices.
+    for j in 0..=nr {
+        let x = length * j as f32 / nr as f32;
+        for i in 0..ns {
+            let d = ring_dir(i);
+            m.positions.push(Vec3::new(x, 0.0, 0.0) + d * radius);
+            normals.push(d);
+        }
+    }
+    for j in 0..nr {
+        for i in 0..ns {
+            let a = j * ns + i;
+            let b = j * ns + (i + 1) % ns;
+            let (c, d) = (a + ns, b + ns);
+            // Counter-clockwise seen from outside.
+            m.indices.push([a, b, d]);
+            m.indices.push([a, d, c]);
+        }
+    }
+    // Caps: a centre and a ring each, normals ∓x.
+    for (x, n) in [(0.0, -Vec3::X), (length, Vec3::X)] {
+        let c = m.positions.len() as u32;
+        m.positions.push(Vec3::new(x, 0.0, 0.0));
+        normals.push(n);
+        for i in 0..ns {
+            m.positions
+                .push(Vec3::new(x, 0.0, 0.0) + ring_dir(i) * radius);
+            normals.push(n);
+        }
+        for i in 0..ns {
+            let (a, b) = (c + 1 + i, c + 1 + (i + 1) % ns);
+            if n.x < 0.0 {
+                m.indices.push([c, b, a]);
+            } else {
+                m.indices.push([c, a, b]);
+            }
+        }
+    }
+    m.normals = Some(normals);
+    m
+}
+
 /// A thick ring standing on y = 0 around the y axis: the solid between the cylinders of radii
 /// `inner_radius` and `outer_radius`, from y = 0 to y = `height`.
 #[derive(Clone, Copy, Debug, PartialEq)]
