@@ -42,7 +42,10 @@ fn a_mirror_translating_along_its_normal_shifts_the_reflection_by_two_tan_theta(
     for theta in [0.2f32, 0.5, 0.9] {
         let (dx, dw) = land(theta, &m, 2.0);
         let expect = Vec3::new(-2.0 * theta.tan() * e * dh, 0.0, 0.0);
-        assert!((dx - expect).length() < 1e-5, "θ = {theta}: {dx} vs {expect}");
+        assert!(
+            (dx - expect).length() < 1e-5,
+            "θ = {theta}: {dx} vs {expect}"
+        );
         assert!(dw.length() < 1e-6, "{dw}");
     }
 }
@@ -69,6 +72,9 @@ fn a_mirror_rotating_about_an_axis_in_its_plane_turns_the_reflection_by_twice_it
         // angle), counter-clockwise: toward −x.
         assert!(dw.x < 0.0 && dw.z.abs() < 1e-7, "{dw}");
         let expect = -2.0 * e * da * h / (theta.cos() * theta.cos());
-        assert!((dx.x - expect).abs() < 1e-4 * (1.0 + expect), "θ = {theta}: {dx} vs {expect}");
+        assert!(
+            (dx.x - expect).abs() < 1e-4 * (1.0 + expect),
+            "θ = {theta}: {dx} vs {expect}"
+        );
     }
 }
