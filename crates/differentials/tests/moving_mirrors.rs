@@ -57,8 +57,8 @@ fn a_mirror_rotating_about_an_axis_in_its_plane_turns_the_reflection_by_twice_it
     // receiver at height H above the pivot the spot moves by −2 e δα H / cos² θ along x.
     let (e, da) = (1.0f32, 0.01f32);
     let mut m = TriangleMotion::<1>::stationary();
-    for k in 0..3 {
-        m.dq[k][0] = Vec3::Z.cross(MIRROR[k]) * (e * da);
+    for (dq, q) in m.dq.iter_mut().zip(MIRROR) {
+        dq[0] = Vec3::Z.cross(q) * (e * da);
     }
     for theta in [0.1f32, 0.4, 0.8] {
         let h = 2.0;

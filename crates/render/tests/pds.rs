@@ -209,8 +209,24 @@ fn the_recorded_landing_paths_are_exactly_the_paths_with_caustic_photons() {
     let opts = caustics_only(3000, 1.0, 1);
     let stream = PathStream::new(&opts, CAUSTIC_STREAM);
     let limits = &opts.limits;
-    let rec = count_caustic_paths(&scene, 3000, &stream, limits, true, &mut |_| true);
-    let plain = count_caustic_paths(&scene, 3000, &stream, limits, false, &mut |_| true);
+    let rec = count_caustic_paths(
+        &scene,
+        3000,
+        &stream,
+        limits,
+        Default::default(),
+        true,
+        &mut |_| true,
+    );
+    let plain = count_caustic_paths(
+        &scene,
+        3000,
+        &stream,
+        limits,
+        Default::default(),
+        false,
+        &mut |_| true,
+    );
     assert_eq!((rec.paths, rec.landings), (plain.paths, plain.landings));
     assert!(plain.landing_paths.is_none());
     let listed = rec.landing_paths.expect("recorded");

@@ -442,7 +442,7 @@ impl SceneBuilder {
         for (k, w) in motion.positions.windows(2).enumerate() {
             if let Some(i) = (0..w[0].len()).find(|&i| {
                 let d = (w[1][i] - w[0][i]).length();
-                !(d <= 10.0 * diag) || w[1][i].abs().max_element() > MAX_COORDINATE
+                d.is_nan() || d > 10.0 * diag || w[1][i].abs().max_element() > MAX_COORDINATE
             }) {
                 return Err(SceneError::InvalidParameter(format!(
                     "degenerate motion: vertex {i} moves {} m between frames {k} and {} \

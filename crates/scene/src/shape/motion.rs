@@ -143,7 +143,7 @@ impl MeshMotion {
             return KeyTime { k: 0, alpha: 0.0 };
         }
         let x = time - self.first_frame;
-        if !(x > 0.0) {
+        if x.is_nan() || x <= 0.0 {
             return KeyTime { k: 0, alpha: 0.0 };
         }
         let k = (x.floor() as usize).min(last - 1);
@@ -163,7 +163,7 @@ impl MeshMotion {
             return None;
         }
         let x = time - self.first_frame;
-        if !(x > 0.0) {
+        if x.is_nan() || x <= 0.0 {
             return Some(0);
         }
         Some((x.floor() as usize).min(last - 1))
