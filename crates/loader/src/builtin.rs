@@ -40,6 +40,9 @@ const NAMES: &[&str] = &[
     "rotating-rod",
 ];
 
+/// The built-in scenes with moving meshes, which the TOML format cannot describe yet.
+pub const ANIMATED: &[&str] = &["moving-wave", "rotating-rod"];
+
 /// Names accepted by [`builtin_scene`].
 pub fn builtin_names() -> &'static [&'static str] {
     NAMES
@@ -1163,7 +1166,8 @@ mod tests {
 
     #[test]
     fn builtin_scenes_match_their_toml_files() {
-        for name in builtin_names() {
+        // The animated scenes have no TOML file yet: the format has no mesh motion (issue 19).
+        for name in builtin_names().iter().filter(|n| !ANIMATED.contains(n)) {
             let a = builtin_scene(name).unwrap();
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("../../scenes")
