@@ -40,9 +40,6 @@ const NAMES: &[&str] = &[
     "rotating-rod",
 ];
 
-/// The built-in scenes with moving meshes, which the TOML format cannot describe yet.
-pub const ANIMATED: &[&str] = &["moving-wave", "rotating-rod"];
-
 /// Names accepted by [`builtin_scene`].
 pub fn builtin_names() -> &'static [&'static str] {
     NAMES
@@ -469,8 +466,11 @@ fn water_wave_with(
 /// frame of exposure blurs the caustic bands by about a tenth of the camera's 1 m view.
 pub const MOVING_WAVE_STEP: f32 = 0.1;
 
-/// Keyframes of `moving-wave` (frames 0 … 24: one second at 25 fps).
+/// Keyframes of `moving-wave` (frames 0 … 24: one second at [`ANIMATION_FPS`]).
 pub const MOVING_WAVE_FRAMES: u32 = 25;
+
+/// Frame rate of the built-in animated scenes (frames per second).
+pub const ANIMATION_FPS: f32 = 25.0;
 
 /// Seed 003 fig. 7–8 (S-T1): `water-wave` with its wave travelling toward +x by
 /// [`MOVING_WAVE_STEP`] per frame, the crests moving perpendicular to themselves; the shutter
@@ -482,6 +482,7 @@ fn moving_wave() -> Result<SceneBuilder, SceneError> {
         b.add_moving_mesh(mesh, motion, water, false)
     })?;
     b.set_shutter(caustica_scene::Shutter::new(0.0, 1.0)?);
+    b.settings.fps = Some(ANIMATION_FPS);
     Ok(b)
 }
 
@@ -489,12 +490,18 @@ fn moving_wave() -> Result<SceneBuilder, SceneError> {
 /// IOR, and its rotation per frame (degrees, counter-clockwise seen from above).
 pub const ROD_RADIUS: f32 = 0.08;
 pub const ROD_LENGTH: f32 = 1.2;
-pub const ROD_HEIGHT: f32 = 0.2;
+pub const ROD_HEIGHT: f32 = 0.11;
 pub const ROD_IOR: f32 = 1.5;
 pub const ROD_DEG_PER_FRAME: f32 = 3.0;
 /// Direction the light of `rotating-rod` travels: down and toward +z (the image's bottom), so
 /// the rod's focal line falls beside it where the camera above sees it.
-pub const ROD_LIGHT_DIRECTION: Vec3 = Vec3::new(0.0, -1.0, 0.5);
+pub const ROD_LIGHT_DIRECTION: Vec3 = Vec3::new(0.0, -1.0, 1.0);
+
+/// The rod of `rotating-rod` in its own frame: axis along +x from the origin (the pivot end),
+/// 48 segments round, 12 along (shipped as `scenes/meshes/rod.ply`).
+pub fn rod() -> TriangleMesh {
+    rod_mesh(ROD_RADIUS, ROD_LENGTH, 48, 12)
+}
 
 /// Seed 003 fig. 9–10 (S-T2): a horizontal glass rod ([`rod_mesh`], Phong-shaded side) turning
 /// counter-clockwise about a vertical axis through the centre of its left end, under
@@ -505,7 +512,7 @@ pub const ROD_LIGHT_DIRECTION: Vec3 = Vec3::new(0.0, -1.0, 0.5);
 fn rotating_rod() -> Result<SceneBuilder, SceneError> {
     let mut b = SceneBuilder::new("rotating-rod");
     b.set_camera(camera_up(
-        Vec3::new(0.0, 3.0, 0.0),
+        Vec3::new(0.0, 1.6, 0.0),
         Vec3::ZERO,
         Vec3::NEG_Z,
         45.0,
@@ -515,8 +522,8 @@ fn rotating_rod() -> Result<SceneBuilder, SceneError> {
     case_settings(&mut b);
     let floor = b.add_material("floor", diffuse(0.8, 0.8, 0.8))?;
     let glass = b.add_material("glass", dielectric(ROD_IOR))?;
-    add_floor(&mut b, 2.0, floor)?;
-    let mesh = rod_mesh(ROD_RADIUS, ROD_LENGTH, 48, 12);
+    add_floor(&mut b, 1.5, floor)?;
+    let mesh = rod();
     let pivot = Vec3::new(-0.5 * ROD_LENGTH, ROD_HEIGHT, 0.0);
     let transforms: Vec<Affine3A> = (0..MOVING_WAVE_FRAMES)
         .map(|f| {
@@ -531,6 +538,7 @@ fn rotating_rod() -> Result<SceneBuilder, SceneError> {
         Spectrum::splat(0.5),
     )));
     b.set_shutter(caustica_scene::Shutter::new(0.0, 1.0)?);
+    b.settings.fps = Some(ANIMATION_FPS);
     Ok(b)
 }
 
@@ -1166,8 +1174,7 @@ mod tests {
 
     #[test]
     fn builtin_scenes_match_their_toml_files() {
-        // The animated scenes have no TOML file yet: the format has no mesh motion (issue 19).
-        for name in builtin_names().iter().filter(|n| !ANIMATED.contains(n)) {
+        for name in builtin_names() {
             let a = builtin_scene(name).unwrap();
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("../../scenes")
@@ -1224,6 +1231,44 @@ mod tests {
                 for (x, y) in pa.iter().zip(pb) {
                     assert!(x.abs_diff_eq(*y, 1e-5), "{name}: {x} vs {y}");
                 }
+            }
+            assert_same_motion(name, &a, &b);
+        }
+    }
+
+    /// Same shutter, frame rate and keyframes (positions and normals) of every moving mesh.
+    fn assert_same_motion(name: &str, a: &SceneBuilder, b: &SceneBuilder) {
+        assert_eq!(a.shutter(), b.shutter(), "{name}: shutter");
+        assert_eq!(a.settings.fps, b.settings.fps, "{name}: fps");
+        for (sa, sb) in a.shapes().iter().zip(b.shapes()) {
+            let (ma, mb) = match (&sa.motion, &sb.motion) {
+                (None, None) => continue,
+                (Some(x), Some(y)) => (x, y),
+                _ => panic!("{name}: a shape moves in one and not in the other"),
+            };
+            assert_eq!(ma.first_frame, mb.first_frame, "{name}");
+            assert_eq!(ma.frame_count(), mb.frame_count(), "{name}");
+            let close = |x: &[Vec<Vec3>], y: &[Vec<Vec3>], tol: f32| {
+                x.iter()
+                    .flatten()
+                    .zip(y.iter().flatten())
+                    .all(|(p, q)| p.abs_diff_eq(*q, tol))
+            };
+            assert!(
+                close(&ma.positions, &mb.positions, 1e-5),
+                "{name}: keyframes"
+            );
+            match (&ma.normals, &mb.normals) {
+                (Some(x), Some(y)) => {
+                    let unit = |v: &[Vec<Vec3>]| -> Vec<Vec<Vec3>> {
+                        v.iter()
+                            .map(|f| f.iter().map(|n| n.normalize()).collect())
+                            .collect()
+                    };
+                    assert!(close(&unit(x), &unit(y), 1e-5), "{name}: keyframe normals");
+                }
+                (None, None) => {}
+                _ => panic!("{name}: keyframe normals in one and not in the other"),
             }
         }
     }
@@ -1416,10 +1461,24 @@ mod tests {
 
     /// The meshes of the case scenes as shipped in `scenes/meshes/`: file name, mesh, header
     /// comments.
-    fn case_meshes() -> Vec<(&'static str, TriangleMesh, [&'static str; 2])> {
-        vec![
+    fn case_meshes() -> Vec<(String, TriangleMesh, [&'static str; 2])> {
+        let (wave, motion) = moving_water_wave(&WATER_WAVE, MOVING_WAVE_STEP, MOVING_WAVE_FRAMES);
+        let frames = (0..motion.frame_count()).map(move |k| {
+            let mut m = wave.clone();
+            m.positions.clone_from(&motion.positions[k]);
+            m.normals = motion.normals.as_ref().map(|n| n[k].clone());
             (
-                "water-wave.ply",
+                format!("moving-wave/frame-{k:04}.ply"),
+                m,
+                [
+                    "caustica moving-wave: the water-wave surface with its phase moved 0.1 m per frame toward +x",
+                    "generated by crates/loader/src/builtin.rs (moving_water_wave)",
+                ],
+            )
+        });
+        let mut v = vec![
+            (
+                "water-wave.ply".to_string(),
                 water_wave_mesh(&WATER_WAVE),
                 [
                     "caustica water-wave surface: y = 3 + 0.25 cos(pi x), |x|, |z| <= 1, 128 x 8 cells",
@@ -1427,28 +1486,41 @@ mod tests {
                 ],
             ),
             (
-                "ring.ply",
+                "ring.ply".to_string(),
                 ring_mesh(&RING),
                 [
                     "caustica ring: radii 1 and 1.1, height 0.5, 128 segments, closed, outward normals",
                     "generated by crates/loader/src/builtin.rs",
                 ],
             ),
-        ]
+            (
+                "rod.ply".to_string(),
+                rod(),
+                [
+                    "caustica rotating-rod: glass rod of radius 0.08 m and length 1.2 m along +x from the origin",
+                    "Phong side normals, flat caps; generated by crates/loader/src/builtin.rs",
+                ],
+            ),
+        ];
+        v.extend(frames);
+        v
     }
 
     fn meshes_dir() -> std::path::PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes")
     }
 
-    /// Regenerates `scenes/meshes/{water-wave,ring}.ply` after a change to [`WATER_WAVE`] or
-    /// [`RING`]: `cargo test -p caustica-loader write_case_meshes -- --ignored`.
+    /// Regenerates `scenes/meshes/{water-wave,ring,rod}.ply` and `moving-wave/` after a change
+    /// to [`WATER_WAVE`], [`RING`], the rod or the wave's motion:
+    /// `cargo test -p caustica-loader write_case_meshes -- --ignored`.
     #[test]
     #[ignore]
     fn write_case_meshes() {
         for (file, mesh, comments) in case_meshes() {
             let text = crate::ply::to_ascii_ply(&mesh, &comments);
-            std::fs::write(meshes_dir().join(file), text).unwrap();
+            let path = meshes_dir().join(file);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(path, text).unwrap();
         }
     }
 
@@ -1456,7 +1528,7 @@ mod tests {
     fn case_mesh_files_are_up_to_date() {
         for (file, mesh, comments) in case_meshes() {
             let expected = crate::ply::to_ascii_ply(&mesh, &comments);
-            let found = std::fs::read_to_string(meshes_dir().join(file)).unwrap();
+            let found = std::fs::read_to_string(meshes_dir().join(&file)).unwrap();
             assert!(
                 found == expected,
                 "scenes/meshes/{file} differs from the procedural mesh; regenerate it with \

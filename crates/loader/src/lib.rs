@@ -5,6 +5,7 @@
 
 pub mod builtin;
 pub mod error;
+pub mod frame_pattern;
 pub mod media;
 pub mod mitsuba;
 pub mod obj;

@@ -46,6 +46,9 @@ pub struct SceneSettings {
     /// Final-gather rays per camera sample the scene suggests (pm, dpm, pdm, pds; 0 = the
     /// global map seen directly).
     pub final_gather: Option<u32>,
+    /// Frames per second of the scene's animation (scene files' `[animation] fps`; the
+    /// built-in animated scenes: 25), if it has one: converts frames to seconds.
+    pub fps: Option<f32>,
 }
 
 /// An immutable, ready-to-render scene.
@@ -421,10 +424,29 @@ impl SceneBuilder {
     /// mesh's first-frame bounds is refused as degenerate motion (the error names the frame).
     pub fn add_moving_mesh(
         &mut self,
+        mesh: crate::shape::TriangleMesh,
+        motion: crate::shape::MeshMotion,
+        material: u32,
+        flip_normals: bool,
+    ) -> Result<(), SceneError> {
+        self.add_moving_mesh_with_media(
+            mesh,
+            motion,
+            material,
+            flip_normals,
+            MediumInterface::default(),
+        )
+    }
+
+    /// [`Self::add_moving_mesh`] with the media on the mesh's two sides (as
+    /// [`Self::add_shape_with_media`]).
+    pub fn add_moving_mesh_with_media(
+        &mut self,
         mut mesh: crate::shape::TriangleMesh,
         mut motion: crate::shape::MeshMotion,
         material: u32,
         flip_normals: bool,
+        media: MediumInterface,
     ) -> Result<(), SceneError> {
         if motion.positions.first().map(Vec::len) != Some(mesh.positions.len()) {
             return Err(SceneError::InvalidParameter(format!(
@@ -456,7 +478,13 @@ impl SceneBuilder {
             motion.flip_normals();
         }
         let before = self.shapes.len();
-        self.add_shape(ShapeGeometry::Mesh(mesh), material, None, flip_normals)?;
+        self.add_shape_with_media(
+            ShapeGeometry::Mesh(mesh),
+            material,
+            None,
+            flip_normals,
+            media,
+        )?;
         if let Some(shape) = self.shapes.get_mut(before) {
             shape.motion = Some(std::sync::Arc::new(motion));
         }

@@ -22,6 +22,7 @@ pub use build::camera::look_at_transform;
 pub use position::line_column;
 
 use crate::error::LoadError;
+use build::animation::animation;
 use build::camera::camera;
 use build::light::light;
 use build::material::material;
@@ -30,6 +31,7 @@ use build::settings::{integrator, settings};
 use build::shape::medium_ref;
 use build::shape::shape;
 use caustica_scene::scene::SceneBuilder;
+use caustica_scene::shape::ShapeGeometry;
 use context::Ctx;
 use desc::SceneFile;
 use std::path::{Path, PathBuf};
@@ -92,9 +94,9 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
         }
     }
     let mut warnings = Vec::new();
-    for (s, (g, _, _, _, m)) in file.shape.iter().zip(&shapes) {
-        if m.is_transition()
-            && let Some(reason) = crate::media::open_boundary_reason(g)
+    for (s, e) in file.shape.iter().zip(&shapes) {
+        if e.media.is_transition()
+            && let Some(reason) = crate::media::open_boundary_reason(&e.geometry)
         {
             let (line, _) = line_column(text, s.span().start);
             let file_name = path
@@ -104,6 +106,23 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
                 format!("the {:?} shape at {file_name}:{line}", s.get_ref().ty).to_lowercase();
             warnings.push(crate::media::open_boundary_warning(&shape, &reason));
         }
+    }
+    let animation = match &file.animation {
+        Some(a) => Some(animation(&cx, a)?),
+        None => None,
+    };
+    if animation.is_none()
+        && let Some((s, _)) = file
+            .shape
+            .iter()
+            .zip(&shapes)
+            .find(|(_, e)| e.motion.is_some())
+    {
+        return Err(cx.err(
+            s.span(),
+            "a moving shape needs the scene's frame rate: add [animation] with 'fps' (and \
+             'shutter' in frames)",
+        ));
     }
     let lights = file
         .light
@@ -125,8 +144,17 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
     for (n, m) in medium_names.iter().zip(media) {
         b.add_medium(n, m)?;
     }
-    for (g, m, e, flip, media) in shapes {
-        b.add_shape_with_media(g, m, e, flip, media)?;
+    if let Some((fps, shutter)) = animation {
+        b.settings.fps = Some(fps);
+        b.set_shutter(shutter);
+    }
+    for (s, e) in file.shape.iter().zip(shapes) {
+        match (e.geometry, e.motion) {
+            (ShapeGeometry::Mesh(mesh), Some(motion)) => b
+                .add_moving_mesh_with_media(mesh, motion, e.material, e.flip, e.media)
+                .map_err(|err| cx.err(s.span(), err.to_string()))?,
+            (g, _) => b.add_shape_with_media(g, e.material, e.emission, e.flip, e.media)?,
+        }
     }
     // The shapes' area lights come first in the builder's list.
     let first_light = b.lights().len();
@@ -145,3 +173,5 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_animation;

@@ -1,6 +1,7 @@
 //! Shapes: meshes from files or inline arrays, spheres, disks, rectangles and cubes, with their
 //! material, emission and orientation.
 
+use super::animation::{keyframed_motion, mesh_sequence};
 use super::fields::check_fields;
 use super::transform::{shape_transform, similarity_scale};
 use crate::error::LoadError;
@@ -9,11 +10,18 @@ use crate::toml::desc::shape::{ShapeDesc, ShapeType};
 use ::toml::Spanned;
 use caustica_core::{Spectrum, Vec2, Vec3};
 use caustica_scene::medium::MediumInterface;
-use caustica_scene::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
+use caustica_scene::shape::{Disk, MeshMotion, ShapeGeometry, Sphere, TriangleMesh};
 
-/// A shape ready for `SceneBuilder::add_shape_with_media`: geometry, material index, emission,
-/// flip, the media on its sides.
-pub(crate) type ShapeEntry = (ShapeGeometry, u32, Option<Spectrum>, bool, MediumInterface);
+/// A shape ready for `SceneBuilder::add_shape_with_media` (or `add_moving_mesh_with_media`):
+/// geometry, material index, emission, flip, the media on its sides, and its motion.
+pub(crate) struct ShapeEntry {
+    pub(crate) geometry: ShapeGeometry,
+    pub(crate) material: u32,
+    pub(crate) emission: Option<Spectrum>,
+    pub(crate) flip: bool,
+    pub(crate) media: MediumInterface,
+    pub(crate) motion: Option<MeshMotion>,
+}
 
 /// The index of the medium a field names.
 pub(crate) fn medium_ref(
@@ -62,14 +70,27 @@ pub(crate) fn shape(
         ("indices", s.indices.is_some()),
         ("normals", s.normals.is_some()),
         ("uvs", s.uvs.is_some()),
+        ("frames", s.frames.is_some()),
+        ("frame_range", s.frame_range.is_some()),
+        ("first_frame", s.first_frame.is_some()),
+        ("keyframe", s.keyframe.is_some()),
     ];
     let allowed: &[&str] = match s.ty {
-        ShapeType::Obj | ShapeType::Ply => &["filename"],
+        ShapeType::Obj | ShapeType::Ply if s.frames.is_some() => {
+            &["frames", "frame_range", "first_frame"]
+        }
+        ShapeType::Obj | ShapeType::Ply => &["filename", "keyframe"],
         ShapeType::Sphere => &["center", "radius"],
         ShapeType::Disk => &["center", "radius", "normal"],
-        ShapeType::Rectangle | ShapeType::Cube => &[],
-        ShapeType::Mesh => &["positions", "indices", "normals", "uvs"],
+        ShapeType::Rectangle | ShapeType::Cube => &["keyframe"],
+        ShapeType::Mesh => &["positions", "indices", "normals", "uvs", "keyframe"],
     };
+    if s.frames.is_some() && s.filename.is_some() {
+        return Err(cx.err(
+            span,
+            "a shape takes 'filename' (one mesh) or 'frames' (a mesh sequence), not both",
+        ));
+    }
     check_fields(cx, &span, &what, &present, allowed)?;
     let material = material_names
         .iter()
@@ -95,7 +116,17 @@ pub(crate) fn shape(
             .ok_or_else(|| cx.err(span.clone(), format!("{what} needs 'filename'")))
             .and_then(|f| cx.input_file(f, &span))
     };
+    let mut motion = None;
     let geometry = match s.ty {
+        ShapeType::Obj | ShapeType::Ply if s.frames.is_some() => {
+            let frames = s
+                .frames
+                .as_ref()
+                .ok_or_else(|| cx.err(span.clone(), "frames"))?;
+            let (m, mo) = mesh_sequence(cx, &span, s, frames, &t)?;
+            motion = Some(mo);
+            ShapeGeometry::Mesh(m)
+        }
         ShapeType::Obj => {
             let mut m = crate::obj::load_obj(&need_file()?)?;
             m.transform(&t);
@@ -154,11 +185,21 @@ pub(crate) fn shape(
             ShapeGeometry::Mesh(m)
         }
     };
-    Ok((
+    if let (Some(keys), ShapeGeometry::Mesh(m)) = (&s.keyframe, &geometry) {
+        motion = Some(keyframed_motion(cx, &span, m, keys)?);
+    }
+    if motion.is_some() && s.emission.is_some() {
+        return Err(cx.err(
+            span,
+            "a moving shape cannot emit light (give 'emission' to a static shape)",
+        ));
+    }
+    Ok(ShapeEntry {
         geometry,
         material,
-        s.emission.map(|e| e.0),
-        s.flip_normals.unwrap_or(false),
+        emission: s.emission.map(|e| e.0),
+        flip: s.flip_normals.unwrap_or(false),
         media,
-    ))
+        motion,
+    })
 }

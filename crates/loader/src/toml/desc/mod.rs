@@ -1,6 +1,7 @@
 //! Descriptions: what each section of a TOML scene file deserialises to, before it is checked
 //! against the other fields and converted (`super::build`).
 
+pub(crate) mod animation;
 pub(crate) mod camera;
 pub(crate) mod film;
 pub(crate) mod integrator;
@@ -13,6 +14,7 @@ pub(crate) mod texture;
 pub(crate) mod transform;
 
 use ::toml::Spanned;
+use animation::AnimationDesc;
 use camera::CameraDesc;
 use film::FilmDesc;
 use integrator::IntegratorDesc;
@@ -31,6 +33,7 @@ pub(crate) struct SceneFile {
     pub(crate) camera: Spanned<CameraDesc>,
     pub(crate) film: Option<Spanned<FilmDesc>>,
     pub(crate) render: Option<RenderDesc>,
+    pub(crate) animation: Option<Spanned<AnimationDesc>>,
     pub(crate) integrator: Option<::toml::Spanned<IntegratorDesc>>,
     #[serde(default)]
     pub(crate) material: Vec<Spanned<MaterialDesc>>,

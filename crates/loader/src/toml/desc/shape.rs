@@ -1,5 +1,6 @@
 //! `[[shape]]`.
 
+use super::animation::{FramesDesc, KeyframeDesc};
 use super::transform::{RotateList, ScaleDesc};
 use crate::toml::value::{Matrix, Positive, Rgb, V3};
 use serde::Deserialize;
@@ -39,4 +40,12 @@ pub(crate) struct ShapeDesc {
     pub(crate) rotate: Option<RotateList>,
     pub(crate) scale: Option<ScaleDesc>,
     pub(crate) matrix: Option<Matrix>,
+    /// A mesh sequence (obj, ply): one file per frame, identical topology.
+    pub(crate) frames: Option<FramesDesc>,
+    /// The first and last frame numbers of a `frames` pattern (inclusive).
+    pub(crate) frame_range: Option<[i64; 2]>,
+    /// The frame of the first file of a `frames` list (default 0).
+    pub(crate) first_frame: Option<i64>,
+    /// Animated transforms, at increasing integer frames.
+    pub(crate) keyframe: Option<Vec<::toml::Spanned<KeyframeDesc>>>,
 }
