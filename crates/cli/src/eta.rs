@@ -44,7 +44,7 @@ impl std::fmt::Display for TimeLeft {
 }
 
 /// `s` seconds as "7s", "2m05s" or "1h02m".
-fn duration(s: f64) -> String {
+pub(crate) fn duration(s: f64) -> String {
     let s = s.max(0.0).round() as u64;
     match s {
         0..60 => format!("{s}s"),

@@ -114,6 +114,20 @@ pub struct RenderArgs {
     /// Write the image accumulated so far every S seconds.
     #[arg(long)]
     pub checkpoint: Option<f64>,
+    /// Render the frames A to B of an animated scene (both included; integers, e.g. 0..24),
+    /// the shutter opening at each (its length from --shutter or the scene). -o (and --png)
+    /// must then hold a frame field, %d or %0Nd (out_%04d.exr), and an animated PNG preview
+    /// of the sequence is written (see --preview). Every frame uses the same --seed.
+    #[arg(long, value_name = "A..B", allow_hyphen_values = true)]
+    pub frames: Option<String>,
+    /// The animated PNG preview of a --frames sequence (played at the scene's frame rate, else
+    /// 25 fps, at --exposure). Default: -o with its frame field replaced by "preview", as .png.
+    #[arg(long)]
+    pub preview: Option<PathBuf>,
+    /// With --frames: keep the frames whose output file exists instead of rendering them again
+    /// (to resume an interrupted sequence).
+    #[arg(long)]
+    pub skip_existing: bool,
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
@@ -383,10 +397,18 @@ pub fn parse_defines(defs: &[String]) -> Result<Vec<(String, String)>> {
         .collect()
 }
 
-fn write_outputs(img: &Image, args: &RenderArgs) -> Result<()> {
-    write_atomically(&args.output, |p| img.write(p))?;
-    if let Some(png) = &args.png {
-        write_atomically(png, |p| img.write_png(p, args.exposure))?;
+/// Where one render writes: the image, and the optional PNG at an exposure.
+#[derive(Clone, Debug)]
+struct Outputs {
+    image: PathBuf,
+    png: Option<PathBuf>,
+    exposure: f32,
+}
+
+fn write_outputs(img: &Image, out: &Outputs) -> Result<()> {
+    write_atomically(&out.image, |p| img.write(p))?;
+    if let Some(png) = &out.png {
+        write_atomically(png, |p| img.write_png(p, out.exposure))?;
     }
     Ok(())
 }
@@ -447,29 +469,186 @@ pub fn run(args: RenderArgs) -> Result<()> {
     {
         bail!("--checkpoint must be a positive number of seconds, got {c}");
     }
-    let ext = args
-        .output
+    check_image_extension(&args.output)?;
+    let sequence = args.frames.as_deref().map(parse_frames).transpose()?;
+    if sequence.is_none() && (args.preview.is_some() || args.skip_existing) {
+        bail!("--preview and --skip-existing go with --frames A..B");
+    }
+    static STOP: AtomicBool = AtomicBool::new(false);
+    ctrlc::set_handler(|| {
+        if STOP.swap(true, Ordering::SeqCst) {
+            eprintln!("\ninterrupted twice: exiting without writing");
+            std::process::exit(130);
+        }
+        eprintln!("\ninterrupted: finishing the current pass and writing the image (Ctrl-C again to abort)");
+    })
+    .context("cannot install the Ctrl-C handler")?;
+    match sequence {
+        None => {
+            let out = Outputs {
+                image: args.output.clone(),
+                png: args.png.clone(),
+                exposure: args.exposure,
+            };
+            // Nothing rendered may be lost to an unwritable path: check them before any work.
+            check_writable(&out.image)?;
+            if let Some(png) = &out.png {
+                check_writable(png)?;
+            }
+            render_one(&args, &args.settings, &out, "", &STOP)?;
+        }
+        Some((first, last)) => run_sequence(&args, first, last, &STOP)?,
+    }
+    if STOP.load(Ordering::SeqCst) {
+        // The image so far is written; the exit status tells scripts the render is incomplete.
+        std::process::exit(130);
+    }
+    Ok(())
+}
+
+fn check_image_extension(path: &Path) -> Result<()> {
+    let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
     if !["exr", "pfm", "png"].contains(&ext.as_str()) {
+        bail!("output {} must end in .exr, .pfm or .png", path.display());
+    }
+    Ok(())
+}
+
+/// `--frames A..B`: two integers, A ≤ B, both included.
+fn parse_frames(text: &str) -> Result<(i64, i64)> {
+    let parsed = text
+        .split_once("..")
+        .and_then(|(a, b)| Some((a.trim().parse::<i64>().ok()?, b.trim().parse::<i64>().ok()?)));
+    match parsed {
+        Some((a, b)) if a <= b && b - a < 1_000_000 => Ok((a, b)),
+        Some((a, b)) => bail!(
+            "--frames {text}: the first frame must not be after the last (and at most a million frames), got {a} and {b}"
+        ),
+        None => bail!(
+            "--frames expects A..B with two integer frames, both included (e.g. 0..24), got '{text}'"
+        ),
+    }
+}
+
+/// `-o` (or `--png`) of a sequence as a frame pattern; the error says what is expected.
+fn sequence_pattern(path: &Path, option: &str) -> Result<loader::frame_pattern::FramePattern> {
+    let text = path.to_string_lossy();
+    if !loader::frame_pattern::FramePattern::is_pattern(&text) {
         bail!(
-            "output {} must end in .exr, .pfm or .png",
-            args.output.display()
+            "with --frames, {option} {} must hold a frame field, %d or %0Nd (e.g. out_%04d.exr)",
+            path.display()
         );
     }
-    // Nothing rendered may be lost to an unwritable path: check them before any work.
-    check_writable(&args.output)?;
-    if let Some(png) = &args.png {
-        check_writable(png)?;
+    loader::frame_pattern::FramePattern::parse(&text).map_err(|e| anyhow::anyhow!("{option}: {e}"))
+}
+
+/// `--frames A..B`: one render per frame (the shutter opening at it), each written as soon as
+/// it is done, then the animated PNG preview of the frames rendered (also after Ctrl-C).
+fn run_sequence(args: &RenderArgs, first: i64, last: i64, stop: &'static AtomicBool) -> Result<()> {
+    if args.settings.frame.is_some() {
+        bail!("--frame and --frames exclude each other (--frames sets the frame of each render)");
     }
-    let scene = args.settings.load_scene()?;
+    let image = sequence_pattern(&args.output, "-o")?;
+    let png = args
+        .png
+        .as_deref()
+        .map(|p| sequence_pattern(p, "--png"))
+        .transpose()?;
+    let preview = match &args.preview {
+        Some(p) => p.clone(),
+        None => {
+            let text = args.output.to_string_lossy().into_owned();
+            let named = PathBuf::from(
+                loader::frame_pattern::FramePattern::parse(&text)
+                    .map_err(anyhow::Error::msg)?
+                    .replace_field("preview"),
+            );
+            named.with_extension("png")
+        }
+    };
+    let outputs = |f: i64| Outputs {
+        image: PathBuf::from(image.name(f)),
+        png: png.as_ref().map(|p| PathBuf::from(p.name(f))),
+        exposure: args.exposure,
+    };
+    for f in [first, last] {
+        let o = outputs(f);
+        check_writable(&o.image)?;
+        if let Some(p) = &o.png {
+            check_writable(p)?;
+        }
+    }
+    check_writable(&preview)?;
+    let count = (last - first + 1) as usize;
+    let started = Instant::now();
+    let mut frames = Vec::with_capacity(count);
+    let mut fps = None;
+    let mut rendered = 0usize;
+    for (i, f) in (first..=last).enumerate() {
+        let out = outputs(f);
+        if args.skip_existing && out.image.exists() {
+            let img = Image::read(&out.image)
+                .with_context(|| format!("--skip-existing: cannot read {}", out.image.display()))?;
+            eprintln!("frame {f}: kept {}", out.image.display());
+            frames.push(img);
+            continue;
+        }
+        let mut settings = args.settings.clone();
+        settings.frame = Some(f as f32);
+        let done = i as f64 / count as f64;
+        let label = if rendered == 0 {
+            format!("frame {f} ({}/{count}) ", i + 1)
+        } else {
+            let per = started.elapsed().as_secs_f64() / rendered as f64;
+            format!(
+                "frame {f} ({}/{count}, sequence {:.0}%, {} left) ",
+                i + 1,
+                100.0 * done,
+                crate::eta::duration(per * (count - i) as f64)
+            )
+        };
+        let (img, scene_fps) = render_one(args, &settings, &out, &label, stop)?;
+        fps = fps.or(scene_fps);
+        rendered += 1;
+        frames.push(img);
+        if stop.load(Ordering::SeqCst) {
+            break;
+        }
+    }
+    let fps = fps.unwrap_or(25.0);
+    caustica_core::apng::write_apng(&preview, &frames, fps, args.exposure)
+        .with_context(|| format!("cannot write the preview {}", preview.display()))?;
+    println!(
+        "sequence: frames {first}..{last} ({} rendered, {} kept) in {:.2} s -> {}, preview ({} frames at {fps} fps) -> {}",
+        rendered,
+        frames.len() - rendered,
+        started.elapsed().as_secs_f64(),
+        args.output.display(),
+        frames.len(),
+        preview.display()
+    );
+    Ok(())
+}
+
+/// One render of `settings` written to `out`, with the progress bar (its message prefixed by
+/// `label`) and the one-line summary. Returns the image and the scene's frame rate.
+fn render_one(
+    args: &RenderArgs,
+    settings: &RenderSettings,
+    out: &Outputs,
+    label: &str,
+    stop: &'static AtomicBool,
+) -> Result<(Image, Option<f32>)> {
+    let scene = settings.load_scene()?;
     let Resolved {
         kind,
         mut opts,
         warnings,
-    } = args.settings.resolve(&scene)?;
+    } = settings.resolve(&scene)?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
@@ -486,17 +665,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
             caustica_render::memory::estimate(kind, &scene, &opts)
         );
     }
-
-    static STOP: AtomicBool = AtomicBool::new(false);
-    ctrlc::set_handler(|| {
-        if STOP.swap(true, Ordering::SeqCst) {
-            eprintln!("\ninterrupted twice: exiting without writing");
-            std::process::exit(130);
-        }
-        eprintln!("\ninterrupted: finishing the current pass and writing the image (Ctrl-C again to abort)");
-    })
-    .context("cannot install the Ctrl-C handler")?;
-
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {
@@ -519,15 +687,15 @@ pub fn run(args: RenderArgs) -> Result<()> {
             Err(_) => TimeLeft::Unknown,
         };
         let msg = match left {
-            TimeLeft::Unknown => format!("{} {:.0}%", p.pass, 100.0 * p.pass_fraction),
-            _ => format!("{} {:.0}%, {left}", p.pass, 100.0 * p.pass_fraction),
+            TimeLeft::Unknown => format!("{label}{} {:.0}%", p.pass, 100.0 * p.pass_fraction),
+            _ => format!("{label}{} {:.0}%, {left}", p.pass, 100.0 * p.pass_fraction),
         };
         bar.set_message(msg);
     };
     // A failing checkpoint is reported at once (each distinct failure once); the render goes on.
     let checkpoint_err = std::sync::Mutex::new(None::<String>);
     let checkpoint = |film: &Film| {
-        if let Err(e) = write_outputs(&film.to_image(), &args)
+        if let Err(e) = write_outputs(&film.to_image(), out)
             && let Ok(mut slot) = checkpoint_err.lock()
         {
             let msg = format!("{e:#}");
@@ -538,18 +706,18 @@ pub fn run(args: RenderArgs) -> Result<()> {
         }
     };
     let ctl = RenderControl {
-        stop: &STOP,
+        stop,
         on_progress: &progress,
         on_checkpoint: &checkpoint,
     };
-    let out = render(&scene, kind, &opts, &ctl)?;
+    let rendered = render(&scene, kind, &opts, &ctl)?;
     bar.finish_and_clear();
-    for note in &out.notes {
+    for note in &rendered.notes {
         eprintln!("{note}");
     }
-    let img = out.film.to_image();
-    write_outputs(&img, &args)?;
-    let secs = out.elapsed.as_secs_f64().max(1e-9);
+    let img = rendered.film.to_image();
+    write_outputs(&img, out)?;
+    let secs = rendered.elapsed.as_secs_f64().max(1e-9);
     let what = match kind {
         IntegratorKind::Path
         | IntegratorKind::PhotonMapping
@@ -559,11 +727,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
         | IntegratorKind::VolumetricPhotonMapping
         | IntegratorKind::BeamRadianceEstimate
         | IntegratorKind::VolumePhotonDifferentials => {
-            format!("{:.1} spp", out.film.mean_samples())
+            format!("{:.1} spp", rendered.film.mean_samples())
         }
-        IntegratorKind::LightTrace => format!("{} light paths", out.film.light_paths()),
+        IntegratorKind::LightTrace => format!("{} light paths", rendered.film.light_paths()),
     };
-    let stopped = if STOP.load(Ordering::SeqCst) {
+    let stopped = if stop.load(Ordering::SeqCst) {
         " (interrupted)"
     } else {
         ""
@@ -576,16 +744,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
         "{}: {} {}x{}{crop}, {what} in {secs:.2} s{stopped}: {:.2} M samples/s, {:.2} M rays/s, {} NaN/Inf samples discarded -> {}",
         scene.name,
         kind.name(),
-        out.film.width,
-        out.film.height,
-        out.stats.samples as f64 / secs / 1e6,
-        out.stats.rays as f64 / secs / 1e6,
-        out.stats.nonfinite,
-        args.output.display()
+        rendered.film.width,
+        rendered.film.height,
+        rendered.stats.samples as f64 / secs / 1e6,
+        rendered.stats.rays as f64 / secs / 1e6,
+        rendered.stats.nonfinite,
+        out.image.display()
     );
-    if STOP.load(Ordering::SeqCst) {
-        // The image so far is written; the exit status tells scripts the render is incomplete.
-        std::process::exit(130);
-    }
-    Ok(())
+    Ok((img, scene.settings.fps))
 }

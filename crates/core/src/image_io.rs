@@ -96,12 +96,7 @@ impl Image {
     pub fn write_png(&self, path: &Path, exposure: f32) -> Result<(), ImageError> {
         self.check_size(path)?;
         let (w, h) = png_size(path, self.width, self.height)?;
-        let scale = exposure.exp2();
-        let buf: Vec<u8> = self
-            .data
-            .iter()
-            .flat_map(|p| p.map(|v| encode_srgb8(v * scale)))
-            .collect();
+        let buf = self.to_srgb8(exposure);
         image::save_buffer_with_format(
             path,
             &buf,
@@ -111,6 +106,16 @@ impl Image {
             image::ImageFormat::Png,
         )
         .map_err(|e| image_err(path, e))
+    }
+
+    /// The 8-bit sRGB pixels (RGB, row-major, row 0 at the top) PNG output holds: linear values
+    /// times `2^exposure`, clamped to [0, 1] (NaN → 0) and encoded with the sRGB curve.
+    pub fn to_srgb8(&self, exposure: f32) -> Vec<u8> {
+        let scale = exposure.exp2();
+        self.data
+            .iter()
+            .flat_map(|p| p.map(|v| encode_srgb8(v * scale)))
+            .collect()
     }
 
     /// The PFM encoding ("PF", little-endian, rows bottom to top) of this image.

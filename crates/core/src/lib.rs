@@ -4,11 +4,12 @@
 //! * [`Ray`], [`RayDifferential`] — rays and their per-pixel differentials (Igehy 1999).
 //! * [`Frame`] — orthonormal shading frames.
 //! * [`sampling`] — random number generators, the Sobol/independent samplers and warps.
-//! * [`image_io`] — reading and writing EXR, PFM and PNG.
+//! * [`image_io`] — reading and writing EXR, PFM and PNG; [`apng`] — animated PNG previews.
 //! * [`chi2`] — chi-square goodness-of-fit tests used by every sampler's tests.
 
 #![forbid(unsafe_code)]
 
+pub mod apng;
 pub mod chi2;
 pub mod frame;
 pub mod image_io;

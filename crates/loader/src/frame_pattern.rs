@@ -78,6 +78,12 @@ impl FramePattern {
         text.replace("%%", "").contains('%')
     }
 
+    /// The pattern with its frame field replaced by `text` (`out_%04d.exr`, "preview" →
+    /// `out_preview.exr`).
+    pub fn replace_field(&self, text: &str) -> String {
+        format!("{}{text}{}", self.prefix, self.suffix)
+    }
+
     /// The file name of `frame` (negative frames get a leading minus sign before the padding).
     pub fn name(&self, frame: i64) -> String {
         let digits = format!("{:0w$}", frame.unsigned_abs(), w = self.width);
@@ -97,6 +103,7 @@ mod tests {
         assert_eq!(p.name(12345), "out/frame-12345.ply");
         assert_eq!(p.name(-3), "out/frame--0003.ply");
         assert_eq!(FramePattern::parse("f%d.exr").unwrap().name(42), "f42.exr");
+        assert_eq!(p.replace_field("preview"), "out/frame-preview.ply");
         assert_eq!(
             FramePattern::parse("100%%_%02d.png").unwrap().name(5),
             "100%_05.png"
