@@ -40,7 +40,7 @@ enum Command {
     /// images, and a plot of RMSE and SSIM against the value.
     Sweep(Box<sweep_cmd::SweepArgs>),
     /// Draw the stored photons as points over a dim image of the scene (debugging).
-    Photons(photons_cmd::PhotonsArgs),
+    Photons(Box<photons_cmd::PhotonsArgs>),
     /// Run every density estimator (k-NN, fixed, variable bandwidth, diffusion) on 2-D photon
     /// distributions with a known density (Schjøth 2009 fig. 4.4–4.5): images, MISE, SSIM.
     Testbed(testbed_cmd::TestbedArgs),
@@ -59,7 +59,7 @@ fn main() {
         },
         Command::Convert(args) => convert_cmd::run(args),
         Command::Sweep(args) => sweep_cmd::run(*args),
-        Command::Photons(args) => photons_cmd::run(args),
+        Command::Photons(args) => photons_cmd::run(*args),
         Command::Testbed(args) => testbed_cmd::run(args),
         Command::Scenes => {
             for name in caustica_loader::builtin_names() {

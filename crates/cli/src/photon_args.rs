@@ -187,6 +187,21 @@ pub struct PhotonArgs {
     /// the shutter.
     #[arg(long, value_name = "N", help_heading = "Motion")]
     pub in_between_frames: Option<u32>,
+    /// With --temporal: where the shutter lies around the instant photons are traced at:
+    /// forward (seed 003 eq. 5: traced at the shutter's opening, footprints swept forward) or
+    /// centred (traced at its middle, swept both ways; second-order accurate).
+    #[arg(long, value_name = "ALIGN", help_heading = "Motion", value_parser = ["forward", "centred", "centered"])]
+    pub shutter_align: Option<String>,
+    /// With --temporal: the time filter of seed 000 eq. 7.9, a kernel (uniform, epanechnikov,
+    /// biweight, ...) along each footprint's motion peaking at the traced instant, normalised so
+    /// every photon keeps its flux. Default: none (eq. 7.8).
+    #[arg(long, value_name = "KERNEL", help_heading = "Motion")]
+    pub time_filter: Option<Kernel>,
+    /// With --temporal: divide swept footprints by eq. 7.7's area for every kernel, as printed
+    /// (exact only for the uniform kernel; others then carry up to 4/3 or 8/5 of their flux).
+    /// For comparisons with the paper.
+    #[arg(long, help_heading = "Motion")]
+    pub paper_area: bool,
 }
 
 impl PhotonArgs {
@@ -263,6 +278,19 @@ impl PhotonArgs {
         }
         o.footprints.temporal = self.temporal;
         o.in_between_frames = self.in_between_frames;
+        let sweep_given =
+            self.shutter_align.is_some() || self.time_filter.is_some() || self.paper_area;
+        if sweep_given && !self.temporal {
+            anyhow::bail!("--shutter-align, --time-filter and --paper-area go with --temporal");
+        }
+        o.footprints.sweep = caustica_render::SweepRule {
+            align: match self.shutter_align.as_deref() {
+                Some("centred" | "centered") => caustica_render::ShutterAlign::Centred,
+                _ => caustica_render::ShutterAlign::Forward,
+            },
+            time_filter: self.time_filter,
+            paper_area: self.paper_area,
+        };
         // What neither the command line nor (see `RenderSettings::resolve`) the scene gives is
         // chosen automatically.
         let auto = !self.no_auto_bandwidth;
@@ -308,5 +336,8 @@ impl PhotonArgs {
             || self.whole_chord
             || self.temporal
             || self.in_between_frames.is_some()
+            || self.shutter_align.is_some()
+            || self.time_filter.is_some()
+            || self.paper_area
     }
 }

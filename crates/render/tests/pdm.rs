@@ -323,7 +323,8 @@ fn collapsed_and_failed_footprints_are_dropped_and_counted_without_nan() {
         landing(o, Some([Vec3::splat(f32::INFINITY), Vec3::Z])), // not finite: failed
     ];
     let paths = 4;
-    let (photons, collapsed, failed) = photons_from_landings(&landings, paths);
+    let (photons, collapsed, failed) =
+        photons_from_landings(&landings, paths, caustica_render::ShutterAlign::Forward);
     assert_eq!((photons.len(), collapsed, failed), (1, 3, 3));
     // The kept footprint: vectors X, Z scaled by 1/√4, area π/4 · ¼ = π/16, flux 2/4 W, and at
     // its centre π K(0) Φ/A = 3 Φ/A (eq. 10–11).

@@ -11,12 +11,13 @@ use caustica_density::kernel::Kernel;
 use caustica_differentials::Footprint;
 use caustica_loader::builtin_scene;
 use caustica_render::photon::differential::footprint::{sweep_mass, sweep_mass_by_quadrature};
+use caustica_render::photon::differential::photons_from_landings;
 use caustica_render::photon::differential::{
     DiffPhoton, FootprintFilter, Landing, LandingTracer, TEMPORAL_PARAMS, unit_budget,
 };
 use caustica_render::{
     FootprintSettings, IntegratorKind, PathLimits, PhotonOptions, RenderControl, RenderOptions,
-    RenderStats, Smoothing, render,
+    RenderStats, ShutterAlign, Smoothing, SweepRule, render,
 };
 use caustica_scene::{Scene, Shutter};
 
@@ -40,8 +41,16 @@ fn temporal_settings(s: f32) -> FootprintSettings {
 
 /// The landings of light paths `0..n` of `scene` with three differential parameters.
 fn landings(scene: &Scene, n: u64) -> Vec<(u64, Landing<TEMPORAL_PARAMS>)> {
-    let tracer = LandingTracer::new(scene, &unit_budget(Smoothing::ONE))
-        .with_time(&temporal_settings(1.0), scene);
+    landings_with(scene, n, &temporal_settings(1.0))
+}
+
+/// [`landings`] with the footprint settings `settings` (their alignment chooses the instant).
+fn landings_with(
+    scene: &Scene,
+    n: u64,
+    settings: &FootprintSettings,
+) -> Vec<(u64, Landing<TEMPORAL_PARAMS>)> {
+    let tracer = LandingTracer::new(scene, &unit_budget(Smoothing::ONE)).with_time(settings, scene);
     let limits = PathLimits {
         max_depth: 16,
         ..PathLimits::default()
@@ -196,6 +205,7 @@ fn every_space_time_footprint_integrates_to_its_flux() {
         let filter = FootprintFilter {
             kernel,
             normal_distance: 0.25,
+            ..Default::default()
         };
         for dt in [
             Vec3::new(0.03, 0.0, 0.01),
@@ -255,6 +265,7 @@ fn the_swept_support_is_the_area_of_eq_7_7() {
     let filter = FootprintFilter {
         kernel: Kernel::Uniform,
         normal_distance: 0.25,
+        ..Default::default()
     };
     let (lo, hi) = filter.bounds(&ph).unwrap();
     let n = 800;
@@ -326,4 +337,192 @@ fn temporal_splatting_matches_the_motion_blurred_light_tracer() {
     let (dt, di) = (l2(&t, &r), l2(&i, &r));
     eprintln!("profile distance to the blurred reference: TPD {dt}, unblurred {di}");
     assert!(dt < 0.5 * di, "TPD {dt} vs unblurred instant {di}");
+}
+
+fn centred() -> FootprintSettings {
+    FootprintSettings {
+        sweep: SweepRule {
+            align: ShutterAlign::Centred,
+            ..Default::default()
+        },
+        ..temporal_settings(1.0)
+    }
+}
+
+/// The centred shutter alignment (seed 000 Q-T8): photons are traced at the shutter's middle,
+/// stored with their segment `[x − D_t x/2, x + D_t x/2]`, and that segment's ends are closer
+/// to where the photon really is when the shutter opens and closes than the forward segment's
+/// far end is (midpoint rule: second order, about a quarter of the forward error).
+#[test]
+fn the_centred_alignment_sweeps_around_the_shutters_middle() {
+    let (open, e) = (4.0, 1.0);
+    let n = 1500;
+    let mid = landings_with(&scene_at("moving-wave", 16, 16, open, e), n, &centred());
+    // Traced at the middle: the same landings as a forward shutter opening there.
+    let at_mid: Vec<_> = landings(&scene_at("moving-wave", 16, 16, open + 0.5 * e, e), n);
+    assert_eq!(mid.len(), at_mid.len());
+    for ((pa, a), (pb, b)) in mid.iter().zip(&at_mid) {
+        assert_eq!((pa, a.p, a.dp), (pb, b.p, b.dp));
+    }
+    // Stored with the segment start at x − D_t x/2.
+    let only: Vec<_> = mid.iter().map(|(_, l)| *l).collect();
+    let (photons, _, _) = photons_from_landings(&only, 1, ShutterAlign::Centred);
+    let (forward, _, _) = photons_from_landings(&only, 1, ShutterAlign::Forward);
+    assert_eq!(photons.len(), only.len());
+    for ((c, f), l) in photons.iter().zip(&forward).zip(&only) {
+        let dt = l.dp.unwrap()[TEMPORAL_PARAMS - 1];
+        assert!((c.footprint.center() - (l.p - 0.5 * dt)).length() < 1e-6);
+        assert_eq!(f.footprint.center(), l.p);
+        assert_eq!(c.dt, dt);
+    }
+    // Where the photons are at the shutter's opening and closing.
+    let truth = |t: f32| -> std::collections::HashMap<u64, Vec3> {
+        landings(&scene_at("moving-wave", 16, 16, t, e), n)
+            .into_iter()
+            .map(|(k, l)| (k, l.p))
+            .collect()
+    };
+    let (start, end) = (truth(open), truth(open + e));
+    let fwd: std::collections::HashMap<u64, _> =
+        landings(&scene_at("moving-wave", 16, 16, open, e), n)
+            .into_iter()
+            .collect();
+    let (mut err_c, mut err_f) = (Vec::new(), Vec::new());
+    for (k, l) in &mid {
+        let (Some(s0), Some(s1), Some(f)) = (start.get(k), end.get(k), fwd.get(k)) else {
+            continue;
+        };
+        let span = (*s1 - *s0).length().max(1e-4);
+        let dt = l.dp.unwrap()[TEMPORAL_PARAMS - 1];
+        let c = ((l.p - 0.5 * dt - *s0).length()).max((l.p + 0.5 * dt - *s1).length());
+        let fdt = f.dp.unwrap()[TEMPORAL_PARAMS - 1];
+        err_c.push(c / span);
+        err_f.push((f.p + fdt - *s1).length() / span);
+    }
+    assert!(err_c.len() > 300, "{}", err_c.len());
+    for v in [&mut err_c, &mut err_f] {
+        v.sort_by(f32::total_cmp);
+    }
+    let (c90, f90) = (err_c[err_c.len() * 9 / 10], err_f[err_f.len() * 9 / 10]);
+    eprintln!("segment end error, 90th percentile: centred {c90}, forward {f90}");
+    assert!(c90 < 0.5 * f90, "centred {c90} vs forward {f90}");
+}
+
+/// Flux conservation with the time filter (seed 000 eq. 7.9 normalised, Q-T4/Q-T5): every
+/// footprint integrates to its flux for three footprint kernels, two time kernels and both
+/// alignments; a uniform time kernel is no filter at all; the filter weighs the traced instant
+/// most; and eq. 7.7's literal area over-counts a non-uniform kernel (it is exact only for the
+/// uniform one).
+#[test]
+fn time_filtered_footprints_integrate_to_their_flux() {
+    let du = Vec3::new(0.2, 0.0, 0.05);
+    let dv = Vec3::new(-0.02, 0.0, 0.08);
+    let fp = Footprint::new(Vec3::ZERO, du, dv, Vec3::Y).unwrap();
+    let photon = |dt| DiffPhoton {
+        footprint: fp,
+        wi: Vec3::Y,
+        n: Vec3::Y,
+        flux: Spectrum::ONE,
+        depth: 2,
+        dt,
+    };
+    let integral = |filter: &FootprintFilter, ph: &DiffPhoton| {
+        let (lo, hi) = filter.bounds(ph).unwrap();
+        let n = 500;
+        let (sx, sz) = ((hi.x - lo.x) / n as f32, (hi.z - lo.z) / n as f32);
+        let mut sum = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                let x = Vec3::new(
+                    lo.x + (i as f32 + 0.5) * sx,
+                    0.0,
+                    lo.z + (j as f32 + 0.5) * sz,
+                );
+                sum += filter.weight(ph, x, Vec3::Y).unwrap_or(0.0) as f64;
+            }
+        }
+        sum * (sx * sz) as f64
+    };
+    let dts = [Vec3::new(0.03, 0.0, 0.01), Vec3::new(0.5, 0.0, 0.7)];
+    for kernel in [Kernel::Uniform, Kernel::Epanechnikov, Kernel::Silverman] {
+        for time in [Kernel::Epanechnikov, Kernel::Biweight] {
+            for align in [ShutterAlign::Forward, ShutterAlign::Centred] {
+                let filter = FootprintFilter {
+                    kernel,
+                    normal_distance: 0.25,
+                    sweep: SweepRule {
+                        align,
+                        time_filter: Some(time),
+                        paper_area: false,
+                    },
+                };
+                for dt in dts {
+                    let total = integral(&filter, &photon(dt));
+                    assert!(
+                        (total - 1.0).abs() < 0.01,
+                        "{kernel:?}, time {time:?}, {align:?}, dt = {dt}: ∫ = {total}"
+                    );
+                }
+            }
+        }
+    }
+    // A uniform time kernel weighs every instant alike: the same weights as no filter.
+    let plain = FootprintFilter {
+        kernel: Kernel::Silverman,
+        normal_distance: 0.25,
+        ..Default::default()
+    };
+    let uniform = FootprintFilter {
+        sweep: SweepRule {
+            time_filter: Some(Kernel::Uniform),
+            ..Default::default()
+        },
+        ..plain
+    };
+    let ph = photon(dts[1]);
+    for k in 0..50 {
+        let x = Vec3::new(0.012 * k as f32, 0.0, 0.014 * k as f32 - 0.02);
+        let (a, b) = (
+            plain.weight(&ph, x, Vec3::Y),
+            uniform.weight(&ph, x, Vec3::Y),
+        );
+        match (a, b) {
+            (Some(a), Some(b)) => assert!((a - b).abs() <= 1e-5 * a, "{a} vs {b}"),
+            (a, b) => assert_eq!(a.is_some(), b.is_some()),
+        }
+    }
+    // The filtered weight along the segment peaks at the traced instant: the hit (forward)
+    // or the segment's middle (centred).
+    for (align, peak) in [(ShutterAlign::Forward, 0.0), (ShutterAlign::Centred, 0.5)] {
+        let f = FootprintFilter {
+            sweep: SweepRule {
+                align,
+                time_filter: Some(Kernel::Epanechnikov),
+                paper_area: false,
+            },
+            ..plain
+        };
+        let at = |tau: f32| {
+            f.weight(&ph, ph.footprint.center() + ph.dt * tau, Vec3::Y)
+                .unwrap()
+        };
+        let best = (0..=10)
+            .map(|i| i as f32 / 10.0)
+            .max_by(|a, b| at(*a).total_cmp(&at(*b)));
+        assert_eq!(best, Some(peak), "{align:?}");
+        assert!(at(0.95) < 0.2 * at(peak), "{align:?}");
+    }
+    // eq. 7.7 literally: exact for the uniform kernel, too much energy for Epanechnikov's
+    // (at most 4/3 of the flux).
+    let paper = |kernel| FootprintFilter {
+        kernel,
+        normal_distance: 0.25,
+        sweep: SweepRule {
+            paper_area: true,
+            ..Default::default()
+        },
+    };
+    assert!((integral(&paper(Kernel::Uniform), &ph) - 1.0).abs() < 0.01);
+    let over = integral(&paper(Kernel::Epanechnikov), &ph);
+    assert!(over > 1.15 && over < 4.0 / 3.0, "{over}");
 }

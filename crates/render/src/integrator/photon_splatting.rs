@@ -370,7 +370,7 @@ impl FootprintSplat<'_> {
             self.tracer
                 .trace::<N>(&mut sampler, &self.opts.limits, &mut landings, st);
         });
-        photons_from_landings(&landings, self.work.len())
+        photons_from_landings(&landings, self.work.len(), self.tracer.align())
     }
 }
 

@@ -6,6 +6,7 @@ pub mod value;
 
 pub use photon::{
     AutoBandwidth, CausticEstimator, DiffusionSettings, FootprintSettings, PhotonOptions,
+    ShutterAlign, SweepRule,
 };
 pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Smoothing, Steepness};
 

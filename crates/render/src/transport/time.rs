@@ -18,6 +18,9 @@ pub enum PathTime {
     /// The shutter's opening: the frame instant of temporal photon differentials (seed 003
     /// sec. 4: one photon map per frame, traced at the frame).
     Instant,
+    /// The middle of the shutter: temporal photon differentials with the centred shutter
+    /// alignment.
+    Middle,
     /// One of `n ≥ 1` evenly spaced times `open + k/n · length`, `k = 0 … n−1`, chosen
     /// uniformly: time-dependent photon mapping with `n − 1` in-between frames (seed 000
     /// sec. 7.2; `n = 1` is plain photon mapping at the frame instant).
@@ -32,6 +35,13 @@ impl PathTime {
         let shutter = scene.shutter;
         match self {
             PathTime::Instant | PathTime::Slices(0 | 1) => shutter.open,
+            PathTime::Middle => {
+                if scene.has_motion() {
+                    shutter.open + 0.5 * shutter.length
+                } else {
+                    shutter.open
+                }
+            }
             PathTime::Shutter => scene.sample_time(|| sampler.next_1d()),
             PathTime::Slices(n) => scene.sample_time(|| {
                 let k = ((sampler.next_1d() * n as f32) as u32).min(n - 1);

@@ -1,7 +1,7 @@
 //! A caustic photon's footprint where it lands (seed 002 eq. 4, 10–12) and the one rule for its
 //! weight at a point, shared by `pdm` (gathering) and `pds` (splatting).
 
-use crate::options::FootprintSettings;
+use crate::options::{FootprintSettings, ShutterAlign, SweepRule};
 use caustica_core::{Spectrum, Vec3};
 use caustica_density::kernel::{Dim, Kernel};
 use caustica_differentials::{DiffError, Footprint};
@@ -61,13 +61,17 @@ pub struct Landing<const N: usize = 2> {
 /// The photons of `landings` from `paths` emitted light paths: flux β/N, vectors scaled by
 /// `1/√(N pmf)` (eq. 5–6 with the light's share of the paths), footprints built on the
 /// landings' planes. A third column is `D_t x`, which does not depend on the emission budget
-/// (it starts at zero and only moving geometry feeds it), so it is kept unscaled. Returns them
-/// with the counts of landings dropped for a collapsed footprint and for a failed propagation
-/// (no vectors, or vectors that are not finite).
+/// (it starts at zero and only moving geometry feeds it), so it is kept unscaled; the
+/// footprint's centre is put at the start of its motion segment, `x + align.segment_start() ·
+/// D_t x` (the hit itself for the forward alignment). Returns them with the counts of landings
+/// dropped for a collapsed footprint and for a failed propagation (no vectors, or vectors that
+/// are not finite).
 pub fn photons_from_landings<const N: usize>(
     landings: &[Landing<N>],
     paths: u64,
+    align: ShutterAlign,
 ) -> (Vec<DiffPhoton>, u64, u64) {
+    let start = align.segment_start();
     let n = paths.max(1) as f64;
     let mut photons = Vec::with_capacity(landings.len());
     let (mut collapsed, mut failed) = (0u64, 0u64);
@@ -88,7 +92,8 @@ pub fn photons_from_landings<const N: usize>(
             failed += 1;
             continue;
         }
-        match Footprint::new(l.p, dp[0] * scale, dp[1] * scale, l.n) {
+        let centre = if start != 0.0 { l.p + dt * start } else { l.p };
+        match Footprint::new(centre, dp[0] * scale, dp[1] * scale, l.n) {
             Ok(footprint) => photons.push(DiffPhoton {
                 footprint,
                 wi: l.wi,
@@ -115,6 +120,49 @@ pub struct FootprintFilter {
     pub kernel: Kernel,
     /// Normal-distance threshold (seed 002 sec. 3.3) as a fraction of the gather radius.
     pub normal_distance: f32,
+    /// How footprints with a motion segment are weighted along it (temporal photon
+    /// differentials; no effect on photons without `D_t x`).
+    pub sweep: SweepRule,
+}
+
+/// The largest `f32` below 1: time weights are evaluated at `min(u², ONE_BELOW)` so a segment's
+/// end gets the kernel's limit there (1/2 for the uniform kernel), not the 0 of outside.
+const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
+impl SweepRule {
+    /// The time weight `w(τ)` at the segment parameter `τ ∈ [0, 1]` (seed 000 eq. 7.9's `K_t`,
+    /// normalised to `∫₀¹ w dτ = 1`, Q-T5): `w(τ) = 2 K₁(u²)` for the univariate kernel `K₁`
+    /// (Table 2.1, ∫₋₁¹ = 1), with `u = τ` for the forward alignment (the traced instant at
+    /// `τ = 0`, the half-line of Q-T5) and `u = 2τ − 1` centred. 1 without a time filter.
+    #[inline]
+    pub fn time_weight(&self, tau: f32) -> f32 {
+        let Some(k) = self.time_filter else {
+            return 1.0;
+        };
+        let u = match self.align {
+            ShutterAlign::Forward => tau,
+            ShutterAlign::Centred => 2.0 * tau - 1.0,
+        };
+        2.0 * k.eval((u * u).min(ONE_BELOW), Dim::One)
+    }
+
+    /// The swept footprint's mass over its ellipse's, `A_eff / A_p`, for a footprint kernel
+    /// `k` and the filter-space motion length `λ = |M D_t x|`: the two half-discs at the
+    /// segment's ends weighted by `w(0)`, `w(1)` and the strip between them by `∫ w = 1`,
+    /// `(w(0) + w(1))/2 + c₁ λ/π` (seed 000 Q-T4; `1 + c₁ λ/π` without a time filter, eq. 7.7
+    /// for the uniform kernel). With `paper_area`: eq. 7.7, `1 + 2λ/π`, for every kernel.
+    #[inline]
+    pub fn area_factor(&self, k: Kernel, lambda: f32) -> f32 {
+        if self.paper_area {
+            return 1.0 + 2.0 * lambda / std::f32::consts::PI;
+        }
+        let ends = if self.time_filter.is_some() {
+            0.5 * (self.time_weight(0.0) + self.time_weight(1.0))
+        } else {
+            1.0
+        };
+        ends + sweep_mass(k) * lambda / std::f32::consts::PI
+    }
 }
 
 /// `c₁ = ∫₋₁¹ π K(s²) ds` for the 2-D kernel `k` (normalised to 1 over the unit disc, so `π K`
@@ -130,7 +178,10 @@ pub fn sweep_mass(k: Kernel) -> f32 {
         Kernel::Biweight | Kernel::Silverman => 16.0 / 5.0,
         Kernel::Cubic => 128.0 / 35.0,
         Kernel::Cone { g } => (2.0 - 1.0 / g) / (1.0 - 2.0 / (3.0 * g)),
-        Kernel::Gaussian => sweep_mass_by_quadrature(k, 200),
+        Kernel::Gaussian => {
+            static GAUSSIAN: std::sync::OnceLock<f32> = std::sync::OnceLock::new();
+            *GAUSSIAN.get_or_init(|| sweep_mass_by_quadrature(k, 2000))
+        }
     }
 }
 
@@ -181,12 +232,12 @@ impl FootprintFilter {
     /// centred at the point `x'_p = x_p + τ* D_t x` of the motion segment closest to `x` *in
     /// filter space*, `τ* = clamp(z·m / m·m, 0, 1)` with `z = M_p (x − x_p)`, `m = M_p D_t x`
     /// (the Euclidean closest point of the text loses up to half the energy of elongated
-    /// footprints; seed 000 Q-T3), divided by the swept area
-    /// `A_eff = A_p (1 + c₁ |m| / π)`. For the uniform kernel `A_eff` is eq. 7.7,
-    /// `A_p + l |D_t x|`, exactly; for other kernels it is the generalisation that keeps each
-    /// footprint's integral equal to its flux (Q-T4; eq. 7.7 would over-count by up to 4/3 for
-    /// Epanechnikov, 8/5 for Silverman). Same side, normal and plane tests as
-    /// [`Self::weight`], measured from `x'_p`.
+    /// footprints; seed 000 Q-T3), times the time filter `w(τ*)` (eq. 7.9; 1 without one),
+    /// divided by the swept area `A_eff = A_p (1 + c₁ |m| / π)` ([`SweepRule::area_factor`]).
+    /// For the uniform kernel `A_eff` is eq. 7.7, `A_p + l |D_t x|`, exactly; for other
+    /// kernels it is the generalisation that keeps each footprint's integral equal to its flux
+    /// (Q-T4; eq. 7.7 would over-count by up to 4/3 for Epanechnikov, 8/5 for Silverman).
+    /// Same side, normal and plane tests as [`Self::weight`], measured from `x'_p`.
     fn swept_weight(&self, ph: &DiffPhoton, x: Vec3, n: Vec3) -> Option<f32> {
         let fp = &ph.footprint;
         let z = fp.to_filter(x);
@@ -205,8 +256,9 @@ impl FootprintFilter {
         if (x - c).dot(fp.normal()).abs() > self.normal_distance * fp.gather_radius() {
             return None;
         }
-        let area = fp.area() * (1.0 + sweep_mass(self.kernel) * mm.sqrt() / std::f32::consts::PI);
-        let w = std::f32::consts::PI * self.kernel.eval(u2, Dim::Two) / area;
+        let area = fp.area() * self.sweep.area_factor(self.kernel, mm.sqrt());
+        let w = std::f32::consts::PI * self.kernel.eval(u2, Dim::Two) * self.sweep.time_weight(tau)
+            / area;
         (w > 0.0 && w.is_finite()).then_some(w)
     }
 
@@ -215,6 +267,7 @@ impl FootprintFilter {
         Self {
             kernel: settings.kernel,
             normal_distance: settings.normal_distance.get(),
+            sweep: settings.sweep,
         }
     }
 

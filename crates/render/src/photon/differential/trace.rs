@@ -66,14 +66,14 @@ pub fn trace_photon_differentials(
             trace_budget(budget, &stream, 0, progress, |_, sm, out, st| {
                 tracer.trace::<TEMPORAL_PARAMS>(sm, &limits, out, st)
             });
-        let (p, c, f) = photons_from_landings(&landings, paths);
+        let (p, c, f) = photons_from_landings(&landings, paths, tracer.align);
         (p, c, f, landings.len(), paths, stats)
     } else {
         let (landings, paths, stats) =
             trace_budget(budget, &stream, 0, progress, |_, sm, out, st| {
                 tracer.trace::<EMISSION_PARAMS>(sm, &limits, out, st)
             });
-        let (p, c, f) = photons_from_landings(&landings, paths);
+        let (p, c, f) = photons_from_landings(&landings, paths, tracer.align);
         (p, c, f, landings.len(), paths, stats)
     };
     let warning = shortfall("caustic", landings, paths, budget).map(|w| {
@@ -121,6 +121,8 @@ pub struct LandingTracer<'a> {
     /// Seed 003's exposure e (frames): the time differential's offset, `D_t q = e (q_{f+1} −
     /// q_f)` (eq. 5); 0 for ordinary photon differentials.
     pub(crate) exposure: f32,
+    /// Where the traced instant lies on the shutter (temporal photon differentials).
+    pub(crate) align: crate::options::ShutterAlign,
 }
 
 /// What every photon differential of one light shares.
@@ -153,6 +155,7 @@ impl<'a> LandingTracer<'a> {
             lights,
             time: PathTime::Shutter,
             exposure: 0.0,
+            align: crate::options::ShutterAlign::Forward,
         }
     }
 
@@ -167,7 +170,13 @@ impl<'a> LandingTracer<'a> {
         } else {
             0.0
         };
+        self.align = settings.sweep.align;
         self
+    }
+
+    /// The shutter alignment photons are made with ([`photons_from_landings`]).
+    pub fn align(&self) -> crate::options::ShutterAlign {
+        self.align
     }
 
     /// True if the differentials carry a time column.
