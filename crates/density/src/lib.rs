@@ -25,6 +25,8 @@
 //! * [`bandwidth_selection`] — automatic bandwidths: least-squares cross-validation with a
 //!   hold-out cross term ([`bandwidth_selection::LscvScore`]) over a geometric grid, and the
 //!   AMISE rate that carries a pilot sample's choice to the full sample.
+//! * [`schedule`] — [`BandwidthSchedule`]: the progressive methods' shrinking bandwidth
+//!   (seed 001 eq. 3.27) from the closed-form Γ product, for any kernel volume `V(h)`.
 //! * [`diffusion`] — diffusion-based estimation (ch. 4, eq. 4.11–4.19): gradient pre-pass,
 //!   structure tensor, diffusion tensor.
 //!
@@ -76,6 +78,7 @@ pub mod estimator;
 pub mod kdtree;
 pub mod kernel;
 pub mod radius_buckets;
+pub mod schedule;
 pub mod sphere_bvh;
 
 pub use diffusion::{DiffusionEstimator, DiffusionParams, DiffusionTensor};
@@ -86,6 +89,7 @@ pub use estimator::{
 pub use kdtree::{KdTree, Neighbor};
 pub use kernel::{Dim, Kernel};
 pub use radius_buckets::RadiusBuckets;
+pub use schedule::{BandwidthSchedule, KernelVolume, ScheduleError};
 pub use sphere_bvh::SphereBvh;
 
 /// Errors of the density crate.
