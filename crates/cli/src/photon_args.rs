@@ -187,6 +187,41 @@ pub struct PhotonArgs {
     /// the shutter.
     #[arg(long, value_name = "N", help_heading = "Motion")]
     pub in_between_frames: Option<u32>,
+    /// Progressive methods (pppm, ppds, ppdm): iterations to run (default 16, or as many as
+    /// --time allows). --spp is then the camera samples per pixel of each iteration (default 1).
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        help_heading = "Progressive (pppm, ppds, ppdm)"
+    )]
+    pub iterations: Option<u64>,
+    /// Light paths each iteration traces for each photon map (default 100000).
+    #[arg(
+        long,
+        value_name = "M",
+        allow_negative_numbers = true,
+        help_heading = "Progressive (pppm, ppds, ppdm)"
+    )]
+    pub photons_per_iteration: Option<u64>,
+    /// The schedule's alpha in (0, 1] (seed 001 eq. 3.27: the kernel's area shrinks by
+    /// (i + alpha)/(i + 1) per iteration; default 2/3, Mitsuba 0.6 uses 0.7, 1 keeps it fixed).
+    #[arg(
+        long,
+        value_name = "ALPHA",
+        allow_negative_numbers = true,
+        help_heading = "Progressive (pppm, ppds, ppdm)"
+    )]
+    pub ppm_alpha: Option<f64>,
+    /// pppm's first-iteration gather radius in metres (default: the median distance from a
+    /// caustic photon of the first iteration to its k-th nearest neighbour, --k).
+    #[arg(
+        long,
+        value_name = "R",
+        allow_negative_numbers = true,
+        help_heading = "Progressive (pppm, ppds, ppdm)"
+    )]
+    pub radius: Option<Bandwidth>,
     /// With --temporal: where the shutter lies around the instant photons are traced at:
     /// forward (seed 003 eq. 5: traced at the shutter's opening, footprints swept forward) or
     /// centred (traced at its middle, swept both ways; second-order accurate).
@@ -278,6 +313,16 @@ impl PhotonArgs {
         }
         o.footprints.temporal = self.temporal;
         o.in_between_frames = self.in_between_frames;
+        let pr = &mut o.progressive;
+        pr.iterations = self.iterations;
+        if let Some(m) = self.photons_per_iteration {
+            pr.paths_per_iteration = m;
+        }
+        if let Some(a) = self.ppm_alpha {
+            pr.alpha = a;
+        }
+        pr.radius = self.radius;
+        pr.validate()?;
         let sweep_given =
             self.shutter_align.is_some() || self.time_filter.is_some() || self.paper_area;
         if sweep_given && !self.temporal {
@@ -339,5 +384,14 @@ impl PhotonArgs {
             || self.shutter_align.is_some()
             || self.time_filter.is_some()
             || self.paper_area
+            || self.progressive_given()
+    }
+
+    /// True if any option of the progressive methods was given.
+    pub fn progressive_given(&self) -> bool {
+        self.iterations.is_some()
+            || self.photons_per_iteration.is_some()
+            || self.ppm_alpha.is_some()
+            || self.radius.is_some()
     }
 }

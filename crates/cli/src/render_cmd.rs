@@ -198,13 +198,25 @@ impl RenderSettings {
         if self.time.is_some()
             && self.spp.is_some()
             && kind != IntegratorKind::PhotonDifferentialSplatting
+            && !kind.is_progressive()
         {
             bail!(
-                "--spp and --time exclude each other for --integrator {} (only pds takes both: its camera samples and a budget for its light paths)",
+                "--spp and --time exclude each other for --integrator {} (only pds and the progressive methods take both: pds its camera samples and a budget for its light paths, pppm, ppds and ppdm the samples of each iteration)",
                 kind.name()
             );
         }
-        let spp = self.spp.or(scene.settings.spp).unwrap_or(16);
+        if self.photon.progressive_given() && !kind.is_progressive() {
+            bail!(
+                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds or ppdm), not {}",
+                kind.name()
+            );
+        }
+        // The progressive methods take a few camera samples per iteration.
+        let spp = if kind.is_progressive() {
+            self.spp.unwrap_or(1)
+        } else {
+            self.spp.or(scene.settings.spp).unwrap_or(16)
+        };
         if spp == 0 {
             bail!("--spp must be at least 1");
         }
@@ -218,6 +230,7 @@ impl RenderSettings {
             time_limit: self.time.map(Duration::from_secs_f64),
             seed: self.seed,
             sampler,
+            first_sample: 0,
             limits: PathLimits {
                 max_depth,
                 rr_depth: 5,
@@ -729,6 +742,16 @@ fn render_one(
         | IntegratorKind::VolumePhotonDifferentials => {
             format!("{:.1} spp", rendered.film.mean_samples())
         }
+        IntegratorKind::ProgressivePhotonMapping
+        | IntegratorKind::ProgressiveSplatting
+        | IntegratorKind::ProgressiveDifferentialMapping => format!(
+            "{} iterations, {:.1} spp",
+            rendered
+                .film
+                .mean_samples()
+                .div_euclid(opts.spp.max(1) as f64),
+            rendered.film.mean_samples()
+        ),
         IntegratorKind::LightTrace => format!("{} light paths", rendered.film.light_paths()),
     };
     let stopped = if stop.load(Ordering::SeqCst) {

@@ -67,6 +67,17 @@ impl Clock {
         }
     }
 
+    /// A clock without time budget or checkpoints (a progressive iteration's: the driver
+    /// around it owns those).
+    pub fn untimed() -> Self {
+        Self {
+            start: Instant::now(),
+            limit: None,
+            checkpoint_interval: None,
+            last_checkpoint_ms: AtomicU64::new(0),
+        }
+    }
+
     /// Time since the render started.
     pub fn elapsed(&self) -> Duration {
         self.start.elapsed()

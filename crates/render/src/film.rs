@@ -76,6 +76,27 @@ impl Film {
         self.count.iter().map(|&c| c as f64).sum::<f64>() / self.count.len().max(1) as f64
     }
 
+    /// Adds the samples and splats of `other` (a film of the same window) to this one: the
+    /// result is the estimate of both renders' samples pooled (with equal samples per pixel,
+    /// the mean of their images).
+    pub fn merge(&mut self, other: &Film) {
+        debug_assert_eq!((self.window, self.full), (other.window, other.full));
+        for (d, s) in self.sum.iter_mut().zip(&other.sum) {
+            for k in 0..3 {
+                d[k] += s[k];
+            }
+        }
+        for (d, s) in self.count.iter_mut().zip(&other.count) {
+            *d += s;
+        }
+        for (d, s) in self.splat.iter_mut().zip(&other.splat) {
+            for k in 0..3 {
+                d[k] += s[k];
+            }
+        }
+        self.splat_paths += other.splat_paths;
+    }
+
     /// Light paths accumulated so far.
     pub fn light_paths(&self) -> u64 {
         self.splat_paths

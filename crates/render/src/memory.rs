@@ -116,6 +116,20 @@ fn photon_count(budget: PhotonBudget, per_path: u64) -> u64 {
 
 /// The estimate for rendering `scene` with `kind` and `opts`.
 pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> MemoryEstimate {
+    if let Some(one_shot) = crate::integrator::progressive::one_shot(kind) {
+        // One iteration alive at a time, plus the pooled film.
+        let mut m = estimate(
+            one_shot,
+            scene,
+            &opts.photons.progressive.iteration_options(opts, 1),
+        );
+        let pixels = opts.window(&scene.camera).map_or(
+            scene.camera.width as u64 * scene.camera.height as u64,
+            |w| w.pixels(),
+        );
+        m.add("pooled film", pixels, 2 * size_of::<[f64; 3]>() as u64 + 4);
+        return m;
+    }
     let mut m = MemoryEstimate::default();
     // The pixels rendered: the crop window's (an invalid window is refused before rendering).
     let pixels = opts.window(&scene.camera).map_or(
@@ -129,8 +143,13 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
     }
     let p = &opts.photons;
     let photon = size_of::<Photon>() as u64 + TREE_BYTES_PER_POINT;
-    if p.global_photons > 0 && !opts.caustics_only && !opts.volume_only {
-        m.add("global map", p.global_photons as u64, photon);
+    if (p.global_photons > 0 || p.global_light_paths.is_some())
+        && !opts.caustics_only
+        && !opts.volume_only
+    {
+        // A path stores a photon at each non-delta hit; Russian roulette ends most within a
+        // few bounces (an estimate, not a bound, for fixed path budgets).
+        m.add("global map", photon_count(p.global_budget(), 4), photon);
     }
     let caustic = if opts.volume_only {
         0
@@ -182,7 +201,11 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
                 m.add("landing paths", n as u64, 8);
             }
         }
-        IntegratorKind::Path | IntegratorKind::LightTrace => {}
+        IntegratorKind::Path
+        | IntegratorKind::LightTrace
+        | IntegratorKind::ProgressivePhotonMapping
+        | IntegratorKind::ProgressiveSplatting
+        | IntegratorKind::ProgressiveDifferentialMapping => {}
     }
     if choice::chooses(kind, p) && !opts.volume_only {
         // The automatic bandwidth choice (freed before the photon pass; counted anyway, as an

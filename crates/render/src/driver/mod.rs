@@ -8,7 +8,10 @@
 //!   photons each eye-map tile splats in path order, then the vertices resolved into their
 //!   pixels (`pds`; progressive photon mapping and photon cone focusing are further
 //!   [`eye_splat::SplatRule`]s).
+//! * [`iterations`] — iterations of a one-shot render pooled into one image, one alive at a
+//!   time (the progressive methods), with the time budget, Ctrl-C and checkpoints between them.
 
 pub mod eye_splat;
+pub mod iterations;
 pub mod light_paths;
 pub mod pixels;

@@ -100,7 +100,7 @@ where
                     // The full-film pixel.
                     let (fx, fy) = (x as u32 + x0, y as u32 + y0);
                     for s in first..first + pass_spp {
-                        sampler.start_pixel_sample(fx, fy, s);
+                        sampler.start_pixel_sample(fx, fy, opts.first_sample.wrapping_add(s));
                         let offset = filter.sample(sampler.next_2d());
                         let raster = Vec2::new(fx as f32 + 0.5, fy as f32 + 0.5) + offset;
                         let pixel = (y * w + x) as u32;

@@ -4,6 +4,7 @@ pub mod light_tracer;
 pub mod path;
 pub mod photon_mapping;
 pub mod photon_splatting;
+pub mod progressive;
 
 use crate::control::{Clock, RenderControl};
 use crate::driver::light_paths::render_paths;
@@ -50,6 +51,14 @@ pub enum IntegratorKind {
     /// and volume photons traced as photon differentials whose ellipsoidal kernels every camera
     /// and gather ray integrates exactly (eq. 8.4, 8.14–8.16).
     VolumePhotonDifferentials,
+    /// Probabilistic progressive photon mapping (Knaus and Zwicker 2011; seed 001 sec. 2.5,
+    /// eq. 3.27): independent `pm` iterations at a shrinking global radius, averaged.
+    ProgressivePhotonMapping,
+    /// Progressive photon differential splatting: `pds` iterations whose smoothing shrinks by
+    /// eq. 3.27 applied to the footprint area, averaged.
+    ProgressiveSplatting,
+    /// Progressive photon differential mapping: the same schedule over `pdm`.
+    ProgressiveDifferentialMapping,
 }
 
 impl IntegratorKind {
@@ -63,6 +72,9 @@ impl IntegratorKind {
         "vpm",
         "beam",
         "vpd",
+        "pppm",
+        "ppds",
+        "ppdm",
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -75,6 +87,9 @@ impl IntegratorKind {
             IntegratorKind::VolumetricPhotonMapping => "vpm",
             IntegratorKind::BeamRadianceEstimate => "beam",
             IntegratorKind::VolumePhotonDifferentials => "vpd",
+            IntegratorKind::ProgressivePhotonMapping => "pppm",
+            IntegratorKind::ProgressiveSplatting => "ppds",
+            IntegratorKind::ProgressiveDifferentialMapping => "ppdm",
         }
     }
 
@@ -89,7 +104,15 @@ impl IntegratorKind {
                 | IntegratorKind::VolumetricPhotonMapping
                 | IntegratorKind::BeamRadianceEstimate
                 | IntegratorKind::VolumePhotonDifferentials
+                | IntegratorKind::ProgressivePhotonMapping
+                | IntegratorKind::ProgressiveSplatting
+                | IntegratorKind::ProgressiveDifferentialMapping
         )
+    }
+
+    /// True for the progressive methods (iterations of a one-shot photon method).
+    pub fn is_progressive(self) -> bool {
+        progressive::one_shot(self).is_some()
     }
 
     /// A one-line description (for `--help` and `caustica` listings).
@@ -120,11 +143,20 @@ impl IntegratorKind {
             IntegratorKind::VolumePhotonDifferentials => {
                 "photon differentials in media: pdm with ellipsoidal volume photons (seed 000 ch. 8)"
             }
+            IntegratorKind::ProgressivePhotonMapping => {
+                "probabilistic progressive photon mapping: pm iterations at a shrinking radius (Knaus and Zwicker 2011)"
+            }
+            IntegratorKind::ProgressiveSplatting => {
+                "progressive photon differential splatting: pds iterations at a shrinking smoothing"
+            }
+            IntegratorKind::ProgressiveDifferentialMapping => {
+                "progressive photon differential mapping: pdm iterations at a shrinking smoothing"
+            }
         }
     }
 
     /// Every integrator, in the order of [`IntegratorKind::NAMES`].
-    pub const ALL: [IntegratorKind; 9] = [
+    pub const ALL: [IntegratorKind; 12] = [
         IntegratorKind::Path,
         IntegratorKind::LightTrace,
         IntegratorKind::PhotonMapping,
@@ -134,6 +166,9 @@ impl IntegratorKind {
         IntegratorKind::VolumetricPhotonMapping,
         IntegratorKind::BeamRadianceEstimate,
         IntegratorKind::VolumePhotonDifferentials,
+        IntegratorKind::ProgressivePhotonMapping,
+        IntegratorKind::ProgressiveSplatting,
+        IntegratorKind::ProgressiveDifferentialMapping,
     ];
 
     /// Checks that this integrator can render with `opts` (the values themselves are valid by
@@ -141,6 +176,15 @@ impl IntegratorKind {
     pub fn check(self, opts: &RenderOptions) -> Result<(), OptionError> {
         if self.uses_photons() {
             opts.photons.validate()?;
+        }
+        if self.is_progressive() {
+            opts.photons.progressive.validate()?;
+            if opts.volume_only {
+                return Err(OptionError::Conflict(format!(
+                    "--integrator {} does not trace volume photons yet: for --volume-only use vpm, beam or vpd",
+                    self.name()
+                )));
+            }
         }
         if opts.caustics_only && self == IntegratorKind::Path {
             return Err(OptionError::Conflict(
@@ -166,9 +210,17 @@ impl IntegratorKind {
                     e.name()
                 )))
             }
+            (IntegratorKind::ProgressivePhotonMapping, Some(e)) => {
+                Err(OptionError::Conflict(format!(
+                    "--integrator pppm uses a fixed radius that shrinks per iteration; --estimator {} is for --integrator pm",
+                    e.name()
+                )))
+            }
             (
                 IntegratorKind::PhotonDifferentialMapping
-                | IntegratorKind::PhotonDifferentialSplatting,
+                | IntegratorKind::PhotonDifferentialSplatting
+                | IntegratorKind::ProgressiveSplatting
+                | IntegratorKind::ProgressiveDifferentialMapping,
                 Some(e),
             ) => Err(OptionError::Conflict(format!(
                 "--integrator {} estimates caustics from photon-differential footprints; for --estimator {} use --integrator pm",
@@ -185,6 +237,13 @@ impl IntegratorKind {
             return Err(RenderError::NoLights {
                 scene: scene.name.clone(),
             });
+        }
+        if self.is_progressive() && scene.media.iter().any(|m| !m.sigma_s.is_black()) {
+            return Err(RenderError::Option(OptionError::Conflict(format!(
+                "scene '{}' has scattering media, which --integrator {} does not trace yet (no progressive volume photons); use vpm, beam or vpd",
+                scene.name,
+                self.name()
+            ))));
         }
         Ok(())
     }
@@ -226,6 +285,8 @@ impl IntegratorKind {
             IntegratorKind::PhotonDifferentialMapping
                 | IntegratorKind::PhotonDifferentialSplatting
                 | IntegratorKind::VolumePhotonDifferentials
+                | IntegratorKind::ProgressiveSplatting
+                | IntegratorKind::ProgressiveDifferentialMapping
         )
     }
 }
@@ -243,6 +304,9 @@ impl std::str::FromStr for IntegratorKind {
             "vpm" => Ok(Self::VolumetricPhotonMapping),
             "beam" | "bre" => Ok(Self::BeamRadianceEstimate),
             "vpd" => Ok(Self::VolumePhotonDifferentials),
+            "pppm" => Ok(Self::ProgressivePhotonMapping),
+            "ppds" => Ok(Self::ProgressiveSplatting),
+            "ppdm" => Ok(Self::ProgressiveDifferentialMapping),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -298,6 +362,11 @@ pub fn render(
             (opts, stage)
         };
     let stats: RenderStats = match kind {
+        IntegratorKind::ProgressivePhotonMapping
+        | IntegratorKind::ProgressiveSplatting
+        | IntegratorKind::ProgressiveDifferentialMapping => {
+            progressive::render(scene, kind, opts, &stage, &mut film, &filter, &mut notes)?
+        }
         IntegratorKind::Path => {
             let stage = stage.labelled("path tracing");
             render_pixels(&mut film, &filter, opts, &stage, |sampler, raster, st| {

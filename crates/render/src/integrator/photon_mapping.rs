@@ -176,8 +176,10 @@ impl PhotonMaps {
     }
 
     /// True when the render needs the global map (indirect light; caustics alone need none).
-    fn wants_global(opts: &RenderOptions) -> bool {
-        opts.photons.global_photons > 0 && !opts.caustics_only && !opts.volume_only
+    pub(crate) fn wants_global(opts: &RenderOptions) -> bool {
+        (opts.photons.global_photons > 0 || opts.photons.global_light_paths.is_some())
+            && !opts.caustics_only
+            && !opts.volume_only
     }
 
     /// The global map, or none when it is not needed.
@@ -196,7 +198,7 @@ impl PhotonMaps {
         }
         trace_photons(
             scene,
-            crate::photon::plan::PhotonBudget::Records(opts.photons.global_photons),
+            opts.photons.global_budget(),
             MapKind::Global,
             GLOBAL_STREAM,
             opts,

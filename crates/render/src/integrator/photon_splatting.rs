@@ -171,7 +171,10 @@ pub fn render_report(
     let work = match opts.photons.caustic_budget() {
         PhotonBudget::Paths(n) => {
             report.paths = n;
-            PathSet::Range { first: 0, n }
+            PathSet::Range {
+                first: opts.photons.first_path,
+                n,
+            }
         }
         PhotonBudget::Records(target) => {
             let count_stage = stage

@@ -2,12 +2,14 @@
 //! settings of each family ([`photon`]), whose values validate themselves ([`value`]).
 
 pub mod photon;
+pub mod progressive;
 pub mod value;
 
 pub use photon::{
     AutoBandwidth, CausticEstimator, DiffusionSettings, FootprintSettings, PhotonOptions,
     ShutterAlign, SweepRule,
 };
+pub use progressive::ProgressiveSettings;
 pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Smoothing, Steepness};
 
 use crate::crop::CropWindow;
@@ -30,6 +32,10 @@ pub struct RenderOptions {
     pub time_limit: Option<Duration>,
     pub seed: u64,
     pub sampler: SamplerKind,
+    /// Index of the first camera sample of every pixel (0 for a one-shot render): pixel
+    /// samples `first_sample, first_sample + 1, …` are drawn, so a progressive iteration's
+    /// camera pass is independent of the others'.
+    pub first_sample: u32,
     /// Path length limits (maximum depth, Russian roulette) of camera and light paths.
     pub limits: PathLimits,
     /// Interval at which `RenderControl::on_checkpoint` receives the film.
@@ -67,6 +73,7 @@ impl Default for RenderOptions {
             time_limit: None,
             seed: 0,
             sampler: SamplerKind::Sobol,
+            first_sample: 0,
             limits: PathLimits::default(),
             checkpoint_interval: None,
             memory_limit: None,

@@ -19,7 +19,19 @@ pub struct PhotonOptions {
     /// many are emitted, whatever they store; ≥ 1.
     pub light_paths: Option<u64>,
     /// Photons stored in the global map (every non-delta hit); 0 = no indirect light.
+    /// Ignored when `global_light_paths` is set.
     pub global_photons: usize,
+    /// A fixed number of light paths for the global pass instead (a progressive iteration's
+    /// budget); ≥ 1.
+    pub global_light_paths: Option<u64>,
+    /// The first light path of every photon pass: each stream's paths `first_path, first_path
+    /// + 1, …` are traced (0 for a one-shot render; an iteration's window for the progressive
+    /// methods, so iterations use disjoint, independent light paths).
+    pub first_path: u64,
+    /// A fixed gather radius (m) for the global map's estimate instead of its k-NN radius
+    /// (the progressive methods shrink it with the caustic bandwidth, so the global estimate
+    /// is consistent too).
+    pub global_bandwidth: Option<Bandwidth>,
     /// The photon-map radiance estimate (k, maximum radius, kernel, bias controls), used for
     /// both maps.
     pub estimate: EstimateOptions,
@@ -54,6 +66,8 @@ pub struct PhotonOptions {
     /// all of them. `None`: each path at a time uniform over the shutter (the continuous
     /// limit).
     pub in_between_frames: Option<u32>,
+    /// The progressive methods' iterations and schedule (`pppm`, `ppds`, `ppdm`).
+    pub progressive: super::ProgressiveSettings,
 }
 
 impl PhotonOptions {
@@ -102,6 +116,9 @@ impl Default for PhotonOptions {
             caustic_photons: 200_000,
             light_paths: None,
             global_photons: 100_000,
+            global_light_paths: None,
+            first_path: 0,
+            global_bandwidth: None,
             estimate: EstimateOptions::default(),
             global_k: None,
             final_gather: 16,
@@ -112,6 +129,7 @@ impl Default for PhotonOptions {
             auto: AutoBandwidth::default(),
             volume: VolumeSettings::default(),
             in_between_frames: None,
+            progressive: Default::default(),
         }
     }
 }
@@ -122,6 +140,14 @@ impl PhotonOptions {
         match self.light_paths {
             Some(n) => PhotonBudget::Paths(n),
             None => PhotonBudget::Records(self.caustic_photons),
+        }
+    }
+
+    /// How many light paths the global pass emits.
+    pub fn global_budget(&self) -> PhotonBudget {
+        match self.global_light_paths {
+            Some(n) => PhotonBudget::Paths(n),
+            None => PhotonBudget::Records(self.global_photons),
         }
     }
 

@@ -122,7 +122,12 @@ fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
         IntegratorKind::PhotonDifferentialMapping
         | IntegratorKind::PhotonDifferentialSplatting
         | IntegratorKind::VolumePhotonDifferentials => a.smoothing.then_some(Target::S),
-        IntegratorKind::Path | IntegratorKind::LightTrace => None,
+        // The progressive methods start from the given bandwidth and shrink it.
+        IntegratorKind::Path
+        | IntegratorKind::LightTrace
+        | IntegratorKind::ProgressivePhotonMapping
+        | IntegratorKind::ProgressiveSplatting
+        | IntegratorKind::ProgressiveDifferentialMapping => None,
     }
 }
 

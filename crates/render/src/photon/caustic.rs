@@ -165,7 +165,19 @@ thread_local! {
 
 /// The global map's radiance estimate (W/m²/sr) at `v` (its own k when `global_k` is set).
 pub fn global_radiance(map: &PhotonMap, v: &Vertex, opts: &PhotonOptions) -> Spectrum {
-    SCRATCH.with(|b| map.estimate(v, &opts.global_estimate(), &mut b.borrow_mut()))
+    let est = opts.global_estimate();
+    SCRATCH.with(|b| match opts.global_bandwidth {
+        Some(h) => map.estimate_with(
+            v,
+            &est,
+            &Estimator::Fixed {
+                h: h.get(),
+                kernel: est.kernel,
+            },
+            &mut b.borrow_mut(),
+        ),
+        None => map.estimate(v, &est, &mut b.borrow_mut()),
+    })
 }
 
 /// The caustic map's estimator `estimator` with the parameters of `opts`, with the data-driven

@@ -80,7 +80,7 @@ pub fn trace_photons(
     let (mut photons, paths, stats) = trace_budget(
         budget,
         &PathStream::new(opts, stream),
-        0,
+        opts.photons.first_path,
         progress,
         |_, sampler, out, st| {
             trace_one(

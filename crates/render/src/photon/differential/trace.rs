@@ -62,17 +62,23 @@ pub fn trace_photon_differentials(
     let stream = PathStream::new(opts, stream);
     // Two parameters (emission), or three with time (seed 003).
     let (photons, collapsed, failed, landings, paths, stats) = if tracer.is_temporal() {
-        let (landings, paths, stats) =
-            trace_budget(budget, &stream, 0, progress, |_, sm, out, st| {
-                tracer.trace::<TEMPORAL_PARAMS>(sm, &limits, out, st)
-            });
+        let (landings, paths, stats) = trace_budget(
+            budget,
+            &stream,
+            opts.photons.first_path,
+            progress,
+            |_, sm, out, st| tracer.trace::<TEMPORAL_PARAMS>(sm, &limits, out, st),
+        );
         let (p, c, f) = photons_from_landings(&landings, paths, tracer.align);
         (p, c, f, landings.len(), paths, stats)
     } else {
-        let (landings, paths, stats) =
-            trace_budget(budget, &stream, 0, progress, |_, sm, out, st| {
-                tracer.trace::<EMISSION_PARAMS>(sm, &limits, out, st)
-            });
+        let (landings, paths, stats) = trace_budget(
+            budget,
+            &stream,
+            opts.photons.first_path,
+            progress,
+            |_, sm, out, st| tracer.trace::<EMISSION_PARAMS>(sm, &limits, out, st),
+        );
         let (p, c, f) = photons_from_landings(&landings, paths, tracer.align);
         (p, c, f, landings.len(), paths, stats)
     };

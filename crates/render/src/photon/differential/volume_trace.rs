@@ -168,7 +168,7 @@ pub fn trace_volume_differentials(
     let (landings, paths, stats) = trace_budget(
         budget,
         &PathStream::new(opts, stream),
-        0,
+        opts.photons.first_path,
         progress,
         |_, sampler, out, st| {
             let mut v = VolumeDiffVisitor::<2> {

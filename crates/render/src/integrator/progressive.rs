@@ -1,0 +1,214 @@
+//! The progressive methods as rules over the one-shot ones: each iteration is an independent
+//! one-shot render (its own light paths and camera samples,
+//! [`ProgressiveSettings::iteration_options`]) at the iteration's bandwidth from the one
+//! schedule ([`BandwidthSchedule`], seed 001 eq. 3.27), and the image is the mean of the
+//! iterations ([`run_iterations`]). Only the current iteration's photons are alive.
+//!
+//! * `pppm` — probabilistic progressive photon mapping (Knaus and Zwicker 2011; seed 001's
+//!   "PPPM"): `pm` with a fixed-radius caustic estimate at the global radius
+//!   `r²_{i+1} = r²_i (i + α)/(i + 1)` (`V(r) ∝ r²`), and the global map's fixed radius shrunk
+//!   by the same rule, so direct light (NEE), caustics and the final gather's indirect light
+//!   all converge. No per-pixel state.
+//! * `ppds` — progressive photon differential splatting: `pds` whose smoothing shrinks by the
+//!   same rule applied to the footprint area, `s²_{i+1} = s²_i (i + α)/(i + 1)` (a footprint's
+//!   area is ∝ s², seed 002 eq. 4), each iteration a fresh batch of footprints splatted and
+//!   dropped. Sharp from the first iteration (footprints adapt to the photon density) and
+//!   consistent (the smoothing goes to 0 while the footprints' count grows).
+//! * `ppdm` — the same schedule over `pdm` (footprints gathered instead of splatted).
+//!
+//! Initial bandwidths: `pppm`'s radius is `--radius` or the median distance from a caustic
+//! photon of the first iteration to its k-th nearest neighbour (`--k`, a pilot over that
+//! iteration's own photons); the global map's, the same with `--global-k`; the footprints'
+//! smoothing is `--smoothing`.
+
+use super::IntegratorKind;
+use super::photon_mapping::{self, PhotonMaps};
+use super::photon_splatting;
+use crate::control::Stage;
+use crate::driver::iterations::run_iterations;
+use crate::error::OptionError;
+use crate::film::Film;
+use crate::filter::Filter;
+use crate::options::{Bandwidth, CausticEstimator, RenderOptions, Smoothing};
+use crate::stats::RenderStats;
+use caustica_density::estimator::median_knn_radius;
+use caustica_density::{BandwidthSchedule, KernelVolume};
+use caustica_scene::Scene;
+
+/// The one-shot method a progressive one iterates.
+pub fn one_shot(kind: IntegratorKind) -> Option<IntegratorKind> {
+    match kind {
+        IntegratorKind::ProgressivePhotonMapping => Some(IntegratorKind::PhotonMapping),
+        IntegratorKind::ProgressiveSplatting => Some(IntegratorKind::PhotonDifferentialSplatting),
+        IntegratorKind::ProgressiveDifferentialMapping => {
+            Some(IntegratorKind::PhotonDifferentialMapping)
+        }
+        _ => None,
+    }
+}
+
+/// The first iteration's bandwidths and their schedules.
+struct Schedules {
+    /// `pppm`'s caustic radius (m), or the footprints' smoothing s.
+    caustic: BandwidthSchedule,
+    /// The global map's radius (m), when there is a global map.
+    global: Option<BandwidthSchedule>,
+}
+
+impl Schedules {
+    fn new(
+        scene: &Scene,
+        kind: IntegratorKind,
+        opts: &RenderOptions,
+        notes: &mut Vec<String>,
+    ) -> Result<Self, OptionError> {
+        let p = &opts.photons;
+        let alpha = p.progressive.alpha;
+        let first = p.progressive.iteration_options(opts, 1);
+        // A pilot over the first iteration's own photons (the same paths it traces).
+        let wants_radius =
+            kind == IntegratorKind::ProgressivePhotonMapping && p.progressive.radius.is_none();
+        let wants_global = PhotonMaps::wants_global(&first);
+        let (mut r_caustic, mut r_global) = (None, None);
+        if wants_radius || wants_global {
+            let mut pilot = first.clone();
+            if !wants_radius {
+                pilot.photons.light_paths = Some(1);
+            }
+            if !wants_global {
+                pilot.photons.global_light_paths = None;
+                pilot.photons.global_photons = 0;
+            }
+            let maps = PhotonMaps::build(scene, &pilot);
+            let points =
+                |m: &crate::photon::map::PhotonMap, k| median_knn_radius(&m.points(&p.estimate), k);
+            if wants_radius
+                && let crate::photon::caustic::CausticEstimate::Density { map, .. } = &maps.caustic
+            {
+                r_caustic = points(map, p.estimate.k);
+            }
+            if wants_global {
+                r_global = points(&maps.global, p.global_estimate().k);
+            }
+        }
+        let fallback = || (scene.geometry.bounds().extent().length() * 1e-3).max(1e-6);
+        let caustic_h1 = match kind {
+            IntegratorKind::ProgressivePhotonMapping => match (p.progressive.radius, r_caustic) {
+                (Some(r), _) => r.get(),
+                (None, Some(r)) => r,
+                (None, None) => {
+                    notes.push(format!(
+                        "warning: no caustic photons in the first iteration to choose a radius from; using {:.4} m",
+                        fallback()
+                    ));
+                    fallback()
+                }
+            },
+            _ => p.footprints.smoothing.get(),
+        };
+        let schedule = |h1: f32| {
+            BandwidthSchedule::new(h1 as f64, alpha, KernelVolume::AREA).map_err(|e| {
+                OptionError::Invalid {
+                    what: "the progressive schedule",
+                    rule: "alpha in (0, 1] and a positive initial bandwidth",
+                    got: e.to_string(),
+                }
+            })
+        };
+        let global = if wants_global {
+            Some(schedule(r_global.unwrap_or_else(fallback))?)
+        } else {
+            None
+        };
+        Ok(Self {
+            caustic: schedule(caustic_h1)?,
+            global,
+        })
+    }
+
+    /// Iteration `i`'s options: `opts` over its window with its bandwidths.
+    fn options(&self, kind: IntegratorKind, opts: &RenderOptions, i: u64) -> RenderOptions {
+        let mut o = opts.photons.progressive.iteration_options(opts, i);
+        let h = self.caustic.bandwidth(i) as f32;
+        match kind {
+            IntegratorKind::ProgressivePhotonMapping => {
+                o.photons.caustic_estimator = Some(CausticEstimator::Fixed);
+                o.photons.bandwidth = Bandwidth::new(h).ok();
+            }
+            _ => {
+                if let Ok(s) = Smoothing::new(h) {
+                    o.photons.footprints.smoothing = s;
+                }
+            }
+        }
+        o.photons.global_bandwidth = self
+            .global
+            .as_ref()
+            .and_then(|g| Bandwidth::new(g.bandwidth(i) as f32).ok());
+        o
+    }
+}
+
+/// Renders with progressive method `kind` into `film`.
+pub(crate) fn render(
+    scene: &Scene,
+    kind: IntegratorKind,
+    opts: &RenderOptions,
+    stage: &Stage,
+    film: &mut Film,
+    filter: &Filter,
+    notes: &mut Vec<String>,
+) -> Result<RenderStats, OptionError> {
+    let p = &opts.photons.progressive;
+    let schedules = Schedules::new(scene, kind, opts, notes)?;
+    let max = p.max_iterations(opts);
+    let mut first_notes = Vec::new();
+    let run = run_iterations(film, stage, 1, max, |i, st, f| {
+        let o = schedules.options(kind, opts, i);
+        let mut n = Vec::new();
+        let stats = match kind {
+            IntegratorKind::ProgressiveSplatting => {
+                photon_splatting::render(scene, &o, st, f, filter, &mut n)
+            }
+            _ => {
+                let inner = one_shot(kind).unwrap_or(IntegratorKind::PhotonMapping);
+                photon_mapping::render(scene, &o, st, f, filter, &mut n, |pr| {
+                    PhotonMaps::for_integrator(scene, inner, &o, pr)
+                })
+            }
+        };
+        if i == 1 {
+            first_notes = n;
+        }
+        stats
+    });
+    notes.extend(first_notes.into_iter().map(|n| format!("iteration 1: {n}")));
+    let done = run.iterations.max(1);
+    let name = match kind {
+        IntegratorKind::ProgressivePhotonMapping => "radius",
+        _ => "smoothing s",
+    };
+    notes.push(format!(
+        "progressive: {} iterations of {} light paths per map, alpha {}; {name} {:.5} -> {:.5}{}{}{}",
+        run.iterations,
+        p.paths_per_iteration,
+        p.alpha,
+        schedules.caustic.bandwidth(1),
+        schedules.caustic.bandwidth(done),
+        schedules.global.as_ref().map_or(String::new(), |g| format!(
+            ", global radius {:.5} -> {:.5} m",
+            g.bandwidth(1),
+            g.bandwidth(done)
+        )),
+        match run.stopped {
+            Some(why) => format!(", stopped {why}"),
+            None => String::new(),
+        },
+        if run.dropped_partial {
+            " (the interrupted iteration dropped)"
+        } else {
+            ""
+        },
+    ));
+    Ok(run.stats)
+}
