@@ -5,6 +5,7 @@ use anyhow::{Context, Result, bail};
 use caustica_core::image_io::Image;
 use caustica_core::sampling::SamplerKind;
 use caustica_loader as loader;
+use caustica_render::driver::iteration_state::IterationState;
 use caustica_render::{
     Film, IntegratorKind, PathLimits, Progress, RenderControl, RenderOptions, render,
 };
@@ -111,9 +112,17 @@ pub struct RenderArgs {
     /// film.
     #[arg(long, value_name = "X,Y,W,H", allow_hyphen_values = true)]
     pub crop: Option<String>,
-    /// Write the image accumulated so far every S seconds.
+    /// Write the image accumulated so far every S seconds (the progressive methods also write
+    /// their state file then, see --resume).
     #[arg(long)]
     pub checkpoint: Option<f64>,
+    /// Continue a progressive render (pppm, ppds, ppdm) from its state file, which every such
+    /// render writes next to its image (OUTPUT.state: after the last complete iteration, at
+    /// Ctrl-C, and with --checkpoint periodically). Give the same scene and options, and the
+    /// total --iterations (or --time) wanted: the result has the bytes of an uninterrupted
+    /// render.
+    #[arg(long, value_name = "STATE")]
+    pub resume: Option<PathBuf>,
     /// Render the frames A to B of an animated scene (both included; integers, e.g. 0..24),
     /// the shutter opening at each (its length from --shutter or the scene). -o (and --png)
     /// must then hold a frame field, %d or %0Nd (out_%04d.exr), and an animated PNG preview
@@ -245,6 +254,7 @@ impl RenderSettings {
             caustics_only: self.caustics_only,
             volume_only: self.volume_only,
             crop: None,
+            resume: None,
         };
         let mut opts = opts;
         // The scene's [integrator] suggestions, where the command line is silent.
@@ -418,6 +428,13 @@ struct Outputs {
     exposure: f32,
 }
 
+/// The state file of a progressive render written to `image`: `image` + `.state`.
+fn state_path(image: &Path) -> PathBuf {
+    let mut s = image.as_os_str().to_owned();
+    s.push(".state");
+    PathBuf::from(s)
+}
+
 fn write_outputs(img: &Image, out: &Outputs) -> Result<()> {
     write_atomically(&out.image, |p| img.write(p))?;
     if let Some(png) = &out.png {
@@ -486,6 +503,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let sequence = args.frames.as_deref().map(parse_frames).transpose()?;
     if sequence.is_none() && (args.preview.is_some() || args.skip_existing) {
         bail!("--preview and --skip-existing go with --frames A..B");
+    }
+    if sequence.is_some() && args.resume.is_some() {
+        bail!(
+            "--resume continues one render, not a --frames sequence (each frame writes its own state file)"
+        );
     }
     static STOP: AtomicBool = AtomicBool::new(false);
     ctrlc::set_handler(|| {
@@ -672,6 +694,40 @@ fn render_one(
         .as_deref()
         .map(|c| caustica_render::CropWindow::parse(c, cam.width, cam.height))
         .transpose()?;
+    let fingerprint = kind
+        .is_progressive()
+        .then(|| caustica_render::driver::iteration_state::fingerprint(&scene, kind, &opts));
+    if let Some(path) = &args.resume {
+        let Some(fp) = &fingerprint else {
+            bail!(
+                "--resume continues a progressive render (--integrator pppm, ppds or ppdm), not {}",
+                kind.name()
+            );
+        };
+        let bytes = std::fs::read(path)
+            .map_err(|e| anyhow::anyhow!("cannot read the state file {}: {e}", path.display()))?;
+        let state = IterationState::decode(&bytes, fp)
+            .map_err(|e| anyhow::anyhow!("cannot resume from {}: {e}", path.display()))?;
+        if opts
+            .photons
+            .progressive
+            .iterations
+            .is_some_and(|n| n <= state.iterations)
+        {
+            bail!(
+                "cannot resume from {}: it already holds {} iterations; ask for more with --iterations",
+                path.display(),
+                state.iterations
+            );
+        }
+        eprintln!(
+            "resuming after iteration {} from {}",
+            state.iterations,
+            path.display()
+        );
+        opts.resume = Some(std::sync::Arc::new(state));
+    }
+    let state_path = fingerprint.as_ref().map(|_| state_path(&out.image));
     if kind.uses_photons() && !args.quiet {
         eprintln!(
             "memory: {}",
@@ -718,12 +774,43 @@ fn render_one(
             }
         }
     };
+    // The progressive methods' state file: with --checkpoint at its interval, and at the end.
+    let last_state = Mutex::new(Instant::now());
+    let write_state = |iterations: u64, film: &Film| {
+        if let (Some(fp), Some(path)) = (&fingerprint, &state_path) {
+            let bytes = IterationState::encode(fp, iterations, film);
+            if let Err(e) = write_atomically(path, |p| std::fs::write(p, &bytes)) {
+                bar.suspend(|| eprintln!("warning: state file not written: {e:#}"));
+            }
+        }
+    };
+    let on_iteration = |iterations: u64, film: &Film| {
+        let Some(iv) = opts.checkpoint_interval else {
+            return;
+        };
+        if let Ok(mut last) = last_state.lock()
+            && last.elapsed() >= iv
+        {
+            write_state(iterations, film);
+            *last = Instant::now();
+        }
+    };
     let ctl = RenderControl {
         stop,
         on_progress: &progress,
         on_checkpoint: &checkpoint,
+        on_iteration: &on_iteration,
     };
     let rendered = render(&scene, kind, &opts, &ctl)?;
+    if let (Some(n), Some(path)) = (rendered.iterations, &state_path)
+        && n > 0
+    {
+        write_state(n, &rendered.film);
+        eprintln!(
+            "state after iteration {n}: {} (continue with --resume)",
+            path.display()
+        );
+    }
     bar.finish_and_clear();
     for note in &rendered.notes {
         eprintln!("{note}");

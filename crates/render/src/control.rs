@@ -32,6 +32,9 @@ pub struct RenderControl<'a> {
     pub stop: &'a AtomicBool,
     pub on_progress: &'a (dyn Fn(Progress) + Sync),
     pub on_checkpoint: &'a (dyn Fn(&Film) + Sync),
+    /// After each complete iteration of a progressive render: the iterations pooled so far
+    /// and the pooled film (what a state file for `--resume` holds).
+    pub on_iteration: &'a (dyn Fn(u64, &Film) + Sync),
 }
 
 impl RenderControl<'_> {
@@ -42,6 +45,7 @@ impl RenderControl<'_> {
             stop: &NEVER,
             on_progress: &|_| {},
             on_checkpoint: &|_| {},
+            on_iteration: &|_, _| {},
         }
     }
 }

@@ -22,7 +22,7 @@ pub struct Film {
     pub height: usize,
     /// Where the image lies on the camera's film, and that film's size.
     window: CropWindow,
-    full: (usize, usize),
+    pub(crate) full: (usize, usize),
     /// Σ L per pixel (camera samples).
     pub(crate) sum: Vec<[f64; 3]>,
     /// Number of camera samples per pixel.

@@ -18,10 +18,15 @@ use crate::stats::RenderStats;
 #[derive(Debug, Default)]
 pub struct IterationsRun {
     pub stats: RenderStats,
-    /// Iterations pooled into the film.
+    /// Iterations pooled into the film by this run (after those it started from).
     pub iterations: u64,
+    /// The last iteration pooled (the count of the whole render, resumed ones included).
+    pub last: u64,
     /// An iteration was stopped (Ctrl-C) before it completed and dropped.
     pub dropped_partial: bool,
+    /// The first iteration was stopped before it completed and kept (the image is never
+    /// empty); it is not counted in `iterations`.
+    pub kept_partial: bool,
     /// Why the render ended before `max` iterations: "interrupted" or "out of time".
     pub stopped: Option<&'static str>,
 }
@@ -58,19 +63,28 @@ pub fn run_iterations(
             stop: stage.ctl.stop,
             on_progress: &forward,
             on_checkpoint: &|_| {},
+            on_iteration: &|_, _| {},
         };
         let clock = Clock::untimed();
         let mut f = Film::cropped(film.window(), w, h);
         let st = iteration(i, &clock.stage(&ctl), &mut f);
         run.stats += st;
-        if stage.interrupted() && run.iterations > 0 {
-            // A partial iteration would weigh its few samples like a whole one.
-            run.dropped_partial = true;
+        if stage.interrupted() {
             run.stopped = Some("interrupted");
+            if i > 1 {
+                // A partial iteration would weigh its few samples like a whole one.
+                run.dropped_partial = true;
+            } else {
+                // Nothing else to show: keep it, but not as a complete iteration.
+                film.merge(&f);
+                run.kept_partial = true;
+            }
             break;
         }
         film.merge(&f);
         run.iterations += 1;
+        run.last = i;
+        (stage.ctl.on_iteration)(i, film);
         i += 1;
         if stage.end_of_pass(film) {
             run.stopped = Some(if stage.interrupted() {

@@ -12,6 +12,7 @@
 //!   time (the progressive methods), with the time budget, Ctrl-C and checkpoints between them.
 
 pub mod eye_splat;
+pub mod iteration_state;
 pub mod iterations;
 pub mod light_paths;
 pub mod pixels;

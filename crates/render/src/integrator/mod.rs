@@ -322,6 +322,9 @@ pub struct RenderOutput {
     pub elapsed: Duration,
     /// Lines for the user: what a photon pass did, and warnings.
     pub notes: Vec<String>,
+    /// Complete iterations in the film (progressive methods; 0 when only an interrupted first
+    /// iteration is there).
+    pub iterations: Option<u64>,
 }
 
 /// Renders `scene` with integrator `kind`, after [`IntegratorKind::check`]ing the options.
@@ -361,11 +364,15 @@ pub fn render(
         } else {
             (opts, stage)
         };
+    let mut iterations = None;
     let stats: RenderStats = match kind {
         IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping => {
-            progressive::render(scene, kind, opts, &stage, &mut film, &filter, &mut notes)?
+            let (st, n) =
+                progressive::render(scene, kind, opts, &stage, &mut film, &filter, &mut notes)?;
+            iterations = Some(n);
+            st
         }
         IntegratorKind::Path => {
             let stage = stage.labelled("path tracing");
@@ -420,6 +427,7 @@ pub fn render(
         stats,
         elapsed: clock.elapsed(),
         notes,
+        iterations,
     })
 }
 

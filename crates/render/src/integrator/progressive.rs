@@ -25,6 +25,7 @@ use super::IntegratorKind;
 use super::photon_mapping::{self, PhotonMaps};
 use super::photon_splatting;
 use crate::control::Stage;
+use crate::driver::iteration_state::fingerprint;
 use crate::driver::iterations::run_iterations;
 use crate::error::OptionError;
 use crate::film::Film;
@@ -158,12 +159,32 @@ pub(crate) fn render(
     film: &mut Film,
     filter: &Filter,
     notes: &mut Vec<String>,
-) -> Result<RenderStats, OptionError> {
+) -> Result<(RenderStats, u64), OptionError> {
     let p = &opts.photons.progressive;
     let schedules = Schedules::new(scene, kind, opts, notes)?;
     let max = p.max_iterations(opts);
+    // Resuming: the pooled film of the iterations done, then on from the next one.
+    let first = match &opts.resume {
+        Some(state) => {
+            if state.fingerprint != fingerprint(scene, kind, opts) {
+                return Err(OptionError::Conflict(
+                    "the state to resume was written for another scene, integrator or options"
+                        .into(),
+                ));
+            }
+            if state.film.window() != film.window() || state.film.full != film.full {
+                return Err(OptionError::Conflict(
+                    "the state to resume holds another film size or crop window".into(),
+                ));
+            }
+            *film = state.film.clone();
+            notes.push(format!("resumed after iteration {}", state.iterations));
+            state.iterations + 1
+        }
+        None => 1,
+    };
     let mut first_notes = Vec::new();
-    let run = run_iterations(film, stage, 1, max, |i, st, f| {
+    let run = run_iterations(film, stage, first, max, |i, st, f| {
         let o = schedules.options(kind, opts, i);
         let mut n = Vec::new();
         let stats = match kind {
@@ -177,28 +198,37 @@ pub(crate) fn render(
                 })
             }
         };
-        if i == 1 {
+        if i == first {
             first_notes = n;
         }
         stats
     });
-    notes.extend(first_notes.into_iter().map(|n| format!("iteration 1: {n}")));
-    let done = run.iterations.max(1);
+    notes.extend(
+        first_notes
+            .into_iter()
+            .map(|n| format!("iteration {first}: {n}")),
+    );
+    let done = if run.iterations > 0 {
+        run.last
+    } else {
+        first - 1
+    };
+    // Complete iterations in the film (an interrupted first iteration kept alone is not one).
+    let complete = done;
     let name = match kind {
         IntegratorKind::ProgressivePhotonMapping => "radius",
         _ => "smoothing s",
     };
     notes.push(format!(
-        "progressive: {} iterations of {} light paths per map, alpha {}; {name} {:.5} -> {:.5}{}{}{}",
-        run.iterations,
+        "progressive: {done} iterations of {} light paths per map, alpha {:.4}; {name} {:.5} -> {:.5}{}{}{}",
         p.paths_per_iteration,
         p.alpha,
         schedules.caustic.bandwidth(1),
-        schedules.caustic.bandwidth(done),
+        schedules.caustic.bandwidth(done.max(1)),
         schedules.global.as_ref().map_or(String::new(), |g| format!(
             ", global radius {:.5} -> {:.5} m",
             g.bandwidth(1),
-            g.bandwidth(done)
+            g.bandwidth(done.max(1))
         )),
         match run.stopped {
             Some(why) => format!(", stopped {why}"),
@@ -206,9 +236,11 @@ pub(crate) fn render(
         },
         if run.dropped_partial {
             " (the interrupted iteration dropped)"
+        } else if run.kept_partial {
+            " (the interrupted first iteration kept, partly rendered)"
         } else {
             ""
         },
     ));
-    Ok(run.stats)
+    Ok((run.stats, complete))
 }

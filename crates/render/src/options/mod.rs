@@ -64,6 +64,9 @@ pub struct RenderOptions {
     /// The image is the window's size and each pixel equals the uncropped render's; the
     /// light-side work (light paths, photons) is that of the whole film.
     pub crop: Option<CropWindow>,
+    /// A progressive render to continue (`--resume`): its pooled film and iteration count;
+    /// the render goes on from the next iteration to the bytes an uninterrupted one gives.
+    pub resume: Option<std::sync::Arc<crate::driver::iteration_state::IterationState>>,
 }
 
 impl Default for RenderOptions {
@@ -81,6 +84,7 @@ impl Default for RenderOptions {
             caustics_only: false,
             volume_only: false,
             crop: None,
+            resume: None,
         }
     }
 }

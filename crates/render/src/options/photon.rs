@@ -24,9 +24,9 @@ pub struct PhotonOptions {
     /// A fixed number of light paths for the global pass instead (a progressive iteration's
     /// budget); ≥ 1.
     pub global_light_paths: Option<u64>,
-    /// The first light path of every photon pass: each stream's paths `first_path, first_path
-    /// + 1, …` are traced (0 for a one-shot render; an iteration's window for the progressive
-    /// methods, so iterations use disjoint, independent light paths).
+    /// The first light path of every photon pass: each stream's paths from `first_path` on are
+    /// traced (0 for a one-shot render; an iteration's window for the progressive methods, so
+    /// iterations use disjoint, independent light paths).
     pub first_path: u64,
     /// A fixed gather radius (m) for the global map's estimate instead of its k-NN radius
     /// (the progressive methods shrink it with the caustic bandwidth, so the global estimate
