@@ -216,7 +216,7 @@ impl RenderSettings {
         }
         if self.photon.progressive_given() && !kind.is_progressive() {
             bail!(
-                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds or ppdm), not {}",
+                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds, ppdm or sppm), not {}",
                 kind.name()
             );
         }
@@ -695,7 +695,7 @@ fn render_one(
         .map(|c| caustica_render::CropWindow::parse(c, cam.width, cam.height))
         .transpose()?;
     let fingerprint = kind
-        .is_progressive()
+        .resumable()
         .then(|| caustica_render::driver::iteration_state::fingerprint(&scene, kind, &opts));
     if let Some(path) = &args.resume {
         let Some(fp) = &fingerprint else {
@@ -831,7 +831,8 @@ fn render_one(
         }
         IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
-        | IntegratorKind::ProgressiveDifferentialMapping => format!(
+        | IntegratorKind::ProgressiveDifferentialMapping
+        | IntegratorKind::StochasticProgressivePhotonMapping => format!(
             "{} iterations, {:.1} spp",
             rendered
                 .film

@@ -131,6 +131,23 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         return m;
     }
     let mut m = MemoryEstimate::default();
+    if kind == IntegratorKind::StochasticProgressivePhotonMapping {
+        let pixels = opts.window(&scene.camera).map_or(
+            scene.camera.width as u64 * scene.camera.height as u64,
+            |w| w.pixels(),
+        );
+        let film = 2 * size_of::<[f64; 3]>() as u64 + 4;
+        // The pooled and the iteration's film, the visible points (records and tiles) with
+        // their accumulators, and the statistics (R², N, τ) of every pixel.
+        m.add("films", pixels, 2 * film);
+        m.add(
+            "visible points",
+            pixels.saturating_mul(opts.spp as u64),
+            2 * size_of::<EyeVertex>() as u64 + 32,
+        );
+        m.add("pixel statistics", pixels, 40);
+        return m;
+    }
     // The pixels rendered: the crop window's (an invalid window is refused before rendering).
     let pixels = opts.window(&scene.camera).map_or(
         scene.camera.width as u64 * scene.camera.height as u64,
@@ -206,6 +223,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         | IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping => {}
+        IntegratorKind::StochasticProgressivePhotonMapping => {}
     }
     if choice::chooses(kind, p) && !opts.volume_only {
         // The automatic bandwidth choice (freed before the photon pass; counted anyway, as an

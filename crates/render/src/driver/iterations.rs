@@ -14,6 +14,9 @@ use crate::control::{Clock, Progress, RenderControl, Stage};
 use crate::film::Film;
 use crate::stats::RenderStats;
 
+/// The image of a pooled film after iteration `i` (see [`run_iterations`]).
+pub type Present<'a> = dyn Fn(&Film, u64) -> Film + 'a;
+
 /// What the iterations did.
 #[derive(Debug, Default)]
 pub struct IterationsRun {
@@ -33,12 +36,15 @@ pub struct IterationsRun {
 
 /// Runs iterations `first, first + 1, …` (numbered from 1) up to `max` (or until the time
 /// budget or the stop flag ends them), `iteration(i, stage, film)` rendering iteration `i` into
-/// the empty film `film` under its own untimed stage; pools each into `film`.
+/// the empty film `film` under its own untimed stage; pools each into `film`. Checkpoints show
+/// the pooled film, or `present(film, i)` for a method whose image is more than the pool (SPPM's
+/// per-pixel photon statistics after iteration `i`).
 pub fn run_iterations(
     film: &mut Film,
     stage: &Stage,
     first: u64,
     max: Option<u64>,
+    present: Option<&Present<'_>>,
     mut iteration: impl FnMut(u64, &Stage, &mut Film) -> RenderStats,
 ) -> IterationsRun {
     let mut run = IterationsRun::default();
@@ -86,7 +92,11 @@ pub fn run_iterations(
         run.last = i;
         (stage.ctl.on_iteration)(i, film);
         i += 1;
-        if stage.end_of_pass(film) {
+        let stop = match present {
+            Some(show) => stage.end_of_pass_with(|| show(film, i)),
+            None => stage.end_of_pass(film),
+        };
+        if stop {
             run.stopped = Some(if stage.interrupted() {
                 "interrupted"
             } else {

@@ -5,6 +5,7 @@ pub mod path;
 pub mod photon_mapping;
 pub mod photon_splatting;
 pub mod progressive;
+pub mod sppm;
 
 use crate::control::{Clock, RenderControl};
 use crate::driver::light_paths::render_paths;
@@ -59,6 +60,9 @@ pub enum IntegratorKind {
     ProgressiveSplatting,
     /// Progressive photon differential mapping: the same schedule over `pdm`.
     ProgressiveDifferentialMapping,
+    /// Stochastic progressive photon mapping (Hachisuka and Jensen 2009): a new camera pass
+    /// per iteration, photons gathered at visible points with per-pixel statistics.
+    StochasticProgressivePhotonMapping,
 }
 
 impl IntegratorKind {
@@ -75,6 +79,7 @@ impl IntegratorKind {
         "pppm",
         "ppds",
         "ppdm",
+        "sppm",
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -90,6 +95,7 @@ impl IntegratorKind {
             IntegratorKind::ProgressivePhotonMapping => "pppm",
             IntegratorKind::ProgressiveSplatting => "ppds",
             IntegratorKind::ProgressiveDifferentialMapping => "ppdm",
+            IntegratorKind::StochasticProgressivePhotonMapping => "sppm",
         }
     }
 
@@ -107,11 +113,18 @@ impl IntegratorKind {
                 | IntegratorKind::ProgressivePhotonMapping
                 | IntegratorKind::ProgressiveSplatting
                 | IntegratorKind::ProgressiveDifferentialMapping
+                | IntegratorKind::StochasticProgressivePhotonMapping
         )
     }
 
-    /// True for the progressive methods (iterations of a one-shot photon method).
+    /// True for the progressive methods (iterations whose bandwidths shrink).
     pub fn is_progressive(self) -> bool {
+        progressive::one_shot(self).is_some()
+            || self == IntegratorKind::StochasticProgressivePhotonMapping
+    }
+
+    /// True for the progressive methods that can continue from a state file (`--resume`).
+    pub fn resumable(self) -> bool {
         progressive::one_shot(self).is_some()
     }
 
@@ -152,11 +165,14 @@ impl IntegratorKind {
             IntegratorKind::ProgressiveDifferentialMapping => {
                 "progressive photon differential mapping: pdm iterations at a shrinking smoothing"
             }
+            IntegratorKind::StochasticProgressivePhotonMapping => {
+                "stochastic progressive photon mapping: per-pixel radii, a camera pass per iteration (Hachisuka and Jensen 2009)"
+            }
         }
     }
 
     /// Every integrator, in the order of [`IntegratorKind::NAMES`].
-    pub const ALL: [IntegratorKind; 12] = [
+    pub const ALL: [IntegratorKind; 13] = [
         IntegratorKind::Path,
         IntegratorKind::LightTrace,
         IntegratorKind::PhotonMapping,
@@ -169,6 +185,7 @@ impl IntegratorKind {
         IntegratorKind::ProgressivePhotonMapping,
         IntegratorKind::ProgressiveSplatting,
         IntegratorKind::ProgressiveDifferentialMapping,
+        IntegratorKind::StochasticProgressivePhotonMapping,
     ];
 
     /// Checks that this integrator can render with `opts` (the values themselves are valid by
@@ -210,12 +227,15 @@ impl IntegratorKind {
                     e.name()
                 )))
             }
-            (IntegratorKind::ProgressivePhotonMapping, Some(e)) => {
-                Err(OptionError::Conflict(format!(
-                    "--integrator pppm uses a fixed radius that shrinks per iteration; --estimator {} is for --integrator pm",
-                    e.name()
-                )))
-            }
+            (
+                IntegratorKind::ProgressivePhotonMapping
+                | IntegratorKind::StochasticProgressivePhotonMapping,
+                Some(e),
+            ) => Err(OptionError::Conflict(format!(
+                "--integrator {} uses a radius that shrinks per iteration; --estimator {} is for --integrator pm",
+                self.name(),
+                e.name()
+            ))),
             (
                 IntegratorKind::PhotonDifferentialMapping
                 | IntegratorKind::PhotonDifferentialSplatting
@@ -307,6 +327,7 @@ impl std::str::FromStr for IntegratorKind {
             "pppm" => Ok(Self::ProgressivePhotonMapping),
             "ppds" => Ok(Self::ProgressiveSplatting),
             "ppdm" => Ok(Self::ProgressiveDifferentialMapping),
+            "sppm" => Ok(Self::StochasticProgressivePhotonMapping),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -371,6 +392,11 @@ pub fn render(
         | IntegratorKind::ProgressiveDifferentialMapping => {
             let (st, n) =
                 progressive::render(scene, kind, opts, &stage, &mut film, &filter, &mut notes)?;
+            iterations = Some(n);
+            st
+        }
+        IntegratorKind::StochasticProgressivePhotonMapping => {
+            let (st, n) = sppm::render(scene, opts, &stage, &mut film, &filter, &mut notes)?;
             iterations = Some(n);
             st
         }

@@ -38,6 +38,7 @@ use caustica_scene::Scene;
 
 /// The one-shot method a progressive one iterates.
 pub fn one_shot(kind: IntegratorKind) -> Option<IntegratorKind> {
+    // (SPPM is not iterations of a one-shot method: see `sppm.rs`.)
     match kind {
         IntegratorKind::ProgressivePhotonMapping => Some(IntegratorKind::PhotonMapping),
         IntegratorKind::ProgressiveSplatting => Some(IntegratorKind::PhotonDifferentialSplatting),
@@ -184,7 +185,7 @@ pub(crate) fn render(
         None => 1,
     };
     let mut first_notes = Vec::new();
-    let run = run_iterations(film, stage, first, max, |i, st, f| {
+    let run = run_iterations(film, stage, first, max, None, |i, st, f| {
         let o = schedules.options(kind, opts, i);
         let mut n = Vec::new();
         let stats = match kind {

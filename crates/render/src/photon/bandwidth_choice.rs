@@ -127,7 +127,8 @@ fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
         | IntegratorKind::LightTrace
         | IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
-        | IntegratorKind::ProgressiveDifferentialMapping => None,
+        | IntegratorKind::ProgressiveDifferentialMapping
+        | IntegratorKind::StochasticProgressivePhotonMapping => None,
     }
 }
 

@@ -153,7 +153,7 @@ pub(crate) fn shortfall(
 /// reached through delta vertices only (caustic map). A caustic map's path ends at its first
 /// non-delta bounce, after which no vertex can receive caustic light (L S+ D): the same photons,
 /// fewer rays.
-fn trace_one(
+pub(crate) fn trace_one(
     scene: &Scene,
     sampler: &mut Sampler,
     limits: &PathLimits,
