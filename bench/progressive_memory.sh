@@ -14,7 +14,7 @@ out=$(mktemp -d)
 common=(render water-wave --width 32 --height 32 --caustics-only --seed 1 -q)
 echo "| method | iterations | peak RSS (MB) | wall (s) | iterations/s |"
 echo "|---|---:|---:|---:|---:|"
-for kind in pppm ppds sppm; do
+for kind in pppm ppds sppm ppm; do
   for n in 10 100 1000 10000; do
     ((n > max)) && continue
     /usr/bin/time -f "%M %e" -o "$out/t" "$bin" "${common[@]}" --integrator "$kind" \

@@ -216,7 +216,7 @@ impl RenderSettings {
         }
         if self.photon.progressive_given() && !kind.is_progressive() {
             bail!(
-                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds, ppdm or sppm), not {}",
+                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds, ppdm, sppm or ppm), not {}",
                 kind.name()
             );
         }
@@ -832,12 +832,10 @@ fn render_one(
         IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping
-        | IntegratorKind::StochasticProgressivePhotonMapping => format!(
+        | IntegratorKind::StochasticProgressivePhotonMapping
+        | IntegratorKind::ProgressivePhotonMappingHitPoints => format!(
             "{} iterations, {:.1} spp",
-            rendered
-                .film
-                .mean_samples()
-                .div_euclid(opts.spp.max(1) as f64),
+            rendered.iterations.unwrap_or(0),
             rendered.film.mean_samples()
         ),
         IntegratorKind::LightTrace => format!("{} light paths", rendered.film.light_paths()),

@@ -131,7 +131,11 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         return m;
     }
     let mut m = MemoryEstimate::default();
-    if kind == IntegratorKind::StochasticProgressivePhotonMapping {
+    if matches!(
+        kind,
+        IntegratorKind::StochasticProgressivePhotonMapping
+            | IntegratorKind::ProgressivePhotonMappingHitPoints
+    ) {
         let pixels = opts.window(&scene.camera).map_or(
             scene.camera.width as u64 * scene.camera.height as u64,
             |w| w.pixels(),
@@ -223,7 +227,8 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         | IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping => {}
-        IntegratorKind::StochasticProgressivePhotonMapping => {}
+        IntegratorKind::StochasticProgressivePhotonMapping
+        | IntegratorKind::ProgressivePhotonMappingHitPoints => {}
     }
     if choice::chooses(kind, p) && !opts.volume_only {
         // The automatic bandwidth choice (freed before the photon pass; counted anyway, as an

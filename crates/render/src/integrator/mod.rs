@@ -63,6 +63,9 @@ pub enum IntegratorKind {
     /// Stochastic progressive photon mapping (Hachisuka and Jensen 2009): a new camera pass
     /// per iteration, photons gathered at visible points with per-pixel statistics.
     StochasticProgressivePhotonMapping,
+    /// Progressive photon mapping (Hachisuka et al. 2008): the hit points of one camera pass,
+    /// photons gathered there with per-hit-point statistics.
+    ProgressivePhotonMappingHitPoints,
 }
 
 impl IntegratorKind {
@@ -80,6 +83,7 @@ impl IntegratorKind {
         "ppds",
         "ppdm",
         "sppm",
+        "ppm",
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -96,6 +100,7 @@ impl IntegratorKind {
             IntegratorKind::ProgressiveSplatting => "ppds",
             IntegratorKind::ProgressiveDifferentialMapping => "ppdm",
             IntegratorKind::StochasticProgressivePhotonMapping => "sppm",
+            IntegratorKind::ProgressivePhotonMappingHitPoints => "ppm",
         }
     }
 
@@ -114,6 +119,7 @@ impl IntegratorKind {
                 | IntegratorKind::ProgressiveSplatting
                 | IntegratorKind::ProgressiveDifferentialMapping
                 | IntegratorKind::StochasticProgressivePhotonMapping
+                | IntegratorKind::ProgressivePhotonMappingHitPoints
         )
     }
 
@@ -121,6 +127,7 @@ impl IntegratorKind {
     pub fn is_progressive(self) -> bool {
         progressive::one_shot(self).is_some()
             || self == IntegratorKind::StochasticProgressivePhotonMapping
+            || self == IntegratorKind::ProgressivePhotonMappingHitPoints
     }
 
     /// True for the progressive methods that can continue from a state file (`--resume`).
@@ -168,11 +175,14 @@ impl IntegratorKind {
             IntegratorKind::StochasticProgressivePhotonMapping => {
                 "stochastic progressive photon mapping: per-pixel radii, a camera pass per iteration (Hachisuka and Jensen 2009)"
             }
+            IntegratorKind::ProgressivePhotonMappingHitPoints => {
+                "progressive photon mapping: fixed hit points with their own radii (Hachisuka et al. 2008)"
+            }
         }
     }
 
     /// Every integrator, in the order of [`IntegratorKind::NAMES`].
-    pub const ALL: [IntegratorKind; 13] = [
+    pub const ALL: [IntegratorKind; 14] = [
         IntegratorKind::Path,
         IntegratorKind::LightTrace,
         IntegratorKind::PhotonMapping,
@@ -186,6 +196,7 @@ impl IntegratorKind {
         IntegratorKind::ProgressiveSplatting,
         IntegratorKind::ProgressiveDifferentialMapping,
         IntegratorKind::StochasticProgressivePhotonMapping,
+        IntegratorKind::ProgressivePhotonMappingHitPoints,
     ];
 
     /// Checks that this integrator can render with `opts` (the values themselves are valid by
@@ -229,7 +240,8 @@ impl IntegratorKind {
             }
             (
                 IntegratorKind::ProgressivePhotonMapping
-                | IntegratorKind::StochasticProgressivePhotonMapping,
+                | IntegratorKind::StochasticProgressivePhotonMapping
+                | IntegratorKind::ProgressivePhotonMappingHitPoints,
                 Some(e),
             ) => Err(OptionError::Conflict(format!(
                 "--integrator {} uses a radius that shrinks per iteration; --estimator {} is for --integrator pm",
@@ -328,6 +340,7 @@ impl std::str::FromStr for IntegratorKind {
             "ppds" => Ok(Self::ProgressiveSplatting),
             "ppdm" => Ok(Self::ProgressiveDifferentialMapping),
             "sppm" => Ok(Self::StochasticProgressivePhotonMapping),
+            "ppm" => Ok(Self::ProgressivePhotonMappingHitPoints),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -395,8 +408,15 @@ pub fn render(
             iterations = Some(n);
             st
         }
-        IntegratorKind::StochasticProgressivePhotonMapping => {
-            let (st, n) = sppm::render(scene, opts, &stage, &mut film, &filter, &mut notes)?;
+        IntegratorKind::StochasticProgressivePhotonMapping
+        | IntegratorKind::ProgressivePhotonMappingHitPoints => {
+            let visible = if kind == IntegratorKind::StochasticProgressivePhotonMapping {
+                sppm::Visible::PerIteration
+            } else {
+                sppm::Visible::Fixed
+            };
+            let (st, n) =
+                sppm::render(scene, visible, opts, &stage, &mut film, &filter, &mut notes)?;
             iterations = Some(n);
             st
         }

@@ -65,6 +65,9 @@ struct SppmSplat<'a> {
     radius: &'a [f32],
     max_radius: f32,
     kind: MapKind,
+    /// Photons with fewer edges from the light are skipped (2: direct light is the camera
+    /// pass's; 1 for PPM, whose photons carry it).
+    min_depth: u16,
 }
 
 impl SplatRule for SppmSplat<'_> {
@@ -89,7 +92,11 @@ impl SplatRule for SppmSplat<'_> {
         });
         *stats += run.stats;
         let inv = 1.0 / self.paths.max(1) as f32;
-        let mut photons: Vec<Photon> = run.records.into_iter().filter(|p| p.depth >= 2).collect();
+        let mut photons: Vec<Photon> = run
+            .records
+            .into_iter()
+            .filter(|p| p.depth >= self.min_depth)
+            .collect();
         for p in &mut photons {
             p.flux *= inv;
         }
@@ -120,9 +127,22 @@ impl SplatRule for SppmSplat<'_> {
     }
 }
 
-/// Renders with SPPM into `film`; returns the statistics and the iterations done.
+/// Which of the two methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visible {
+    /// SPPM: new visible points every iteration, direct light by next-event estimation there.
+    PerIteration,
+    /// PPM (Hachisuka et al. 2008): the hit points of the first camera pass kept for the whole
+    /// render, one per pixel, every light (direct included) from the photons. (HOJ08 computes
+    /// direct light by ray tracing at the hit points; carrying it by photons needs no sampler
+    /// per hit point and converges to the same image.)
+    Fixed,
+}
+
+/// Renders with SPPM (or PPM) into `film`; returns the statistics and the iterations done.
 pub(crate) fn render(
     scene: &Scene,
+    visible: Visible,
     opts: &RenderOptions,
     stage: &Stage,
     film: &mut Film,
@@ -130,6 +150,14 @@ pub(crate) fn render(
     notes: &mut Vec<String>,
 ) -> Result<(RenderStats, u64), OptionError> {
     let p = &opts.photons.progressive;
+    let ppm = visible == Visible::Fixed;
+    if ppm && opts.spp != 1 {
+        return Err(OptionError::Conflict(format!(
+            "--integrator ppm keeps one hit point per pixel: give --spp 1 (got {}); for anti-aliasing use sppm",
+            opts.spp
+        )));
+    }
+    let min_depth = if ppm { 1 } else { 2 };
     if opts.resume.is_some() {
         return Err(OptionError::Conflict(
             "--integrator sppm cannot resume yet (its per-pixel statistics are not in the state file); pppm, ppds and ppdm can".into(),
@@ -158,7 +186,11 @@ pub(crate) fn render(
                     st,
                 )
             });
-            let photons: Vec<Photon> = run.records.into_iter().filter(|p| p.depth >= 2).collect();
+            let photons: Vec<Photon> = run
+                .records
+                .into_iter()
+                .filter(|p| p.depth >= min_depth)
+                .collect();
             let map = crate::photon::map::PhotonMap::new(photons, m);
             median_knn_radius(&map.points(&opts.photons.estimate), opts.photons.estimate.k)
                 .map(|r| r as f64)
@@ -194,6 +226,7 @@ pub(crate) fn render(
             }
         }
     };
+    let visible_points = RefCell::new(None);
     let present = |pooled: &Film, i: u64| {
         let mut f = pooled.clone();
         add_photons(&mut f, i);
@@ -208,62 +241,77 @@ pub(crate) fn render(
         |i, st, f| {
             let o = p.iteration_options(opts, i);
             // 1. Camera pass: emission and direct light into the film, visible points recorded.
-            let (eye, mut rs) = eye_pass(
-                f,
-                filter,
-                &o,
-                &st.part(0.0, 0.3).labelled("camera pass"),
-                |sampler, raster, pixel, out: &mut Vec<EyeVertex>, rst| {
-                    let u_lens = sampler.next_2d();
-                    let time = scene.sample_time(|| sampler.next_1d());
-                    let ray = cam.generate_ray(raster, u_lens).ray.at_time(time);
-                    let mut l = Spectrum::ZERO;
-                    walk_eye(
-                        scene,
-                        ray,
-                        scene.camera_medium,
-                        sampler,
-                        u32::MAX,
-                        rst,
-                        |event, sampler, rst| match event {
-                            EyeEvent::Escaped { ray, beta } => {
-                                if !o.caustics_only {
-                                    for &li in &scene.infinite_lights {
-                                        l +=
-                                            beta * scene.lights[li as usize].le(Vec3::ZERO, -ray.d);
-                                    }
-                                }
-                                Flow::Stop
-                            }
-                            EyeEvent::Medium { .. } => Flow::Continue,
-                            EyeEvent::Vertex {
-                                v,
-                                medium,
-                                wo,
-                                beta,
-                                depth,
-                            } => {
-                                if !o.caustics_only && v.si.light != NONE {
-                                    l += beta * scene.lights[v.si.light as usize].le(v.si.ng, wo);
-                                }
-                                if depth >= o.limits.max_depth {
-                                    return Flow::Stop;
-                                }
-                                if v.bsdf.flags().is_smooth() {
+            // (PPM: in the first iteration only.)
+            let mut rs = RenderStats::default();
+            let new_eye = (!ppm || i == 1).then(|| {
+                eye_pass(
+                    f,
+                    filter,
+                    &o,
+                    &st.part(0.0, 0.3).labelled("camera pass"),
+                    |sampler, raster, pixel, out: &mut Vec<EyeVertex>, rst| {
+                        let u_lens = sampler.next_2d();
+                        let time = scene.sample_time(|| sampler.next_1d());
+                        let ray = cam.generate_ray(raster, u_lens).ray.at_time(time);
+                        let mut l = Spectrum::ZERO;
+                        walk_eye(
+                            scene,
+                            ray,
+                            scene.camera_medium,
+                            sampler,
+                            u32::MAX,
+                            rst,
+                            |event, sampler, rst| match event {
+                                EyeEvent::Escaped { ray, beta } => {
                                     if !o.caustics_only {
-                                        l += beta
-                                            * sample_direct(scene, v, medium, sampler, rst, false);
+                                        for &li in &scene.infinite_lights {
+                                            l += beta
+                                                * scene.lights[li as usize].le(Vec3::ZERO, -ray.d);
+                                        }
                                     }
-                                    out.push(EyeVertex::new(v, beta, pixel));
-                                    return Flow::Stop;
+                                    Flow::Stop
                                 }
-                                Flow::Continue
-                            }
-                        },
-                    );
-                    l
-                },
-            );
+                                EyeEvent::Medium { .. } => Flow::Continue,
+                                EyeEvent::Vertex {
+                                    v,
+                                    medium,
+                                    wo,
+                                    beta,
+                                    depth,
+                                } => {
+                                    if !o.caustics_only && v.si.light != NONE {
+                                        l += beta
+                                            * scene.lights[v.si.light as usize].le(v.si.ng, wo);
+                                    }
+                                    if depth >= o.limits.max_depth {
+                                        return Flow::Stop;
+                                    }
+                                    if v.bsdf.flags().is_smooth() {
+                                        if !o.caustics_only && !ppm {
+                                            l += beta
+                                                * sample_direct(
+                                                    scene, v, medium, sampler, rst, false,
+                                                );
+                                        }
+                                        out.push(EyeVertex::new(v, beta, pixel));
+                                        return Flow::Stop;
+                                    }
+                                    Flow::Continue
+                                }
+                            },
+                        );
+                        l
+                    },
+                )
+            });
+            if let Some((eye, r)) = new_eye {
+                rs = r;
+                *visible_points.borrow_mut() = Some(eye);
+            }
+            let held = visible_points.borrow();
+            let Some(eye) = held.as_ref() else {
+                return rs;
+            };
             // 2. Photons splatted onto the visible points at each pixel's radius.
             let radius: Vec<f32> = stats.borrow().iter().map(|s| s.r2.sqrt() as f32).collect();
             let max_radius = radius.iter().copied().fold(0.0f32, f32::max);
@@ -276,8 +324,9 @@ pub(crate) fn render(
                 radius: &radius,
                 max_radius,
                 kind,
+                min_depth,
             };
-            let done = splat_batches(f, &eye, &rule, &st.part(0.3, 1.0).labelled("photons"));
+            let done = splat_batches(f, eye, &rule, &st.part(0.3, 1.0).labelled("photons"));
             rs.rays += done.stats.rays;
             if done.chunks_done < rule.chunks() {
                 // Stopped inside the photon pass: the driver drops (or, the first, keeps as partial)
@@ -314,7 +363,8 @@ pub(crate) fn render(
     let mut radii: Vec<f64> = r.iter().map(|s| s.r2.sqrt()).collect();
     radii.sort_by(f64::total_cmp);
     notes.push(format!(
-        "sppm: {} iterations of {m} light paths, alpha {:.4}; radius {r1:.5} -> median {:.5} m (min {:.5}, max {:.5}){}",
+        "{}: {} iterations of {m} light paths, alpha {:.4}; radius {r1:.5} -> median {:.5} m (min {:.5}, max {:.5}){}",
+        if ppm { "ppm" } else { "sppm" },
         run.last,
         alpha,
         radii.get(radii.len() / 2).copied().unwrap_or(0.0),

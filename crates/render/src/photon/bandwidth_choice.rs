@@ -128,7 +128,8 @@ fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
         | IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping
-        | IntegratorKind::StochasticProgressivePhotonMapping => None,
+        | IntegratorKind::StochasticProgressivePhotonMapping
+        | IntegratorKind::ProgressivePhotonMappingHitPoints => None,
     }
 }
 
