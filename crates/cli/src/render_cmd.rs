@@ -25,9 +25,10 @@ pub struct RenderSettings {
     /// Cornell box.
     pub scene: Option<String>,
     /// Integrator: path (path tracer with NEE and MIS), lighttrace (light tracer), pm (photon
-    /// mapping), dpm (diffusion-based photon mapping), pdm (photon differential mapping) or pds
-    /// (photon differential splatting). Default: the scene's suggestion (Mitsuba `ptracer` maps
-    /// to lighttrace), else path.
+    /// mapping), dpm (diffusion-based photon mapping), pdm (photon differential mapping), pds
+    /// (photon differential splatting), vpm, beam, vpd (media); progressive: pppm, ppds, ppdm
+    /// (iterations of pm, pds, pdm at a shrinking bandwidth), sppm, ppm. Default: the scene's
+    /// suggestion (Mitsuba `ptracer` maps to lighttrace), else path.
     #[arg(long)]
     pub integrator: Option<String>,
     /// Mitsuba scene parameter overriding a `<default>`: `-D name=value` (repeatable).
