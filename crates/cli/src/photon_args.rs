@@ -221,7 +221,7 @@ pub struct PhotonArgs {
         allow_negative_numbers = true,
         help_heading = "Progressive (pppm, ppds, ppdm)"
     )]
-    pub radius: Option<Bandwidth>,
+    pub radius: Option<caustica_render::Radius>,
     /// With --temporal: where the shutter lies around the instant photons are traced at:
     /// forward (seed 003 eq. 5: traced at the shutter's opening, footprints swept forward) or
     /// centred (traced at its middle, swept both ways; second-order accurate).

@@ -36,8 +36,8 @@ pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};
 pub use options::{
     AutoBandwidth, Bandwidth, CausticEstimator, DiffusionSettings, Diffusivity, FootprintSettings,
-    NoiseScale, NormalDistance, PhotonOptions, ProgressiveSettings, RenderOptions, ShutterAlign,
-    Smoothing, Steepness, SweepRule,
+    NoiseScale, NormalDistance, PhotonOptions, ProgressiveSettings, Radius, RenderOptions,
+    ShutterAlign, Smoothing, Steepness, SweepRule,
 };
 pub use photon::plan::PhotonBudget;
 pub use stats::RenderStats;

@@ -8,8 +8,8 @@
 use caustica_core::image_io::Image;
 use caustica_loader::builtin_scene;
 use caustica_render::{
-    Bandwidth, CausticEstimator, IntegratorKind, PathLimits, ProgressiveSettings, RenderControl,
-    RenderOptions, Smoothing, render,
+    Bandwidth, CausticEstimator, IntegratorKind, PathLimits, ProgressiveSettings, Radius,
+    RenderControl, RenderOptions, Smoothing, render,
 };
 use caustica_scene::Scene;
 use std::sync::atomic::AtomicBool;
@@ -46,7 +46,7 @@ fn progressive(mut o: RenderOptions, iterations: u64, alpha: f64, radius: f32) -
         iterations: Some(iterations),
         paths_per_iteration: PATHS,
         alpha,
-        radius: Some(Bandwidth::new(radius).unwrap()),
+        radius: Some(Radius::new(radius).unwrap()),
     };
     o
 }

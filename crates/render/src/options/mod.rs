@@ -10,7 +10,7 @@ pub use photon::{
     ShutterAlign, SweepRule,
 };
 pub use progressive::ProgressiveSettings;
-pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Smoothing, Steepness};
+pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Radius, Smoothing, Steepness};
 
 use crate::crop::CropWindow;
 use crate::error::OptionError;

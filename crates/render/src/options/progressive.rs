@@ -1,7 +1,7 @@
 //! Settings of the progressive methods (`pppm`, `ppds`, `ppdm`): how many iterations, the light
 //! paths of each, and the bandwidth schedule (seed 001 eq. 3.27).
 
-use super::{Bandwidth, RenderOptions};
+use super::{Radius, RenderOptions};
 use crate::error::OptionError;
 
 /// Iterations when neither `iterations` nor a time budget is given.
@@ -21,7 +21,7 @@ pub struct ProgressiveSettings {
     pub alpha: f64,
     /// The first iteration's gather radius (m) of `pppm` (`--radius`); `None`: the median
     /// distance from a caustic photon of the first iteration to its k-th nearest neighbour.
-    pub radius: Option<Bandwidth>,
+    pub radius: Option<Radius>,
 }
 
 impl Default for ProgressiveSettings {

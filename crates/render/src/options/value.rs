@@ -77,6 +77,14 @@ checked_f32!(
 );
 
 checked_f32!(
+    /// The first iteration's gather radius (m) of the progressive methods (`--radius`).
+    Radius,
+    "the first gather radius (--radius)",
+    "a positive finite length",
+    |v| v.is_finite() && v > 0.0
+);
+
+checked_f32!(
     /// The noise scale σ (m) of the diffusion estimator's gradient pre-pass (sec. 4.3.1).
     NoiseScale,
     "the noise scale (--noise-scale)",
