@@ -701,7 +701,7 @@ fn render_one(
     if let Some(path) = &args.resume {
         let Some(fp) = &fingerprint else {
             bail!(
-                "--resume continues a progressive render (--integrator pppm, ppds or ppdm), not {}",
+                "--resume continues a progressive render (--integrator pppm, ppds, ppdm, sppm or ppm), not {}",
                 kind.name()
             );
         };
@@ -777,22 +777,22 @@ fn render_one(
     };
     // The progressive methods' state file: with --checkpoint at its interval, and at the end.
     let last_state = Mutex::new(Instant::now());
-    let write_state = |iterations: u64, film: &Film| {
-        if let (Some(fp), Some(path)) = (&fingerprint, &state_path) {
-            let bytes = IterationState::encode(fp, iterations, film);
+    let write_state = |state: &IterationState| {
+        if let Some(path) = &state_path {
+            let bytes = state.to_bytes();
             if let Err(e) = write_atomically(path, |p| std::fs::write(p, &bytes)) {
                 bar.suspend(|| eprintln!("warning: state file not written: {e:#}"));
             }
         }
     };
-    let on_iteration = |iterations: u64, film: &Film| {
+    let on_iteration = |_: u64, state: &dyn Fn() -> IterationState| {
         let Some(iv) = opts.checkpoint_interval else {
             return;
         };
         if let Ok(mut last) = last_state.lock()
             && last.elapsed() >= iv
         {
-            write_state(iterations, film);
+            write_state(&state());
             *last = Instant::now();
         }
     };
@@ -803,12 +803,11 @@ fn render_one(
         on_iteration: &on_iteration,
     };
     let rendered = render(&scene, kind, &opts, &ctl)?;
-    if let (Some(n), Some(path)) = (rendered.iterations, &state_path)
-        && n > 0
-    {
-        write_state(n, &rendered.film);
+    if let (Some(state), Some(path)) = (&rendered.state, &state_path) {
+        write_state(state);
         eprintln!(
-            "state after iteration {n}: {} (continue with --resume)",
+            "state after iteration {}: {} (continue with --resume)",
+            state.iterations,
             path.display()
         );
     }

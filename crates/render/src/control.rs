@@ -7,6 +7,7 @@
 //! time, so that the pass must end by `hi · T` after the render started. The time budget is
 //! therefore one budget for the whole render, not one per pass.
 
+use crate::driver::iteration_state::IterationState;
 use crate::film::Film;
 use crate::options::RenderOptions;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -32,9 +33,10 @@ pub struct RenderControl<'a> {
     pub stop: &'a AtomicBool,
     pub on_progress: &'a (dyn Fn(Progress) + Sync),
     pub on_checkpoint: &'a (dyn Fn(&Film) + Sync),
-    /// After each complete iteration of a progressive render: the iterations pooled so far
-    /// and the pooled film (what a state file for `--resume` holds).
-    pub on_iteration: &'a (dyn Fn(u64, &Film) + Sync),
+    /// After each complete iteration of a progressive render: the iterations pooled so far,
+    /// and the render's state then (what a state file for `--resume` holds), made only when
+    /// asked for.
+    pub on_iteration: &'a (dyn Fn(u64, &dyn Fn() -> IterationState) + Sync),
 }
 
 impl RenderControl<'_> {

@@ -353,7 +353,8 @@ fn bad_values_are_refused_with_the_option_named() {
 
 /// A render stopped after iteration 2 (its state taken from `on_iteration`, through the state
 /// file's bytes) and resumed to 4 gives the bytes of the uninterrupted 4-iteration render, for
-/// each progressive method; a state for other options is refused.
+/// each progressive method (sppm and ppm with their per-pixel statistics; ppm making its hit
+/// points again); a state for other options is refused.
 #[test]
 fn a_resumed_render_has_the_bytes_of_an_uninterrupted_one() {
     use caustica_render::driver::iteration_state::{IterationState, fingerprint};
@@ -367,11 +368,13 @@ fn a_resumed_render_has_the_bytes_of_an_uninterrupted_one() {
         IntegratorKind::ProgressivePhotonMapping,
         IntegratorKind::ProgressiveSplatting,
         IntegratorKind::ProgressiveDifferentialMapping,
+        IntegratorKind::StochasticProgressivePhotonMapping,
+        IntegratorKind::ProgressivePhotonMappingHitPoints,
     ] {
         let fp = fingerprint(&s, kind, &o);
         let saved = Mutex::new(Vec::new());
-        let keep = |i: u64, f: &caustica_render::Film| {
-            *saved.lock().unwrap() = IterationState::encode(&fp, i, f);
+        let keep = |_: u64, state: &dyn Fn() -> IterationState| {
+            *saved.lock().unwrap() = state().to_bytes();
         };
         let ctl = RenderControl {
             on_iteration: &keep,

@@ -8,7 +8,9 @@
 //! Layout (little-endian): magic `CAUSTICA-STATE\n`, format version (u32), fingerprint (u64
 //! length + UTF-8), iterations (u64), window x, y, width, height and full-film width, height
 //! (u32 each), per pixel Σ L (3 × f64), sample count (u32) and splat sum (3 × f64), the splat
-//! path count (u64), then the FNV-1a 64 checksum of everything before it.
+//! path count (u64), the method's own statistics (u64 count + f64 each: SPPM's and PPM's R², N
+//! and τ per pixel; none for pppm, ppds, ppdm), then the FNV-1a 64 checksum of everything before
+//! it.
 
 use crate::crop::CropWindow;
 use crate::film::Film;
@@ -18,7 +20,7 @@ use caustica_scene::Scene;
 
 const MAGIC: &[u8] = b"CAUSTICA-STATE\n";
 /// Bumped whenever the layout or what an iteration computes changes.
-pub const STATE_VERSION: u32 = 1;
+pub const STATE_VERSION: u32 = 2;
 
 /// Why a state file cannot be resumed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -47,6 +49,8 @@ pub struct IterationState {
     /// Complete iterations pooled into `film`.
     pub iterations: u64,
     pub film: Film,
+    /// The method's statistics between iterations (SPPM and PPM: R², N, τ₀, τ₁, τ₂ per pixel).
+    pub extra: Vec<f64>,
 }
 
 impl std::fmt::Debug for IterationState {
@@ -92,6 +96,16 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 impl IterationState {
     /// The state file's bytes for `iterations` complete iterations pooled into `film`.
     pub fn encode(fingerprint: &str, iterations: u64, film: &Film) -> Vec<u8> {
+        Self::encode_with(fingerprint, iterations, film, &[])
+    }
+
+    /// This state's bytes.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        Self::encode_with(&self.fingerprint, self.iterations, &self.film, &self.extra)
+    }
+
+    /// [`IterationState::encode`] with the method's statistics `extra`.
+    pub fn encode_with(fingerprint: &str, iterations: u64, film: &Film, extra: &[f64]) -> Vec<u8> {
         let n = film.sum.len();
         let mut b = Vec::with_capacity(64 + fingerprint.len() + n * 52);
         b.extend_from_slice(MAGIC);
@@ -120,6 +134,10 @@ impl IterationState {
             }
         }
         b.extend_from_slice(&film.splat_paths.to_le_bytes());
+        b.extend_from_slice(&(extra.len() as u64).to_le_bytes());
+        for v in extra {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
         let sum = fnv1a(&b);
         b.extend_from_slice(&sum.to_le_bytes());
         b
@@ -177,6 +195,11 @@ impl IterationState {
             }
         }
         film.splat_paths = r.u64()?;
+        let n = r.u64()? as usize;
+        if n > body.len() / 8 {
+            return Err(StateError::Corrupted);
+        }
+        let extra = (0..n).map(|_| r.f64()).collect::<Result<Vec<f64>, _>>()?;
         if r.at != body.len() {
             return Err(StateError::Corrupted);
         }
@@ -184,6 +207,7 @@ impl IterationState {
             fingerprint: fp,
             iterations,
             film,
+            extra,
         })
     }
 }
@@ -294,6 +318,13 @@ mod tests {
         assert_eq!(s.film.count, f.count);
         assert_eq!(s.film.splat, f.splat);
         assert_eq!(s.film.splat_paths, 99);
+        assert!(s.extra.is_empty());
+        // With a method's statistics.
+        let extra = [0.25, 3.0, 1e-9, -0.0, f64::MAX];
+        let b = IterationState::encode_with("fp", 5, &f, &extra);
+        let s = IterationState::decode(&b, "fp").unwrap();
+        assert_eq!(s.extra, extra);
+        assert_eq!(s.to_bytes(), b);
     }
 
     #[test]

@@ -11,11 +11,15 @@
 //! of iterations, never on when they ran.
 
 use crate::control::{Clock, Progress, RenderControl, Stage};
+use crate::driver::iteration_state::IterationState;
 use crate::film::Film;
 use crate::stats::RenderStats;
 
 /// The image of a pooled film after iteration `i` (see [`run_iterations`]).
 pub type Present<'a> = dyn Fn(&Film, u64) -> Film + 'a;
+
+/// The state of a render whose pooled film is `film` after iteration `i`.
+pub type Snapshot<'a> = dyn Fn(&Film, u64) -> IterationState + 'a;
 
 /// What the iterations did.
 #[derive(Debug, Default)]
@@ -38,13 +42,15 @@ pub struct IterationsRun {
 /// budget or the stop flag ends them), `iteration(i, stage, film)` rendering iteration `i` into
 /// the empty film `film` under its own untimed stage; pools each into `film`. Checkpoints show
 /// the pooled film, or `present(film, i)` for a method whose image is more than the pool (SPPM's
-/// per-pixel photon statistics after iteration `i`).
+/// per-pixel photon statistics after iteration `i`); `snapshot(film, i)` is the render's state
+/// after iteration `i`, handed to [`crate::RenderControl::on_iteration`] (made only if asked).
 pub fn run_iterations(
     film: &mut Film,
     stage: &Stage,
     first: u64,
     max: Option<u64>,
     present: Option<&Present<'_>>,
+    snapshot: &Snapshot<'_>,
     mut iteration: impl FnMut(u64, &Stage, &mut Film) -> RenderStats,
 ) -> IterationsRun {
     let mut run = IterationsRun::default();
@@ -90,7 +96,8 @@ pub fn run_iterations(
         film.merge(&f);
         run.iterations += 1;
         run.last = i;
-        (stage.ctl.on_iteration)(i, film);
+        let pooled: &Film = film;
+        (stage.ctl.on_iteration)(i, &|| snapshot(pooled, i));
         i += 1;
         let stop = match present {
             Some(show) => stage.end_of_pass_with(|| show(film, i)),

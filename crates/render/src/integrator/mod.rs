@@ -132,7 +132,7 @@ impl IntegratorKind {
 
     /// True for the progressive methods that can continue from a state file (`--resume`).
     pub fn resumable(self) -> bool {
-        progressive::one_shot(self).is_some()
+        self.is_progressive()
     }
 
     /// A one-line description (for `--help` and `caustica` listings).
@@ -359,6 +359,8 @@ pub struct RenderOutput {
     /// Complete iterations in the film (progressive methods; 0 when only an interrupted first
     /// iteration is there).
     pub iterations: Option<u64>,
+    /// The progressive render's state after its last complete iteration (for `--resume`).
+    pub state: Option<crate::driver::iteration_state::IterationState>,
 }
 
 /// Renders `scene` with integrator `kind`, after [`IntegratorKind::check`]ing the options.
@@ -399,13 +401,15 @@ pub fn render(
             (opts, stage)
         };
     let mut iterations = None;
+    let mut state = None;
     let stats: RenderStats = match kind {
         IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping => {
-            let (st, n) =
+            let (st, s) =
                 progressive::render(scene, kind, opts, &stage, &mut film, &filter, &mut notes)?;
-            iterations = Some(n);
+            iterations = Some(s.as_ref().map_or(0, |s| s.iterations));
+            state = s;
             st
         }
         IntegratorKind::StochasticProgressivePhotonMapping
@@ -415,9 +419,10 @@ pub fn render(
             } else {
                 sppm::Visible::Fixed
             };
-            let (st, n) =
+            let (st, s) =
                 sppm::render(scene, visible, opts, &stage, &mut film, &filter, &mut notes)?;
-            iterations = Some(n);
+            iterations = Some(s.as_ref().map_or(0, |s| s.iterations));
+            state = s;
             st
         }
         IntegratorKind::Path => {
@@ -474,6 +479,7 @@ pub fn render(
         elapsed: clock.elapsed(),
         notes,
         iterations,
+        state,
     })
 }
 

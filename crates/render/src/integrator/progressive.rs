@@ -25,7 +25,7 @@ use super::IntegratorKind;
 use super::photon_mapping::{self, PhotonMaps};
 use super::photon_splatting;
 use crate::control::Stage;
-use crate::driver::iteration_state::fingerprint;
+use crate::driver::iteration_state::{IterationState, fingerprint};
 use crate::driver::iterations::run_iterations;
 use crate::error::OptionError;
 use crate::film::Film;
@@ -160,14 +160,14 @@ pub(crate) fn render(
     film: &mut Film,
     filter: &Filter,
     notes: &mut Vec<String>,
-) -> Result<(RenderStats, u64), OptionError> {
+) -> Result<(RenderStats, Option<IterationState>), OptionError> {
     let p = &opts.photons.progressive;
     let schedules = Schedules::new(scene, kind, opts, notes)?;
     let max = p.max_iterations(opts);
     // Resuming: the pooled film of the iterations done, then on from the next one.
     let first = match &opts.resume {
         Some(state) => {
-            if state.fingerprint != fingerprint(scene, kind, opts) {
+            if state.fingerprint != fingerprint(scene, kind, opts) || !state.extra.is_empty() {
                 return Err(OptionError::Conflict(
                     "the state to resume was written for another scene, integrator or options"
                         .into(),
@@ -185,7 +185,14 @@ pub(crate) fn render(
         None => 1,
     };
     let mut first_notes = Vec::new();
-    let run = run_iterations(film, stage, first, max, None, |i, st, f| {
+    let fp = fingerprint(scene, kind, opts);
+    let snapshot = |f: &Film, i: u64| IterationState {
+        fingerprint: fp.clone(),
+        iterations: i,
+        film: f.clone(),
+        extra: Vec::new(),
+    };
+    let run = run_iterations(film, stage, first, max, None, &snapshot, |i, st, f| {
         let o = schedules.options(kind, opts, i);
         let mut n = Vec::new();
         let stats = match kind {
@@ -243,5 +250,6 @@ pub(crate) fn render(
             ""
         },
     ));
-    Ok((run.stats, complete))
+    let state = (complete > 0).then(|| snapshot(film, complete));
+    Ok((run.stats, state))
 }

@@ -20,10 +20,12 @@
 
 use crate::control::Stage;
 use crate::driver::eye_splat::{SplatRule, eye_pass, splat_batches};
+use crate::driver::iteration_state::{IterationState, fingerprint};
 use crate::driver::iterations::run_iterations;
 use crate::error::OptionError;
 use crate::film::Film;
 use crate::filter::Filter;
+use crate::integrator::IntegratorKind;
 use crate::options::RenderOptions;
 use crate::photon::caustic::CAUSTIC_STREAM;
 use crate::photon::eye_map::EyeVertex;
@@ -42,6 +44,9 @@ use std::cell::RefCell;
 /// Random-number stream of SPPM's photons (the caustic stream: with `--caustics-only` the
 /// same light paths as the other caustic methods).
 const SPPM_STREAM: u64 = CAUSTIC_STREAM;
+
+/// f64 values per pixel in a state file: R², N, τ (3).
+const STATS_PER_PIXEL: usize = 5;
 
 /// The statistics of one pixel.
 #[derive(Clone, Copy, Debug)]
@@ -139,7 +144,8 @@ pub enum Visible {
     Fixed,
 }
 
-/// Renders with SPPM (or PPM) into `film`; returns the statistics and the iterations done.
+/// Renders with SPPM (or PPM) into `film`; returns the statistics and the state after the last
+/// complete iteration (none if there is none).
 pub(crate) fn render(
     scene: &Scene,
     visible: Visible,
@@ -148,7 +154,7 @@ pub(crate) fn render(
     film: &mut Film,
     filter: &Filter,
     notes: &mut Vec<String>,
-) -> Result<(RenderStats, u64), OptionError> {
+) -> Result<(RenderStats, Option<IterationState>), OptionError> {
     let p = &opts.photons.progressive;
     let ppm = visible == Visible::Fixed;
     if ppm && opts.spp != 1 {
@@ -158,11 +164,12 @@ pub(crate) fn render(
         )));
     }
     let min_depth = if ppm { 1 } else { 2 };
-    if opts.resume.is_some() {
-        return Err(OptionError::Conflict(
-            "--integrator sppm cannot resume yet (its per-pixel statistics are not in the state file); pppm, ppds and ppdm can".into(),
-        ));
-    }
+    let integrator = if ppm {
+        IntegratorKind::ProgressivePhotonMappingHitPoints
+    } else {
+        IntegratorKind::StochasticProgressivePhotonMapping
+    };
+    let fp = fingerprint(scene, integrator, opts);
     let kind = if opts.caustics_only {
         MapKind::Caustic
     } else {
@@ -226,28 +233,80 @@ pub(crate) fn render(
             }
         }
     };
+    // Resuming: the pooled film (emission and direct light) and the statistics.
+    let first = match &opts.resume {
+        Some(state) => {
+            if state.fingerprint != fp
+                || state.film.window() != film.window()
+                || state.extra.len() != pixels * STATS_PER_PIXEL
+            {
+                return Err(OptionError::Conflict(
+                    "the state to resume was written for another scene, integrator, film or options"
+                        .into(),
+                ));
+            }
+            *film = state.film.clone();
+            for (s, x) in stats
+                .borrow_mut()
+                .iter_mut()
+                .zip(state.extra.chunks_exact(STATS_PER_PIXEL))
+            {
+                *s = PixelStats {
+                    r2: x[0],
+                    n: x[1],
+                    tau: [x[2], x[3], x[4]],
+                };
+            }
+            notes.push(format!("resumed after iteration {}", state.iterations));
+            state.iterations + 1
+        }
+        None => 1,
+    };
     let visible_points = RefCell::new(None);
     let present = |pooled: &Film, i: u64| {
         let mut f = pooled.clone();
         add_photons(&mut f, i);
         f
     };
+    let snapshot = |pooled: &Film, i: u64| IterationState {
+        fingerprint: fp.clone(),
+        iterations: i,
+        film: pooled.clone(),
+        extra: stats
+            .borrow()
+            .iter()
+            .flat_map(|s| [s.r2, s.n, s.tau[0], s.tau[1], s.tau[2]])
+            .collect(),
+    };
     let run = run_iterations(
         film,
         stage,
-        1,
+        first,
         p.max_iterations(opts),
         Some(&present),
+        &snapshot,
         |i, st, f| {
             let o = p.iteration_options(opts, i);
             // 1. Camera pass: emission and direct light into the film, visible points recorded.
-            // (PPM: in the first iteration only.)
+            // (PPM: its first iteration's only; a resumed PPM render makes them again, into a
+            // film of its own, since the pooled film already holds their light.)
             let mut rs = RenderStats::default();
-            let new_eye = (!ppm || i == 1).then(|| {
+            let need = !ppm || visible_points.borrow().is_none();
+            let cam_opts = if ppm {
+                p.iteration_options(opts, 1)
+            } else {
+                o.clone()
+            };
+            let mut scratch = (ppm && i > 1).then(|| Film::cropped(f.window(), f.full.0, f.full.1));
+            let target: &mut Film = match scratch.as_mut() {
+                Some(s) => s,
+                None => f,
+            };
+            let new_eye = need.then(|| {
                 eye_pass(
-                    f,
+                    target,
                     filter,
-                    &o,
+                    &cam_opts,
                     &st.part(0.0, 0.3).labelled("camera pass"),
                     |sampler, raster, pixel, out: &mut Vec<EyeVertex>, rst| {
                         let u_lens = sampler.next_2d();
@@ -358,7 +417,9 @@ pub(crate) fn render(
             rs
         },
     );
-    add_photons(film, run.last);
+    let done = run.last.max(first - 1);
+    let state = (done > 0).then(|| snapshot(film, done));
+    add_photons(film, done);
     let r = stats.borrow();
     let mut radii: Vec<f64> = r.iter().map(|s| s.r2.sqrt()).collect();
     radii.sort_by(f64::total_cmp);
@@ -375,5 +436,5 @@ pub(crate) fn render(
             None => String::new(),
         }
     ));
-    Ok((run.stats, run.last))
+    Ok((run.stats, state))
 }
