@@ -394,6 +394,10 @@ fn a_resumed_render_has_the_bytes_of_an_uninterrupted_one() {
         let b = run(&s, kind, &four);
         assert!(total(&b) > 0.0);
         assert!(a.data == b.data, "{}: resumed differs", kind.name());
+        // A library caller resuming with other options is refused (not rendered wrongly).
+        let mut wrong = resumed.clone();
+        wrong.seed = 4;
+        assert!(render(&s, kind, &wrong, &RenderControl::silent()).is_err());
         // Another seed: the fingerprint names it.
         let other = RenderOptions { seed: 4, ..four };
         let e = IterationState::decode(&bytes, &fingerprint(&s, kind, &other)).unwrap_err();

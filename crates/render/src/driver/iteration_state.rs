@@ -94,9 +94,28 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 }
 
 impl IterationState {
-    /// The state file's bytes for `iterations` complete iterations pooled into `film`.
-    pub fn encode(fingerprint: &str, iterations: u64, film: &Film) -> Vec<u8> {
-        Self::encode_with(fingerprint, iterations, film, &[])
+    /// Restores this state into `film` for a render whose fingerprint is `fingerprint` and
+    /// whose method keeps `extra_len` statistics: checks that they match (the CLI checks the
+    /// file first and names what differs; this guards library callers), copies the pooled film
+    /// and returns the iteration to go on from.
+    pub fn restore_into(
+        &self,
+        film: &mut Film,
+        fingerprint: &str,
+        extra_len: usize,
+    ) -> Result<u64, crate::error::OptionError> {
+        if self.fingerprint != fingerprint
+            || self.film.window() != film.window()
+            || self.film.full != film.full
+            || self.extra.len() != extra_len
+        {
+            return Err(crate::error::OptionError::Conflict(
+                "the state to resume was written for another scene, integrator, film or options"
+                    .into(),
+            ));
+        }
+        *film = self.film.clone();
+        Ok(self.iterations + 1)
     }
 
     /// This state's bytes.
@@ -104,7 +123,8 @@ impl IterationState {
         Self::encode_with(&self.fingerprint, self.iterations, &self.film, &self.extra)
     }
 
-    /// [`IterationState::encode`] with the method's statistics `extra`.
+    /// The state file's bytes for `iterations` complete iterations pooled into `film`, with the
+    /// method's statistics `extra`.
     pub fn encode_with(fingerprint: &str, iterations: u64, film: &Film, extra: &[f64]) -> Vec<u8> {
         let n = film.sum.len();
         let mut b = Vec::with_capacity(64 + fingerprint.len() + n * 52);
@@ -309,7 +329,7 @@ mod tests {
     #[test]
     fn round_trip_is_exact() {
         let f = film();
-        let b = IterationState::encode("fp", 12, &f);
+        let b = IterationState::encode_with("fp", 12, &f, &[]);
         let s = IterationState::decode(&b, "fp").unwrap();
         assert_eq!(s.iterations, 12);
         assert_eq!(s.film.window(), f.window());
@@ -329,7 +349,7 @@ mod tests {
 
     #[test]
     fn damage_is_detected() {
-        let b = IterationState::encode("fp", 3, &film());
+        let b = IterationState::encode_with("fp", 3, &film(), &[]);
         // Truncated anywhere.
         for cut in [0, 5, MAGIC.len() + 2, b.len() / 2, b.len() - 1] {
             assert!(
@@ -361,7 +381,7 @@ mod tests {
     #[test]
     fn a_different_render_is_named() {
         let a = "caustica 0.1.0\nscene box 64x64 (3 shapes)\nintegrator pppm\noptions O { spp: 1, seed: 3, x: 1 }";
-        let b = IterationState::encode(a, 1, &film());
+        let b = IterationState::encode_with(a, 1, &film(), &[]);
         let other_seed = a.replace("seed: 3", "seed: 4");
         match IterationState::decode(&b, &other_seed).unwrap_err() {
             StateError::Differs { what, state, now } => {

@@ -167,20 +167,9 @@ pub(crate) fn render(
     // Resuming: the pooled film of the iterations done, then on from the next one.
     let first = match &opts.resume {
         Some(state) => {
-            if state.fingerprint != fingerprint(scene, kind, opts) || !state.extra.is_empty() {
-                return Err(OptionError::Conflict(
-                    "the state to resume was written for another scene, integrator or options"
-                        .into(),
-                ));
-            }
-            if state.film.window() != film.window() || state.film.full != film.full {
-                return Err(OptionError::Conflict(
-                    "the state to resume holds another film size or crop window".into(),
-                ));
-            }
-            *film = state.film.clone();
+            let next = state.restore_into(film, &fingerprint(scene, kind, opts), 0)?;
             notes.push(format!("resumed after iteration {}", state.iterations));
-            state.iterations + 1
+            next
         }
         None => 1,
     };

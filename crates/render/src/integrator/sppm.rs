@@ -236,16 +236,7 @@ pub(crate) fn render(
     // Resuming: the pooled film (emission and direct light) and the statistics.
     let first = match &opts.resume {
         Some(state) => {
-            if state.fingerprint != fp
-                || state.film.window() != film.window()
-                || state.extra.len() != pixels * STATS_PER_PIXEL
-            {
-                return Err(OptionError::Conflict(
-                    "the state to resume was written for another scene, integrator, film or options"
-                        .into(),
-                ));
-            }
-            *film = state.film.clone();
+            let next = state.restore_into(film, &fp, pixels * STATS_PER_PIXEL)?;
             for (s, x) in stats
                 .borrow_mut()
                 .iter_mut()
@@ -258,7 +249,7 @@ pub(crate) fn render(
                 };
             }
             notes.push(format!("resumed after iteration {}", state.iterations));
-            state.iterations + 1
+            next
         }
         None => 1,
     };
