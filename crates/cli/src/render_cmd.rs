@@ -124,6 +124,13 @@ pub struct RenderArgs {
     /// render.
     #[arg(long, value_name = "STATE")]
     pub resume: Option<PathBuf>,
+    /// Progressive methods: also write the image after each of these iterations (positive
+    /// integers, comma-separated, e.g. 1,10,100,1000) as OUTPUT with `-itN` before its
+    /// extension (out-it100.exr), and a table of when each was reached (iteration, seconds
+    /// since the render started, image) as OUTPUT.iterations.csv: one render gives a
+    /// convergence curve.
+    #[arg(long, value_name = "N1,N2,...", value_parser = parse_iteration_list)]
+    pub save_iterations: Option<IterationList>,
     /// Render the frames A to B of an animated scene (both included; integers, e.g. 0..24),
     /// the shutter opening at each (its length from --shutter or the scene). -o (and --png)
     /// must then hold a frame field, %d or %0Nd (out_%04d.exr), and an animated PNG preview
@@ -429,6 +436,36 @@ struct Outputs {
     exposure: f32,
 }
 
+/// The iterations of `--save-iterations`, ascending, without repeats.
+#[derive(Clone, Debug)]
+pub struct IterationList(Vec<u64>);
+
+fn parse_iteration_list(text: &str) -> Result<IterationList, String> {
+    let mut v = text
+        .split(',')
+        .map(|t| match t.trim().parse::<u64>() {
+            Ok(n) if n >= 1 => Ok(n),
+            _ => Err(format!(
+                "expected positive iteration counts separated by commas (e.g. 1,10,100), got {t:?}"
+            )),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    v.sort_unstable();
+    v.dedup();
+    Ok(IterationList(v))
+}
+
+/// The image `--save-iterations` writes after iteration `i`: `image` with `-it{i}` before its
+/// extension.
+fn iteration_path(image: &Path, i: u64) -> PathBuf {
+    let stem = image.file_stem().and_then(|s| s.to_str()).unwrap_or("out");
+    let name = match image.extension().and_then(|e| e.to_str()) {
+        Some(ext) => format!("{stem}-it{i}.{ext}"),
+        None => format!("{stem}-it{i}"),
+    };
+    image.with_file_name(name)
+}
+
 /// The state file of a progressive render written to `image`: `image` + `.state`.
 fn state_path(image: &Path) -> PathBuf {
     let mut s = image.as_os_str().to_owned();
@@ -728,6 +765,12 @@ fn render_one(
         );
         opts.resume = Some(std::sync::Arc::new(state));
     }
+    if args.save_iterations.is_some() && !kind.is_progressive() {
+        bail!(
+            "--save-iterations writes the images of a progressive render's iterations (--integrator pppm, ppds, ppdm, sppm or ppm), not of {}",
+            kind.name()
+        );
+    }
     let state_path = fingerprint.as_ref().map(|_| state_path(&out.image));
     if kind.uses_photons() && !args.quiet {
         eprintln!(
@@ -785,14 +828,42 @@ fn render_one(
             }
         }
     };
-    let on_iteration = |_: u64, state: &dyn Fn() -> IterationState| {
+    // --save-iterations: the image after each listed iteration, and when it was reached.
+    let saved = Mutex::new(String::from("iteration,seconds,image\n"));
+    let table = {
+        let mut s = out.image.as_os_str().to_owned();
+        s.push(".iterations.csv");
+        PathBuf::from(s)
+    };
+    let on_iteration = |done: &caustica_render::control::IterationDone| {
+        if let Some(list) = &args.save_iterations
+            && list.0.binary_search(&done.iteration).is_ok()
+        {
+            let secs = started.elapsed().as_secs_f64();
+            let path = iteration_path(&out.image, done.iteration);
+            let written =
+                write_atomically(&path, |p| done.image().to_image().write(p)).and_then(|()| {
+                    let mut t = saved
+                        .lock()
+                        .map_err(|_| anyhow::anyhow!("the iteration table is poisoned"))?;
+                    t.push_str(&format!(
+                        "{},{secs:.4},{}\n",
+                        done.iteration,
+                        path.display()
+                    ));
+                    write_atomically(&table, |p| std::fs::write(p, t.as_bytes()))
+                });
+            if let Err(e) = written {
+                bar.suspend(|| eprintln!("warning: --save-iterations: {e:#}"));
+            }
+        }
         let Some(iv) = opts.checkpoint_interval else {
             return;
         };
         if let Ok(mut last) = last_state.lock()
             && last.elapsed() >= iv
         {
-            write_state(&state());
+            write_state(&done.state());
             *last = Instant::now();
         }
     };

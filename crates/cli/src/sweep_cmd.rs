@@ -341,7 +341,7 @@ pub fn run(args: SweepArgs) -> Result<()> {
             stop: &NEVER,
             on_progress: &progress,
             on_checkpoint: &|_: &Film| {},
-            on_iteration: &|_, _| {},
+            on_iteration: &|_| {},
         };
         let start = Instant::now();
         let out = render(&scene, r.kind, &r.opts, &ctl)?;

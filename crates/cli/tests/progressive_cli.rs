@@ -117,3 +117,45 @@ fn bad_state_files_and_options_are_refused_and_nothing_is_overwritten() {
         "the image was overwritten"
     );
 }
+
+/// `--save-iterations 1,3` writes the images after iterations 1 and 3 with the bytes of
+/// 1- and 3-iteration renders, and a table of when each was reached; refused for a one-shot
+/// method and for a bad list.
+#[test]
+fn save_iterations_writes_the_images_of_shorter_renders() {
+    let (all, one, three) = (tmp("all.exr"), tmp("one.exr"), tmp("three.exr"));
+    let a = all.to_str().unwrap();
+    let o = caustica(&args(a, "4", &["--save-iterations", "3,1"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    for (n, path) in [("1", &one), ("3", &three)] {
+        let o = caustica(&args(path.to_str().unwrap(), n, &[]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        let saved = tmp(&format!("all-it{n}.exr"));
+        assert_eq!(
+            std::fs::read(&saved).unwrap(),
+            std::fs::read(path).unwrap(),
+            "iteration {n}"
+        );
+    }
+    let table = std::fs::read_to_string(format!("{a}.iterations.csv")).unwrap();
+    let rows: Vec<&str> = table.lines().collect();
+    assert_eq!(rows[0], "iteration,seconds,image");
+    assert_eq!(rows.len(), 3, "{table}");
+    assert!(
+        rows[1].starts_with("1,") && rows[2].starts_with("3,"),
+        "{table}"
+    );
+    let secs = |r: &str| r.split(',').nth(1).unwrap().parse::<f64>().unwrap();
+    assert!(secs(rows[1]) <= secs(rows[2]), "{table}");
+    let bad = tmp("bad.exr");
+    let b = bad.to_str().unwrap();
+    let o = caustica(&args(b, "2", &["--save-iterations", "1,x"]));
+    assert_clean_failure(&o, &["--save-iterations", "positive iteration counts"]);
+    assert!(!bad.exists());
+    let mut pm = args(b, "2", &["--save-iterations", "1"]);
+    pm[3] = "pm";
+    pm.retain(|a| !["--iterations", "2", "--photons-per-iteration", "5000"].contains(a));
+    let o = caustica(&pm);
+    assert_clean_failure(&o, &["--save-iterations", "not of pm"]);
+    assert!(!bad.exists());
+}

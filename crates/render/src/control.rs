@@ -33,10 +33,41 @@ pub struct RenderControl<'a> {
     pub stop: &'a AtomicBool,
     pub on_progress: &'a (dyn Fn(Progress) + Sync),
     pub on_checkpoint: &'a (dyn Fn(&Film) + Sync),
-    /// After each complete iteration of a progressive render: the iterations pooled so far,
-    /// and the render's state then (what a state file for `--resume` holds), made only when
-    /// asked for.
-    pub on_iteration: &'a (dyn Fn(u64, &dyn Fn() -> IterationState) + Sync),
+    /// After each complete iteration of a progressive render (see [`IterationDone`]).
+    pub on_iteration: &'a (dyn Fn(&IterationDone) + Sync),
+}
+
+/// What a progressive render hands its caller after each complete iteration: the iterations
+/// pooled so far, and on request the render's state (what a state file for `--resume` holds)
+/// and the image so far (the pooled film, or for SPPM and PPM the pool with the per-pixel
+/// photon statistics added). Both are made only when asked for.
+pub struct IterationDone<'a> {
+    /// Complete iterations pooled, resumed ones included.
+    pub iteration: u64,
+    state: &'a dyn Fn() -> IterationState,
+    image: &'a dyn Fn() -> Film,
+}
+
+impl<'a> IterationDone<'a> {
+    pub fn new(
+        iteration: u64,
+        state: &'a dyn Fn() -> IterationState,
+        image: &'a dyn Fn() -> Film,
+    ) -> Self {
+        Self {
+            iteration,
+            state,
+            image,
+        }
+    }
+    /// The render's state after this iteration.
+    pub fn state(&self) -> IterationState {
+        (self.state)()
+    }
+    /// The image after this iteration (radiance, W/m²/sr, as the render's final film).
+    pub fn image(&self) -> Film {
+        (self.image)()
+    }
 }
 
 impl RenderControl<'_> {
@@ -47,7 +78,7 @@ impl RenderControl<'_> {
             stop: &NEVER,
             on_progress: &|_| {},
             on_checkpoint: &|_| {},
-            on_iteration: &|_, _| {},
+            on_iteration: &|_| {},
         }
     }
 }

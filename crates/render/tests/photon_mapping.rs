@@ -345,7 +345,7 @@ fn the_photon_pass_moves_the_progress_bar_of_pm_dpm_and_pdm() {
             stop: &stop,
             on_progress: &record,
             on_checkpoint: &|_| {},
-            on_iteration: &|_, _| {},
+            on_iteration: &|_| {},
         };
         let opts = RenderOptions {
             spp: 1,

@@ -357,6 +357,7 @@ fn bad_values_are_refused_with_the_option_named() {
 /// points again); a state for other options is refused.
 #[test]
 fn a_resumed_render_has_the_bytes_of_an_uninterrupted_one() {
+    use caustica_render::control::IterationDone;
     use caustica_render::driver::iteration_state::{IterationState, fingerprint};
     use std::sync::{Arc, Mutex};
     let s = scene("caustic-box", 20);
@@ -373,8 +374,8 @@ fn a_resumed_render_has_the_bytes_of_an_uninterrupted_one() {
     ] {
         let fp = fingerprint(&s, kind, &o);
         let saved = Mutex::new(Vec::new());
-        let keep = |_: u64, state: &dyn Fn() -> IterationState| {
-            *saved.lock().unwrap() = state().to_bytes();
+        let keep = |done: &IterationDone| {
+            *saved.lock().unwrap() = done.state().to_bytes();
         };
         let ctl = RenderControl {
             on_iteration: &keep,
@@ -591,4 +592,61 @@ fn ppm_agrees_with_the_path_tracer_and_sppm() {
     let ratio = total(&at(IntegratorKind::ProgressivePhotonMappingHitPoints, 64))
         / total(&at(IntegratorKind::StochasticProgressivePhotonMapping, 64));
     assert!((ratio - 1.0).abs() < 0.03, "ppm / sppm energy {ratio}");
+}
+
+/// The image a progressive render hands out after iteration k (`IterationDone::image`, what
+/// `--save-iterations` writes) and its checkpoint image then are the final image of a k-iteration
+/// render, for each method (SPPM and PPM add their per-pixel statistics, normalised by k).
+#[test]
+fn the_image_after_iteration_k_is_the_k_iteration_render() {
+    use caustica_render::control::IterationDone;
+    use std::sync::Mutex;
+    let s = scene("caustic-box", 16);
+    let mut o = progressive(caustics(1), 3, 2.0 / 3.0, 0.05);
+    o.caustics_only = false;
+    o.photons.final_gather = 1;
+    for kind in [
+        IntegratorKind::ProgressivePhotonMapping,
+        IntegratorKind::ProgressiveSplatting,
+        IntegratorKind::StochasticProgressivePhotonMapping,
+        IntegratorKind::ProgressivePhotonMappingHitPoints,
+    ] {
+        let images = Mutex::new(Vec::new());
+        let keep = |done: &IterationDone| {
+            images
+                .lock()
+                .unwrap()
+                .push((done.iteration, done.image().to_image()));
+        };
+        let checkpoints = Mutex::new(Vec::new());
+        let checkpoint = |f: &caustica_render::Film| checkpoints.lock().unwrap().push(f.to_image());
+        let ctl = RenderControl {
+            on_iteration: &keep,
+            on_checkpoint: &checkpoint,
+            ..RenderControl::silent()
+        };
+        let mut every = o.clone();
+        every.checkpoint_interval = Some(Duration::ZERO);
+        render(&s, kind, &every, &ctl).unwrap();
+        let images = images.into_inner().unwrap();
+        assert_eq!(
+            images.iter().map(|(i, _)| *i).collect::<Vec<_>>(),
+            [1, 2, 3]
+        );
+        let checkpoints = checkpoints.into_inner().unwrap();
+        assert!(checkpoints.len() >= 2, "{}: no checkpoints", kind.name());
+        for (k, img) in &images[..2] {
+            let mut ok = o.clone();
+            ok.photons.progressive.iterations = Some(*k);
+            let want = run(&s, kind, &ok);
+            assert!(total(&want) > 0.0);
+            assert!(img.data == want.data, "{}: image after {k}", kind.name());
+            // The checkpoint after iteration k (written before iteration k + 1 starts).
+            assert!(
+                checkpoints[*k as usize - 1].data == want.data,
+                "{}: checkpoint after {k}",
+                kind.name()
+            );
+        }
+    }
 }

@@ -10,7 +10,7 @@
 //! function of its options whatever the machine does: the render's bytes depend on the number
 //! of iterations, never on when they ran.
 
-use crate::control::{Clock, Progress, RenderControl, Stage};
+use crate::control::{Clock, IterationDone, Progress, RenderControl, Stage};
 use crate::driver::iteration_state::IterationState;
 use crate::film::Film;
 use crate::stats::RenderStats;
@@ -43,7 +43,8 @@ pub struct IterationsRun {
 /// the empty film `film` under its own untimed stage; pools each into `film`. Checkpoints show
 /// the pooled film, or `present(film, i)` for a method whose image is more than the pool (SPPM's
 /// per-pixel photon statistics after iteration `i`); `snapshot(film, i)` is the render's state
-/// after iteration `i`, handed to [`crate::RenderControl::on_iteration`] (made only if asked).
+/// after iteration `i`; both are handed to [`crate::RenderControl::on_iteration`] (made only
+/// if asked).
 pub fn run_iterations(
     film: &mut Film,
     stage: &Stage,
@@ -75,7 +76,7 @@ pub fn run_iterations(
             stop: stage.ctl.stop,
             on_progress: &forward,
             on_checkpoint: &|_| {},
-            on_iteration: &|_, _| {},
+            on_iteration: &|_| {},
         };
         let clock = Clock::untimed();
         let mut f = Film::cropped(film.window(), w, h);
@@ -97,10 +98,16 @@ pub fn run_iterations(
         run.iterations += 1;
         run.last = i;
         let pooled: &Film = film;
-        (stage.ctl.on_iteration)(i, &|| snapshot(pooled, i));
+        let image = || match present {
+            Some(show) => show(pooled, i),
+            None => pooled.clone(),
+        };
+        (stage.ctl.on_iteration)(&IterationDone::new(i, &|| snapshot(pooled, i), &image));
+        // (The image after iteration `i`: `present` takes the count of iterations pooled.)
+        let done = i;
         i += 1;
         let stop = match present {
-            Some(show) => stage.end_of_pass_with(|| show(film, i)),
+            Some(show) => stage.end_of_pass_with(|| show(film, done)),
             None => stage.end_of_pass(film),
         };
         if stop {
