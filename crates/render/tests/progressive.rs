@@ -650,3 +650,43 @@ fn the_image_after_iteration_k_is_the_k_iteration_render() {
         }
     }
 }
+
+/// With `--caustics-only` SPPM and PPM estimate L S+ D E only, as pm and the light tracer: a
+/// pixel whose every camera ray first meets glass (the sphere's middle) stays black, though the
+/// caustic is seen through the glass; the caustic itself is rendered.
+#[test]
+fn caustics_only_sppm_does_not_look_through_glass() {
+    use caustica_core::Vec2;
+    let s = scene("glass-sphere", 24);
+    let cam = &s.camera;
+    // Pixels whose 4x4 rays all hit a purely delta surface first.
+    let delta_px: Vec<usize> = (0..24 * 24)
+        .filter(|&i| {
+            (0..16).all(|k| {
+                let raster = Vec2::new(
+                    (i % 24) as f32 + (k % 4) as f32 / 3.0,
+                    (i / 24) as f32 + (k / 4) as f32 / 3.0,
+                );
+                let ray = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
+                s.intersect(&ray).is_some_and(|si| {
+                    !s.materials[si.material as usize]
+                        .bsdf(&si)
+                        .flags()
+                        .is_smooth()
+                })
+            })
+        })
+        .collect();
+    assert!(delta_px.len() >= 4, "{} glass pixels", delta_px.len());
+    let o = progressive(caustics(1), 4, 2.0 / 3.0, 0.05);
+    for kind in [
+        IntegratorKind::StochasticProgressivePhotonMapping,
+        IntegratorKind::ProgressivePhotonMappingHitPoints,
+    ] {
+        let img = run(&s, kind, &o);
+        assert!(total(&img) > 0.0, "{}: no caustic", kind.name());
+        for &i in &delta_px {
+            assert_eq!(img.data[i], [0.0; 3], "{}: pixel {i}", kind.name());
+        }
+    }
+}

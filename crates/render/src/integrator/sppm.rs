@@ -336,7 +336,13 @@ pub(crate) fn render(
                                     if depth >= o.limits.max_depth {
                                         return Flow::Stop;
                                     }
-                                    if v.bsdf.flags().is_smooth() {
+                                    let smooth = v.bsdf.flags().is_smooth();
+                                    if o.caustics_only && !smooth {
+                                        // L S+ D E only (as pm and the light tracer): a
+                                        // caustic seen through glass or in a mirror is not one.
+                                        return Flow::Stop;
+                                    }
+                                    if smooth {
                                         if !o.caustics_only && !ppm {
                                             l += beta
                                                 * sample_direct(

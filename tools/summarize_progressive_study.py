@@ -1,0 +1,303 @@
+#!/usr/bin/env python3
+"""Summarises bench/progressive_study.sh (issue 20, item 9): the convergence of pppm, ppds, sppm
+and ppm against time, the alpha sweep, and equal time against the one-shot methods.
+
+usage: summarize_progressive_study.py WORK_DIR OUT_DIR
+Reads WORK_DIR/study.csv (scene,method,alpha,bandwidth,iteration,seconds,rmse), the references'
+noise, the one-shot sweeps and the renders' summaries; writes OUT_DIR/study.md (tables),
+OUT_DIR/study-summary.csv and OUT_DIR/convergence-SCENE.svg, alpha-SCENE.svg.
+
+Slopes are least-squares fits of log RMSE against log time over the last decade of time (the
+points with t >= t_max / 10); "corrected" subtracts the reference's own noise in quadrature,
+sqrt(RMSE^2 - sigma_ref^2), sigma_ref = RMSE(check, ref) / sqrt(5) (the check render has a
+quarter of the reference's samples, so its error has 4x the reference's variance).
+Theory (Knaus and Zwicker 2011, in time proportional to iterations N): variance ~ N^-alpha,
+squared bias ~ r^4 ~ N^-2(1-alpha), so RMSE ~ N^-min(alpha, 2(1-alpha))/2: -1/3 at alpha = 2/3.
+"""
+import csv
+import html
+import math
+import os
+import re
+import sys
+
+work, out = sys.argv[1:3]
+os.makedirs(out, exist_ok=True)
+SCENES = ["glass-sphere", "water-wave", "metal-ring", "cornell-box"]
+METHODS = ["pppm", "ppds", "sppm", "ppm"]
+COLOURS = {"pppm": "#1f5fd6", "ppds": "#d62728", "sppm": "#2ca02c", "ppm": "#9467bd",
+           "pm": "#555555", "pds": "#ff7f0e"}
+MAIN = "0.6667"
+budget = float(open(os.path.join(work, "budget.txt")).read())
+
+rows = []
+with open(os.path.join(work, "study.csv")) as f:
+    for r in csv.DictReader(f):
+        r["iteration"] = int(r["iteration"])
+        r["seconds"] = float(r["seconds"])
+        r["rmse"] = float(r["rmse"])
+        rows.append(r)
+
+
+def curve(scene, method, alpha, label):
+    pts = sorted((r["seconds"], r["rmse"], r["iteration"]) for r in rows
+                 if (r["scene"], r["method"], r["alpha"], r["bandwidth"]) == (scene, method, alpha, label))
+    return pts
+
+
+def labels(scene, method, alpha=MAIN):
+    return sorted({r["bandwidth"] for r in rows
+                   if (r["scene"], r["method"], r["alpha"]) == (scene, method, alpha)})
+
+
+def best(scene, method):
+    """The initial bandwidth whose curve ends lowest at alpha 2/3, and that curve."""
+    cs = [(curve(scene, method, MAIN, l)[-1][1], l) for l in labels(scene, method)
+          if curve(scene, method, MAIN, l)]
+    if not cs:
+        return None, []
+    e, l = min(cs)
+    return l, curve(scene, method, MAIN, l)
+
+
+def sigma_ref(scene):
+    p = os.path.join(work, scene, "reference-noise.txt")
+    m = re.search(r"^RMSE\s+([0-9.eE+-]+)", open(p).read(), re.M) if os.path.exists(p) else None
+    return float(m.group(1)) / math.sqrt(5) if m else 0.0
+
+
+def slope(pts, sigma=0.0):
+    if len(pts) < 2:
+        return float("nan")
+    tmax = pts[-1][0]
+    sel = [(t, e) for t, e, _ in pts if t >= tmax / 10 and e * e > sigma * sigma]
+    if len(sel) < 2:
+        return float("nan")
+    xs = [math.log(t) for t, _ in sel]
+    ys = [0.5 * math.log(e * e - sigma * sigma) for _, e in sel]
+    n = len(xs)
+    mx, my = sum(xs) / n, sum(ys) / n
+    sxx = sum((x - mx) ** 2 for x in xs)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx > 0 else float("nan")
+
+
+def theory(alpha):
+    a = float(alpha)
+    return -min(a, 2 * (1 - a)) / 2
+
+
+def at_iteration(pts, n):
+    for t, e, i in pts:
+        if i == n:
+            return e
+    return None
+
+
+def describe(method, label, scene):
+    if label is None:
+        return ""
+    if method == "ppds":
+        return f"s = {label[1:]}"
+    return f"r = {label[1:]} r50"
+
+
+def oneshot(scene, method):
+    p = os.path.join(work, scene, f"one-shot-{method}", "sweep.csv")
+    if not os.path.exists(p):
+        return None
+    with open(p) as f:
+        rs = list(csv.DictReader(f))
+    for r in rs:
+        r["rmse"] = float(r["rmse"])
+        r["seconds"] = float(r["seconds"])
+    return rs
+
+
+def fmt(v, d=4):
+    return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.{d}f}"
+
+
+# Log-log plot, hand-written SVG (no plotting dependency).
+def loglog(path, title, xlabel, ylabel, series, guides=()):
+    W, H, L, R, T, B = 620, 380, 70, 190, 30, 50
+    xs = [x for _, pts, _ in series for x, _ in pts]
+    ys = [y for _, pts, _ in series for _, y in pts]
+    if not xs:
+        return
+    lx0, lx1 = math.log10(min(xs)), math.log10(max(xs))
+    ly0, ly1 = math.log10(min(ys)), math.log10(max(ys))
+    lx1 = lx1 if lx1 > lx0 else lx0 + 1
+    ly0, ly1 = ly0 - 0.05, (ly1 if ly1 > ly0 else ly0 + 1) + 0.05
+
+    def sx(v):
+        return L + (math.log10(v) - lx0) / (lx1 - lx0) * (W - L - R)
+
+    def sy(v):
+        return H - B - (math.log10(v) - ly0) / (ly1 - ly0) * (H - T - B)
+
+    o = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" font-family="sans-serif" font-size="11">',
+         f'<rect width="{W}" height="{H}" fill="white"/>',
+         f'<text x="{L}" y="18" font-size="13">{html.escape(title)}</text>',
+         f'<line x1="{L}" y1="{H-B}" x2="{W-R}" y2="{H-B}" stroke="black"/>',
+         f'<line x1="{L}" y1="{T}" x2="{L}" y2="{H-B}" stroke="black"/>',
+         f'<text x="{(L+W-R)/2}" y="{H-12}" text-anchor="middle">{html.escape(xlabel)}</text>',
+         f'<text x="14" y="{(T+H-B)/2}" transform="rotate(-90 14 {(T+H-B)/2})" text-anchor="middle">{html.escape(ylabel)}</text>']
+    for k in range(math.floor(lx0), math.ceil(lx1) + 1):
+        for m in (1, 2, 5):
+            v = m * 10 ** k
+            if lx0 <= math.log10(v) <= lx1:
+                o.append(f'<line x1="{sx(v):.1f}" y1="{H-B}" x2="{sx(v):.1f}" y2="{H-B+4}" stroke="black"/>')
+                o.append(f'<text x="{sx(v):.1f}" y="{H-B+15}" text-anchor="middle">{v:g}</text>')
+    for k in range(math.floor(ly0), math.ceil(ly1) + 1):
+        for m in (1, 2, 5):
+            v = m * 10 ** k
+            if ly0 <= math.log10(v) <= ly1:
+                o.append(f'<line x1="{L-4}" y1="{sy(v):.1f}" x2="{L}" y2="{sy(v):.1f}" stroke="black"/>')
+                o.append(f'<text x="{L-6}" y="{sy(v)+4:.1f}" text-anchor="end">{v:g}</text>')
+    k = 0
+    for name, pts, colour in series:
+        d = " ".join(f"{'M' if i == 0 else 'L'}{sx(x):.1f},{sy(y):.1f}" for i, (x, y) in enumerate(pts))
+        o.append(f'<path d="{d}" fill="none" stroke="{colour}" stroke-width="1.5"/>')
+        for x, y in pts:
+            o.append(f'<circle cx="{sx(x):.1f}" cy="{sy(y):.1f}" r="2.2" fill="{colour}"/>')
+        o.append(f'<text x="{W-R+8}" y="{T+14*k+10}" fill="{colour}">{html.escape(name)}</text>')
+        k += 1
+    for name, (x0, y0), s, colour in guides:
+        # a line of slope s through (x0, y0), over one decade to its left
+        x1 = x0 / 10
+        y1 = y0 * 10 ** (-s)
+        if min(xs) <= x1:
+            o.append(f'<line x1="{sx(x1):.1f}" y1="{sy(y1):.1f}" x2="{sx(x0):.1f}" y2="{sy(y0):.1f}" stroke="{colour}" stroke-dasharray="5,3"/>')
+        o.append(f'<text x="{W-R+8}" y="{T+14*k+10}" fill="{colour}">{html.escape(name)}</text>')
+        k += 1
+    o.append("</svg>")
+    open(path, "w").write("\n".join(o))
+
+
+md = []
+summary = [["scene", "method", "alpha", "initial", "iterations", "seconds", "rmse", "slope", "slope_corrected", "theory"]]
+md.append(f"Time budget T = {budget:g} s per render (the render stops after the iteration that crosses it); "
+          "64x64, seed 1, alpha = 0.6667 unless stated. Slopes: log RMSE against log time over the last "
+          "decade of time; corrected: the reference's noise removed in quadrature.\n")
+for scene in SCENES:
+    sig = sigma_ref(scene)
+    md.append(f"### {scene}\n")
+    md.append(f"Reference noise sigma_ref = {sig:.5f}.\n")
+    md.append("| method | initial bandwidth (best of) | RMSE at 1 / 10 / 100 / 1000 iterations | iterations in T | RMSE at T | slope | corrected | theory |")
+    md.append("|---|---|---|---:|---:|---:|---:|---:|")
+    series, guides = [], []
+    for m in METHODS:
+        l, pts = best(scene, m)
+        if not pts:
+            continue
+        others = ", ".join(describe(m, x, scene) for x in labels(scene, m))
+        marks = " / ".join(fmt(at_iteration(pts, n)) for n in (1, 10, 100, 1000))
+        s, sc = slope(pts), slope(pts, sig)
+        md.append(f"| {m} | {describe(m, l, scene)} ({others}) | {marks} | {pts[-1][2]} | {pts[-1][1]:.4f} | "
+                  f"{fmt(s, 3)} | {fmt(sc, 3)} | {theory(MAIN):.3f} |")
+        summary.append([scene, m, MAIN, l, pts[-1][2], pts[-1][0], pts[-1][1], s, sc, theory(MAIN)])
+        series.append((f"{m} ({describe(m, l, scene)})", [(t, e) for t, e, _ in pts], COLOURS[m]))
+    if series:
+        # the theory slope drawn through the lowest end point
+        end = min((pts[-1] for _, pts, _ in series), key=lambda p: p[1])
+        guides.append(("slope -1/3 (theory)", end, theory(MAIN), "black"))
+        loglog(os.path.join(out, f"convergence-{scene}.svg"),
+               f"{scene}: RMSE against time, best initial bandwidth, alpha 2/3",
+               "seconds", "RMSE", series, guides)
+    md.append(f"\n![RMSE against time on {scene}](convergence-{scene}.svg)\n")
+    # every initial bandwidth
+    md.append("<details><summary>every initial bandwidth</summary>\n")
+    md.append("| method | initial | RMSE at T | iterations | slope |")
+    md.append("|---|---|---:|---:|---:|")
+    for m in METHODS:
+        for l in labels(scene, m):
+            pts = curve(scene, m, MAIN, l)
+            md.append(f"| {m} | {describe(m, l, scene)} | {pts[-1][1]:.4f} | {pts[-1][2]} | {fmt(slope(pts), 3)} |")
+    md.append("\n</details>\n")
+
+# Alpha sweep
+md.append("### Alpha sweep\n")
+md.append("Each method at its best initial bandwidth (alpha 2/3); theory: RMSE slope -min(alpha, 2(1 - alpha))/2.\n")
+md.append("| scene | method | alpha | iterations in T | RMSE at T | slope | corrected | theory |")
+md.append("|---|---|---:|---:|---:|---:|---:|---:|")
+for scene in ["water-wave", "glass-sphere"]:
+    sig = sigma_ref(scene)
+    for m in ["pppm", "ppds", "sppm"]:
+        l, _ = best(scene, m)
+        series = []
+        alphas = sorted({r["alpha"] for r in rows if r["scene"] == scene and r["method"] == m
+                         and r["bandwidth"] == l}, key=float)
+        for a in alphas:
+            pts = curve(scene, m, a, l)
+            if not pts:
+                continue
+            md.append(f"| {scene} | {m} ({describe(m, l, scene)}) | {a} | {pts[-1][2]} | {pts[-1][1]:.4f} | "
+                      f"{fmt(slope(pts), 3)} | {fmt(slope(pts, sig), 3)} | {theory(a):.3f} |")
+            summary.append([scene, m, a, l, pts[-1][2], pts[-1][0], pts[-1][1], slope(pts), slope(pts, sig), theory(a)])
+            shade = {"0.3": "#9ecae1", "0.5": "#4292c6", "0.6667": "#08519c", "0.8": "#fc9272", "0.95": "#de2d26"}
+            series.append((f"alpha {a}", [(t, e) for t, e, _ in pts], shade.get(a, "black")))
+        if series:
+            loglog(os.path.join(out, f"alpha-{scene}-{m}.svg"), f"{scene}, {m}: RMSE against time per alpha",
+                   "seconds", "RMSE", series)
+md.append("")
+for scene in ["water-wave", "glass-sphere"]:
+    md.append(" ".join(f"![alpha sweep {scene} {m}](alpha-{scene}-{m}.svg)" for m in ["pppm", "ppds", "sppm"]))
+md.append("")
+
+# Equal time
+md.append("### Equal time: progressive against one-shot\n")
+md.append("One-shot methods with the light paths the best pppm traced in T (about the same time), each at "
+          "its best bandwidth of the sweep (pm: k nearest; pds: smoothing s; Cornell box: pm's global k).\n")
+md.append("| scene | pppm | ppds | sppm | ppm | best pm (k) | best pds (s) | ppds / pppm | ppds / sppm |")
+md.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+for scene in SCENES:
+    end = {m: best(scene, m)[1] for m in METHODS}
+    e = {m: (v[-1][1] if v else None) for m, v in end.items()}
+    t = {m: (v[-1][0] if v else None) for m, v in end.items()}
+    cells = [f"{fmt(e[m])} ({fmt(t[m], 1)} s)" if e[m] is not None else "–" for m in METHODS]
+    for one in ["pm", "pds"]:
+        rs = oneshot(scene, one)
+        if rs:
+            b = min(rs, key=lambda r: r["rmse"])
+            cells.append(f"{b['rmse']:.4f} ({b['value']}, {b['seconds']:.1f} s)")
+            summary.append([scene, one, "", b["value"], "", b["seconds"], b["rmse"], "", "", ""])
+        else:
+            cells.append("–")
+    r1 = e["ppds"] / e["pppm"] if e["ppds"] and e["pppm"] else None
+    r2 = e["ppds"] / e["sppm"] if e["ppds"] and e["sppm"] else None
+    md.append(f"| {scene} | " + " | ".join(cells) + f" | {fmt(r1, 2)} | {fmt(r2, 2)} |")
+md.append("")
+
+# Rates
+md.append("### Rates\n")
+md.append("Light paths per second of the progressive renders (best bandwidth, whole render incl. camera passes) "
+          "and of the one-shot renders of the equal-time table (their sweep's mean time per render).\n")
+md.append("| scene | light paths per iteration | pppm it/s | ppds it/s | sppm it/s | ppm it/s | pppm paths/s | ppds paths/s | sppm paths/s | ppm paths/s | pm paths/s | pds paths/s |")
+md.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+for scene in SCENES:
+    m_paths = 100000 if scene == "glass-sphere" else 20000
+    its, pps = [], []
+    for m in METHODS:
+        _, pts = best(scene, m)
+        if pts:
+            its.append(f"{pts[-1][2] / pts[-1][0]:.1f}")
+            pps.append(f"{pts[-1][2] * m_paths / pts[-1][0] / 1e6:.2f} M")
+        else:
+            its.append("–")
+            pps.append("–")
+    p = os.path.join(work, scene, "one-shot-paths.txt")
+    n = int(open(p).read()) if os.path.exists(p) else None
+    for one in ["pm", "pds"]:
+        rs = oneshot(scene, one)
+        if rs and n:
+            mean = sum(r["seconds"] for r in rs) / len(rs)
+            pps.append(f"{n / mean / 1e6:.2f} M")
+        else:
+            pps.append("–")
+    md.append(f"| {scene} | {m_paths} | " + " | ".join(its + pps) + " |")
+md.append("")
+
+open(os.path.join(out, "study.md"), "w").write("\n".join(md) + "\n")
+with open(os.path.join(out, "study-summary.csv"), "w", newline="") as f:
+    csv.writer(f).writerows(summary)
+print("\n".join(md))
