@@ -21,6 +21,9 @@ import os
 import re
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import svg_plot  # noqa: E402
+
 work, out = sys.argv[1:3]
 os.makedirs(out, exist_ok=True)
 SCENES = ["glass-sphere", "water-wave", "metal-ring", "cornell-box"]
@@ -93,7 +96,7 @@ def at_iteration(pts, n):
     return None
 
 
-def describe(method, label, scene):
+def describe(method, label):
     if label is None:
         return ""
     if method == "ppds":
@@ -117,6 +120,12 @@ def fmt(v, d=4):
     return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.{d}f}"
 
 
+def log_ticks(l0, l1):
+    """Tick values 1, 2, 5 x 10^k between 10^l0 and 10^l1."""
+    return [m * 10 ** k for k in range(math.floor(l0), math.ceil(l1) + 1) for m in (1, 2, 5)
+            if l0 <= math.log10(m * 10 ** k) <= l1]
+
+
 # Log-log plot, hand-written SVG (no plotting dependency).
 def loglog(path, title, xlabel, ylabel, series, guides=()):
     W, H, L, R, T, B = 620, 380, 70, 190, 30, 50
@@ -135,25 +144,13 @@ def loglog(path, title, xlabel, ylabel, series, guides=()):
     def sy(v):
         return H - B - (math.log10(v) - ly0) / (ly1 - ly0) * (H - T - B)
 
-    o = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" font-family="sans-serif" font-size="11">',
-         f'<rect width="{W}" height="{H}" fill="white"/>',
-         f'<text x="{L}" y="18" font-size="13">{html.escape(title)}</text>',
-         f'<line x1="{L}" y1="{H-B}" x2="{W-R}" y2="{H-B}" stroke="black"/>',
-         f'<line x1="{L}" y1="{T}" x2="{L}" y2="{H-B}" stroke="black"/>',
-         f'<text x="{(L+W-R)/2}" y="{H-12}" text-anchor="middle">{html.escape(xlabel)}</text>',
-         f'<text x="14" y="{(T+H-B)/2}" transform="rotate(-90 14 {(T+H-B)/2})" text-anchor="middle">{html.escape(ylabel)}</text>']
-    for k in range(math.floor(lx0), math.ceil(lx1) + 1):
-        for m in (1, 2, 5):
-            v = m * 10 ** k
-            if lx0 <= math.log10(v) <= lx1:
-                o.append(f'<line x1="{sx(v):.1f}" y1="{H-B}" x2="{sx(v):.1f}" y2="{H-B+4}" stroke="black"/>')
-                o.append(f'<text x="{sx(v):.1f}" y="{H-B+15}" text-anchor="middle">{v:g}</text>')
-    for k in range(math.floor(ly0), math.ceil(ly1) + 1):
-        for m in (1, 2, 5):
-            v = m * 10 ** k
-            if ly0 <= math.log10(v) <= ly1:
-                o.append(f'<line x1="{L-4}" y1="{sy(v):.1f}" x2="{L}" y2="{sy(v):.1f}" stroke="black"/>')
-                o.append(f'<text x="{L-6}" y="{sy(v)+4:.1f}" text-anchor="end">{v:g}</text>')
+    o = svg_plot.frame(W, H, L, R, T, B, title, xlabel, ylabel)
+    for v in log_ticks(lx0, lx1):
+        o.append(f'<line x1="{sx(v):.1f}" y1="{H-B}" x2="{sx(v):.1f}" y2="{H-B+4}" stroke="black"/>')
+        o.append(f'<text x="{sx(v):.1f}" y="{H-B+15}" text-anchor="middle">{v:g}</text>')
+    for v in log_ticks(ly0, ly1):
+        o.append(f'<line x1="{L-4}" y1="{sy(v):.1f}" x2="{L}" y2="{sy(v):.1f}" stroke="black"/>')
+        o.append(f'<text x="{L-6}" y="{sy(v)+4:.1f}" text-anchor="end">{v:g}</text>')
     k = 0
     for name, pts, colour in series:
         d = " ".join(f"{'M' if i == 0 else 'L'}{sx(x):.1f},{sy(y):.1f}" for i, (x, y) in enumerate(pts))
@@ -190,13 +187,13 @@ for scene in SCENES:
         l, pts = best(scene, m)
         if not pts:
             continue
-        others = ", ".join(describe(m, x, scene) for x in labels(scene, m))
+        others = ", ".join(describe(m, x) for x in labels(scene, m))
         marks = " / ".join(fmt(at_iteration(pts, n)) for n in (1, 10, 100, 1000))
         s, sc = slope(pts), slope(pts, sig)
-        md.append(f"| {m} | {describe(m, l, scene)} ({others}) | {marks} | {pts[-1][2]} | {pts[-1][1]:.4f} | "
+        md.append(f"| {m} | {describe(m, l)} ({others}) | {marks} | {pts[-1][2]} | {pts[-1][1]:.4f} | "
                   f"{fmt(s, 3)} | {fmt(sc, 3)} | {theory(MAIN):.3f} |")
         summary.append([scene, m, MAIN, l, pts[-1][2], pts[-1][0], pts[-1][1], s, sc, theory(MAIN)])
-        series.append((f"{m} ({describe(m, l, scene)})", [(t, e) for t, e, _ in pts], COLOURS[m]))
+        series.append((f"{m} ({describe(m, l)})", [(t, e) for t, e, _ in pts], COLOURS[m]))
     if series:
         # the theory slope drawn through the lowest end point
         end = min((pts[-1] for _, pts, _ in series), key=lambda p: p[1])
@@ -212,7 +209,7 @@ for scene in SCENES:
     for m in METHODS:
         for l in labels(scene, m):
             pts = curve(scene, m, MAIN, l)
-            md.append(f"| {m} | {describe(m, l, scene)} | {pts[-1][1]:.4f} | {pts[-1][2]} | {fmt(slope(pts), 3)} |")
+            md.append(f"| {m} | {describe(m, l)} | {pts[-1][1]:.4f} | {pts[-1][2]} | {fmt(slope(pts), 3)} |")
     md.append("\n</details>\n")
 
 # Alpha sweep
@@ -231,7 +228,7 @@ for scene in ["water-wave", "glass-sphere"]:
             pts = curve(scene, m, a, l)
             if not pts:
                 continue
-            md.append(f"| {scene} | {m} ({describe(m, l, scene)}) | {a} | {pts[-1][2]} | {pts[-1][1]:.4f} | "
+            md.append(f"| {scene} | {m} ({describe(m, l)}) | {a} | {pts[-1][2]} | {pts[-1][1]:.4f} | "
                       f"{fmt(slope(pts), 3)} | {fmt(slope(pts, sig), 3)} | {theory(a):.3f} |")
             summary.append([scene, m, a, l, pts[-1][2], pts[-1][0], pts[-1][1], slope(pts), slope(pts, sig), theory(a)])
             shade = {"0.3": "#9ecae1", "0.5": "#4292c6", "0.6667": "#08519c", "0.8": "#fc9272", "0.95": "#de2d26"}

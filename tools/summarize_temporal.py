@@ -17,6 +17,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sweep_csv import best, rows  # noqa: E402
+import svg_plot  # noqa: E402
 
 work, out, ref_spp, binary = sys.argv[1:5]
 os.makedirs(out, exist_ok=True)
@@ -138,13 +139,7 @@ def svg_plot(path, title, xlabel, ylabel, series, logx=False, hlines=()):
     def sy(v):
         return H - B - (v - y0) / (y1 - y0) * (H - T - B)
 
-    o = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" font-family="sans-serif" font-size="11">',
-         f'<rect width="{W}" height="{H}" fill="white"/>',
-         f'<text x="{L}" y="18" font-size="13">{html.escape(title)}</text>',
-         f'<line x1="{L}" y1="{H-B}" x2="{W-R}" y2="{H-B}" stroke="black"/>',
-         f'<line x1="{L}" y1="{T}" x2="{L}" y2="{H-B}" stroke="black"/>',
-         f'<text x="{(L+W-R)/2}" y="{H-12}" text-anchor="middle">{html.escape(xlabel)}</text>',
-         f'<text x="14" y="{(T+H-B)/2}" transform="rotate(-90 14 {(T+H-B)/2})" text-anchor="middle">{html.escape(ylabel)}</text>']
+    o = svg_plot.frame(W, H, L, R, T, B, title, xlabel, ylabel)
     for i in range(5):
         v = y0 + (y1 - y0) * i / 4
         o.append(f'<text x="{L-6}" y="{sy(v)+4:.1f}" text-anchor="end">{v:.3f}</text>')

@@ -97,19 +97,16 @@ pub fn run_iterations(
         film.merge(&f);
         run.iterations += 1;
         run.last = i;
+        // The image after iteration `i` (`present` takes the count of iterations pooled), for
+        // the caller and for a checkpoint.
         let pooled: &Film = film;
         let image = || match present {
             Some(show) => show(pooled, i),
             None => pooled.clone(),
         };
         (stage.ctl.on_iteration)(&IterationDone::new(i, &|| snapshot(pooled, i), &image));
-        // (The image after iteration `i`: `present` takes the count of iterations pooled.)
-        let done = i;
+        let stop = stage.end_of_pass_with(image);
         i += 1;
-        let stop = match present {
-            Some(show) => stage.end_of_pass_with(|| show(film, done)),
-            None => stage.end_of_pass(film),
-        };
         if stop {
             run.stopped = Some(if stage.interrupted() {
                 "interrupted"
