@@ -138,9 +138,12 @@ pub enum Visible {
     /// SPPM: new visible points every iteration, direct light by next-event estimation there.
     PerIteration,
     /// PPM (Hachisuka et al. 2008): the hit points of the first camera pass kept for the whole
-    /// render, one per pixel, every light (direct included) from the photons. (HOJ08 computes
-    /// direct light by ray tracing at the hit points; carrying it by photons needs no sampler
-    /// per hit point and converges to the same image.)
+    /// render, `--spp` of them per pixel (one by default; more anti-alias a fixed amount at
+    /// the cost of their memory, the limitation HJ09 removed), every light (direct included)
+    /// from the photons. (HOJ08 computes direct light by ray tracing at the hit points;
+    /// carrying it by photons needs no sampler per hit point and converges to the same image.)
+    /// The statistics are per pixel over its hit points, as SPPM's: with one hit point per
+    /// pixel that is HOJ08's per-hit-point update; with several, the pixel's mean of them.
     Fixed,
 }
 
@@ -157,12 +160,6 @@ pub(crate) fn render(
 ) -> Result<(RenderStats, Option<IterationState>), OptionError> {
     let p = &opts.photons.progressive;
     let ppm = visible == Visible::Fixed;
-    if ppm && opts.spp != 1 {
-        return Err(OptionError::Conflict(format!(
-            "--integrator ppm keeps one hit point per pixel: give --spp 1 (got {}); for anti-aliasing use sppm",
-            opts.spp
-        )));
-    }
     let min_depth = if ppm { 1 } else { 2 };
     let integrator = if ppm {
         IntegratorKind::ProgressivePhotonMappingHitPoints
