@@ -4,14 +4,16 @@
 # On the glass sphere, the water wave and the metal ring (caustics only, against a light-tracer
 # reference) and the Cornell box (full global illumination, against a path-tracer reference),
 # at 64x64: RMSE against time for pppm, ppds, sppm and ppm, each from four initial bandwidths
-# (pppm/sppm/ppm: the first iteration's 50-NN median radius r50 times 1, 1/2, 1/4, 1/8 (the
+# (pppm/sppm/ppm: the first iteration's 50-NN median radius r50 times 1, 1/2, 1/4, 1/8, 1/16 (the
 # Cornell box: the global map's, and pppm from its pilot alone); ppds:
-# smoothing 0.5, 1, 2, 4), alpha 2/3, under one time budget T (the render stops after the
+# smoothing 0.5, 1, 2, 4, 8; ppm with 16 fixed hit points per pixel), alpha 2/3, under one time budget T (the render stops after the
 # iteration that crosses T); one render per curve (--save-iterations 1, 2, 4, ...). Then an
 # alpha sweep (0.3, 0.5, 0.8, 0.95) of pppm, ppds and sppm at their best initial bandwidth on
 # the water wave and the glass sphere, and the one-shot methods at their best bandwidth with
-# the light paths the best pppm traced in T (pm: k = 10..1000; pds: s = 0.5..4; Cornell box:
-# pm's global k).
+# the light paths the best pppm traced in T (pm: k = 10..1000; pds: s = 0.5..16; Cornell box:
+# pm's global k under the time budget T itself). Last, the acceptance's consistency check: every method at its best initial
+# bandwidth for exactly 1000 iterations on the glass sphere and the water wave (RMSE after 1,
+# 10, 100, 1000 iterations, into iterations.csv).
 #   bash bench/progressive_study.sh [T seconds, default 15] [work dir]
 # then: python3 tools/summarize_progressive_study.py WORK docs/results/progressive
 # About 35 minutes at T = 15 on 2 cores. Re-runs reuse what is done (delete WORK to redo).
@@ -30,6 +32,10 @@ saves=1,2,4,8,16,32,64,128,256,512,1024,2048,4096,8192,16384,10,100,1000,10000
 echo "$T" > "$work/budget.txt"
 
 paths_of() { [[ $1 == glass-sphere ]] && echo 100000 || echo 20000; }
+# ppm keeps its camera pass's hit points for good: 16 per pixel (stratified) lower the aliasing
+# floor one hit point per pixel leaves (docs/progressive.md); the other methods take 1 camera
+# sample per pixel and iteration.
+hit_points() { [[ $1 == ppm ]] && echo "--spp 16" || true; }
 base_args() { # scene
   local a=(render "$1" --width 64 --height 64 -q)
   [[ $1 == cornell-box ]] || a+=(--caustics-only)
@@ -67,7 +73,7 @@ curve() { # scene method alpha bandwidth-option bandwidth-value label
   rm -rf "$d" && mkdir -p "$d"
   read -ra b <<< "$(base_args "$s")"
   "$bin" "${b[@]}" --seed 1 --integrator "$m" --time "$T" --photons-per-iteration "$(paths_of "$s")" \
-    --ppm-alpha "$a" "$opt" "$v" --save-iterations "$saves" -o "$d/final.exr" \
+    --ppm-alpha "$a" "$opt" "$v" $(hit_points "$m") --save-iterations "$saves" -o "$d/final.exr" \
     > "$d/summary.txt" 2> "$d/notes.txt"
   local last
   last=$(tail -n 1 "$d/final.exr.iterations.csv" | cut -d, -f1)
@@ -117,7 +123,7 @@ for s in "${scenes[@]}"; do
   fi
   echo "   r50 = $(cat "$work/$s/r50.txt")"
   for m in pppm sppm ppm; do
-    fs=(1 0.5 0.25 0.125)
+    fs=(1 0.5 0.25 0.125 0.0625)
     # The Cornell box has no caustic photons: pppm's --radius (the caustic map's) changes
     # nothing; its global radius comes from the pilot (r50 is that one, for sppm and ppm).
     [[ $s == cornell-box && $m == pppm ]] && fs=(1)
@@ -126,7 +132,7 @@ for s in "${scenes[@]}"; do
       curve "$s" "$m" 0.6667 --radius "$(awk -v f="$f" '{printf "%.6g", $1 * f}' "$work/$s/r50.txt")" "r$f"
     done
   done
-  for sm in 0.5 1 2 4; do
+  for sm in 0.5 1 2 4 8; do
     echo "   ppds s=$sm"
     curve "$s" ppds 0.6667 --smoothing "$sm" "s$sm"
   done
@@ -154,16 +160,41 @@ for s in "${scenes[@]}"; do
   b=("${b[@]:1}" --seed 1) # without "render"
   read -ra mk <<< "$(metric_args "$s")"
   if [[ $s == cornell-box ]]; then
-    # the global map's photons per light path, from the pilot's note
-    [[ -d $work/$s/one-shot-pm ]] || "$bin" sweep "${b[@]}" --integrator pm --light-paths "$n" \
-      --global-photons $((n * 3)) --param global-k --values 50,200,800 \
+    # Equal time rather than equal light paths: pm's final gather makes a render of pppm's
+    # light paths take minutes. Under --time T the photon pass has a fifth of T and stops
+    # there (the global photon count below is a cap it does not reach).
+    [[ -d $work/$s/one-shot-pm ]] || "$bin" sweep "${b[@]}" --integrator pm --time "$T" \
+      --global-photons 50000000 --param global-k --values 50,200,800 \
       --reference "$work/$s/ref.exr" -o "$work/$s/one-shot-pm" > /dev/null
   else
     [[ -d $work/$s/one-shot-pm ]] || "$bin" sweep "${b[@]}" "${mk[@]}" --integrator pm --light-paths "$n" \
       --param k --values 10,30,100,300,1000 --reference "$work/$s/ref.exr" -o "$work/$s/one-shot-pm" > /dev/null
     [[ -d $work/$s/one-shot-pds ]] || "$bin" sweep "${b[@]}" "${mk[@]}" --integrator pds --light-paths "$n" \
-      --param smoothing --values 0.5,1,2,4 --reference "$work/$s/ref.exr" -o "$work/$s/one-shot-pds" > /dev/null
+      --param smoothing --values 0.5,1,2,4,8,16 --reference "$work/$s/ref.exr" -o "$work/$s/one-shot-pds" > /dev/null
   fi
   echo "   $s: $n light paths"
 done
-echo "done: $csv"
+echo "== 1000 iterations at the best initial bandwidths"
+icsv="$work/iterations.csv"
+[[ -f $icsv ]] || echo "scene,method,bandwidth,iteration,seconds,rmse" > "$icsv"
+for s in glass-sphere water-wave; do
+  read -ra b <<< "$(base_args "$s")"
+  read -ra mk <<< "$(metric_args "$s")"
+  for m in pppm ppds sppm ppm; do
+    l=$(best_label "$s" "$m")
+    grep -q "^$s,$m,$l," "$icsv" && continue
+    read -ra o <<< "$(option_of "$s" "$m" "$l")"
+    d="$work/$s/$m-1000"
+    rm -rf "$d" && mkdir -p "$d"
+    echo "   $s $m $l"
+    # shellcheck disable=SC2046
+    "$bin" "${b[@]}" --seed 1 --integrator "$m" --iterations 1000 --photons-per-iteration "$(paths_of "$s")" \
+      "${o[@]}" $(hit_points "$m") --save-iterations 1,10,100,1000 -o "$d/final.exr" > /dev/null 2>&1
+    tail -n +2 "$d/final.exr.iterations.csv" | while IFS=, read -r it sec img; do
+      e=$("$bin" compare "$img" "$work/$s/ref.exr" "${mk[@]}" | awk '/^RMSE/ {print $2}')
+      echo "$s,$m,$l,$it,$sec,$e"
+    done >> "$icsv"
+    rm -f "$d"/final-it*.exr "$d/final.exr.state"
+  done
+done
+echo "done: $csv $icsv"

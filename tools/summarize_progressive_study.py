@@ -101,6 +101,8 @@ def describe(method, label):
         return ""
     if method == "ppds":
         return f"s = {label[1:]}"
+    if method == "ppm":
+        return f"r = {label[1:]} r50, 16 hit points/pixel"
     return f"r = {label[1:]} r50"
 
 
@@ -293,6 +295,34 @@ for scene in SCENES:
             pps.append("–")
     md.append(f"| {scene} | {m_paths} | " + " | ".join(its + pps) + " |")
 md.append("")
+
+# Consistency: exactly 1000 iterations at the best initial bandwidths
+ipath = os.path.join(work, "iterations.csv")
+if os.path.exists(ipath):
+    with open(ipath) as f:
+        irows = list(csv.DictReader(f))
+    md.append("### Consistency: 1, 10, 100, 1000 iterations\n")
+    md.append("Each method at its best initial bandwidth of the time study, run for exactly 1000 iterations "
+              "(no time budget); RMSE against the reference after 1, 10, 100 and 1000 iterations. "
+              "\"Falls\" checks each step against the reference noise floor: a step may rise by at most "
+              "2 sigma_ref (the noise of the comparison itself).\n")
+    md.append("| scene | method | initial | 1 | 10 | 100 | 1000 | falls | seconds for 1000 |")
+    md.append("|---|---|---|---:|---:|---:|---:|---|---:|")
+    for scene in ["glass-sphere", "water-wave"]:
+        sig = sigma_ref(scene)
+        for m in METHODS:
+            rs = sorted((int(r["iteration"]), float(r["rmse"]), float(r["seconds"]), r["bandwidth"])
+                        for r in irows if r["scene"] == scene and r["method"] == m)
+            if not rs:
+                continue
+            es = [e for _, e, _, _ in rs]
+            falls = all(b <= a + 2 * sig for a, b in zip(es, es[1:]))
+            strict = all(b < a for a, b in zip(es, es[1:]))
+            verdict = "yes" if strict else ("within noise" if falls else "NO")
+            md.append(f"| {scene} | {m} | {describe(m, rs[0][3])} | " + " | ".join(f"{e:.4f}" for e in es)
+                      + f" | {verdict} | {rs[-1][2]:.1f} |")
+            summary.append([scene, m, MAIN, rs[0][3], rs[-1][0], rs[-1][2], rs[-1][1], "", "", ""])
+    md.append("")
 
 open(os.path.join(out, "study.md"), "w").write("\n".join(md) + "\n")
 with open(os.path.join(out, "study-summary.csv"), "w", newline="") as f:

@@ -187,13 +187,13 @@ pub struct PhotonArgs {
     /// the shutter.
     #[arg(long, value_name = "N", help_heading = "Motion")]
     pub in_between_frames: Option<u32>,
-    /// Progressive methods (pppm, ppds, ppdm): iterations to run (default 16, or as many as
+    /// Progressive methods (pppm, ppds, ppdm, pdpm, sppm, ppm): iterations to run (default 16, or as many as
     /// --time allows). --spp is then the camera samples per pixel of each iteration (default 1).
     #[arg(
         long,
         value_name = "N",
         allow_negative_numbers = true,
-        help_heading = "Progressive (pppm, ppds, ppdm)"
+        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm)"
     )]
     pub iterations: Option<u64>,
     /// Light paths each iteration traces for each photon map (default 100000).
@@ -201,7 +201,7 @@ pub struct PhotonArgs {
         long,
         value_name = "M",
         allow_negative_numbers = true,
-        help_heading = "Progressive (pppm, ppds, ppdm)"
+        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm)"
     )]
     pub photons_per_iteration: Option<u64>,
     /// The schedule's alpha in (0, 1] (seed 001 eq. 3.27: the kernel's area shrinks by
@@ -210,16 +210,17 @@ pub struct PhotonArgs {
         long,
         value_name = "ALPHA",
         allow_negative_numbers = true,
-        help_heading = "Progressive (pppm, ppds, ppdm)"
+        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm)"
     )]
     pub ppm_alpha: Option<f64>,
-    /// pppm's first-iteration gather radius in metres (default: the median distance from a
-    /// caustic photon of the first iteration to its k-th nearest neighbour, --k).
+    /// First-iteration gather radius in metres of pppm, sppm and ppm (and pdpm's bandwidth h;
+    /// default: the median distance from a photon of the first iteration to its k-th nearest
+    /// neighbour, --k).
     #[arg(
         long,
         value_name = "R",
         allow_negative_numbers = true,
-        help_heading = "Progressive (pppm, ppds, ppdm)"
+        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm)"
     )]
     pub radius: Option<caustica_render::Radius>,
     /// With --temporal: where the shutter lies around the instant photons are traced at:

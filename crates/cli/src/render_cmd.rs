@@ -26,8 +26,8 @@ pub struct RenderSettings {
     pub scene: Option<String>,
     /// Integrator: path (path tracer with NEE and MIS), lighttrace (light tracer), pm (photon
     /// mapping), dpm (diffusion-based photon mapping), pdm (photon differential mapping), pds
-    /// (photon differential splatting), vpm, beam, vpd (media); progressive: pppm, ppds, ppdm
-    /// (iterations of pm, pds, pdm at a shrinking bandwidth), sppm, ppm. Default: the scene's
+    /// (photon differential splatting), vpm, beam, vpd (media); progressive: pppm, ppds, ppdm,
+    /// pdpm (iterations of pm, pds, pdm, dpm at a shrinking bandwidth), sppm, ppm. Default: the scene's
     /// suggestion (Mitsuba `ptracer` maps to lighttrace), else path.
     #[arg(long)]
     pub integrator: Option<String>,
@@ -117,7 +117,7 @@ pub struct RenderArgs {
     /// their state file then, see --resume).
     #[arg(long)]
     pub checkpoint: Option<f64>,
-    /// Continue a progressive render (pppm, ppds, ppdm) from its state file, which every such
+    /// Continue a progressive render (pppm, ppds, ppdm, pdpm, sppm, ppm) from its state file, which every such
     /// render writes next to its image (OUTPUT.state: after the last complete iteration, at
     /// Ctrl-C, and with --checkpoint periodically). Give the same scene and options, and the
     /// total --iterations (or --time) wanted: the result has the bytes of an uninterrupted
@@ -224,7 +224,7 @@ impl RenderSettings {
         }
         if self.photon.progressive_given() && !kind.is_progressive() {
             bail!(
-                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds, ppdm, sppm or ppm), not {}",
+                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds, ppdm, pdpm, sppm or ppm), not {}",
                 kind.name()
             );
         }
@@ -738,7 +738,7 @@ fn render_one(
     if let Some(path) = &args.resume {
         let Some(fp) = &fingerprint else {
             bail!(
-                "--resume continues a progressive render (--integrator pppm, ppds, ppdm, sppm or ppm), not {}",
+                "--resume continues a progressive render (--integrator pppm, ppds, ppdm, pdpm, sppm or ppm), not {}",
                 kind.name()
             );
         };
@@ -767,7 +767,7 @@ fn render_one(
     }
     if args.save_iterations.is_some() && !kind.is_progressive() {
         bail!(
-            "--save-iterations writes the images of a progressive render's iterations (--integrator pppm, ppds, ppdm, sppm or ppm), not of {}",
+            "--save-iterations writes the images of a progressive render's iterations (--integrator pppm, ppds, ppdm, pdpm, sppm or ppm), not of {}",
             kind.name()
         );
     }
@@ -903,6 +903,7 @@ fn render_one(
         IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping
+        | IntegratorKind::ProgressiveDiffusion
         | IntegratorKind::StochasticProgressivePhotonMapping
         | IntegratorKind::ProgressivePhotonMappingHitPoints => format!(
             "{} iterations, {:.1} spp",

@@ -226,7 +226,8 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         | IntegratorKind::LightTrace
         | IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
-        | IntegratorKind::ProgressiveDifferentialMapping => {}
+        | IntegratorKind::ProgressiveDifferentialMapping
+        | IntegratorKind::ProgressiveDiffusion => {}
         IntegratorKind::StochasticProgressivePhotonMapping
         | IntegratorKind::ProgressivePhotonMappingHitPoints => {}
     }

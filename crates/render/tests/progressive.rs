@@ -1,4 +1,4 @@
-//! The progressive methods (`pppm`, `ppds`, `ppdm`): each iteration is an independent one-shot
+//! The progressive methods (`pppm`, `ppds`, `ppdm`, `pdpm`; `sppm` and `ppm` below): each iteration is an independent one-shot
 //! render of its own light paths and camera samples at the schedule's bandwidth, and the image
 //! is their mean. Checked here against one-shot renders assembled by hand (the reduction at
 //! α = 1, and the radii of eq. 3.27 chained by hand at α = 2/3), against the light tracer
@@ -8,8 +8,8 @@
 use caustica_core::image_io::Image;
 use caustica_loader::builtin_scene;
 use caustica_render::{
-    Bandwidth, CausticEstimator, IntegratorKind, PathLimits, ProgressiveSettings, Radius,
-    RenderControl, RenderOptions, Smoothing, render,
+    Bandwidth, CausticEstimator, IntegratorKind, NoiseScale, PathLimits, ProgressiveSettings,
+    Radius, RenderControl, RenderOptions, Smoothing, render,
 };
 use caustica_scene::Scene;
 use std::sync::atomic::AtomicBool;
@@ -68,6 +68,8 @@ fn one_shot(scene: &Scene, kind: IntegratorKind, base: &RenderOptions, i: u64, h
     o.photons.global_light_paths = Some(PATHS);
     if kind == IntegratorKind::PhotonMapping {
         o.photons.caustic_estimator = Some(CausticEstimator::Fixed);
+        o.photons.bandwidth = Some(Bandwidth::new(h).unwrap());
+    } else if kind == IntegratorKind::DiffusionPhotonMapping {
         o.photons.bandwidth = Some(Bandwidth::new(h).unwrap());
     } else {
         o.photons.footprints.smoothing = Smoothing::new(h).unwrap();
@@ -156,6 +158,56 @@ fn pppm_shrinks_the_radius_by_eq_3_27() {
         .map(|i| one_shot(&s, IntegratorKind::PhotonMapping, &base, i, r1))
         .collect();
     assert!(max_rel_diff(&p, &mean(&fixed)) > 1e-3);
+}
+
+/// `pdpm` is `dpm` iterated: at α = 1 the mean of independent `dpm` renders at the first
+/// bandwidth, at α = 2/3 their mean at bandwidths chained by hand from eq. 3.27 (h² the
+/// kernel's area), with an explicit noise scale keeping its ratio to h.
+#[test]
+fn pdpm_is_dpm_at_the_schedules_bandwidths() {
+    let s = scene("glass-sphere", 32);
+    let base = caustics(1);
+    let h1 = 0.08f32;
+    let p = run(
+        &s,
+        IntegratorKind::ProgressiveDiffusion,
+        &progressive(base.clone(), 3, 1.0, h1),
+    );
+    let fixed: Vec<Image> = (1..=3)
+        .map(|i| one_shot(&s, IntegratorKind::DiffusionPhotonMapping, &base, i, h1))
+        .collect();
+    let d = max_rel_diff(&p, &mean(&fixed));
+    assert!(d < 1e-5, "pdpm at alpha 1 vs mean of dpm renders: {d}");
+    // α = 2/3, noise scale h/4 given explicitly: dpm at h_i with noise scale h_i/4.
+    let alpha = 2.0 / 3.0;
+    let mut with_noise = base.clone();
+    with_noise.photons.diffusion.noise_scale = Some(NoiseScale::new(h1 / 4.0).unwrap());
+    let p = run(
+        &s,
+        IntegratorKind::ProgressiveDiffusion,
+        &progressive(with_noise, 3, alpha, h1),
+    );
+    let mut h2 = (h1 as f64).powi(2);
+    let mut shots = Vec::new();
+    for i in 1..=3u64 {
+        let h = h2.sqrt() as f32;
+        let mut b = base.clone();
+        b.photons.diffusion.noise_scale = Some(NoiseScale::new(h / 4.0).unwrap());
+        shots.push(one_shot(
+            &s,
+            IntegratorKind::DiffusionPhotonMapping,
+            &b,
+            i,
+            h,
+        ));
+        h2 *= (i as f64 + alpha) / (i as f64 + 1.0);
+    }
+    let d = max_rel_diff(&p, &mean(&shots));
+    assert!(d < 1e-4, "pdpm vs dpm at the hand-chained bandwidths: {d}");
+    assert!(
+        max_rel_diff(&p, &mean(&fixed)) > 1e-3,
+        "the bandwidth did not shrink"
+    );
 }
 
 #[test]
@@ -264,6 +316,7 @@ fn same_bytes_with_one_and_two_threads() {
     for kind in [
         IntegratorKind::ProgressivePhotonMapping,
         IntegratorKind::ProgressiveSplatting,
+        IntegratorKind::ProgressiveDiffusion,
     ] {
         let on = |threads| {
             rayon::ThreadPoolBuilder::new()
@@ -369,6 +422,7 @@ fn a_resumed_render_has_the_bytes_of_an_uninterrupted_one() {
         IntegratorKind::ProgressivePhotonMapping,
         IntegratorKind::ProgressiveSplatting,
         IntegratorKind::ProgressiveDifferentialMapping,
+        IntegratorKind::ProgressiveDiffusion,
         IntegratorKind::StochasticProgressivePhotonMapping,
         IntegratorKind::ProgressivePhotonMappingHitPoints,
     ] {

@@ -60,11 +60,14 @@ pub enum IntegratorKind {
     ProgressiveSplatting,
     /// Progressive photon differential mapping: the same schedule over `pdm`.
     ProgressiveDifferentialMapping,
+    /// Progressive diffusion-based photon mapping: `dpm` iterations whose bandwidth h shrinks
+    /// by eq. 3.27 (`h²` the kernel's area), averaged.
+    ProgressiveDiffusion,
     /// Stochastic progressive photon mapping (Hachisuka and Jensen 2009): a new camera pass
     /// per iteration, photons gathered at visible points with per-pixel statistics.
     StochasticProgressivePhotonMapping,
-    /// Progressive photon mapping (Hachisuka et al. 2008): the hit points of one camera pass,
-    /// photons gathered there with per-hit-point statistics.
+    /// Progressive photon mapping (Hachisuka et al. 2008): the hit points of one camera pass
+    /// (`--spp` per pixel), photons gathered there with per-pixel statistics.
     ProgressivePhotonMappingHitPoints,
 }
 
@@ -82,6 +85,7 @@ impl IntegratorKind {
         "pppm",
         "ppds",
         "ppdm",
+        "pdpm",
         "sppm",
         "ppm",
     ];
@@ -99,6 +103,7 @@ impl IntegratorKind {
             IntegratorKind::ProgressivePhotonMapping => "pppm",
             IntegratorKind::ProgressiveSplatting => "ppds",
             IntegratorKind::ProgressiveDifferentialMapping => "ppdm",
+            IntegratorKind::ProgressiveDiffusion => "pdpm",
             IntegratorKind::StochasticProgressivePhotonMapping => "sppm",
             IntegratorKind::ProgressivePhotonMappingHitPoints => "ppm",
         }
@@ -118,6 +123,7 @@ impl IntegratorKind {
                 | IntegratorKind::ProgressivePhotonMapping
                 | IntegratorKind::ProgressiveSplatting
                 | IntegratorKind::ProgressiveDifferentialMapping
+                | IntegratorKind::ProgressiveDiffusion
                 | IntegratorKind::StochasticProgressivePhotonMapping
                 | IntegratorKind::ProgressivePhotonMappingHitPoints
         )
@@ -172,6 +178,9 @@ impl IntegratorKind {
             IntegratorKind::ProgressiveDifferentialMapping => {
                 "progressive photon differential mapping: pdm iterations at a shrinking smoothing"
             }
+            IntegratorKind::ProgressiveDiffusion => {
+                "progressive diffusion-based photon mapping: dpm iterations at a shrinking bandwidth"
+            }
             IntegratorKind::StochasticProgressivePhotonMapping => {
                 "stochastic progressive photon mapping: per-pixel radii, a camera pass per iteration (Hachisuka and Jensen 2009)"
             }
@@ -182,7 +191,7 @@ impl IntegratorKind {
     }
 
     /// Every integrator, in the order of [`IntegratorKind::NAMES`].
-    pub const ALL: [IntegratorKind; 14] = [
+    pub const ALL: [IntegratorKind; 15] = [
         IntegratorKind::Path,
         IntegratorKind::LightTrace,
         IntegratorKind::PhotonMapping,
@@ -195,6 +204,7 @@ impl IntegratorKind {
         IntegratorKind::ProgressivePhotonMapping,
         IntegratorKind::ProgressiveSplatting,
         IntegratorKind::ProgressiveDifferentialMapping,
+        IntegratorKind::ProgressiveDiffusion,
         IntegratorKind::StochasticProgressivePhotonMapping,
         IntegratorKind::ProgressivePhotonMappingHitPoints,
     ];
@@ -230,14 +240,14 @@ impl IntegratorKind {
             ));
         }
         match (self, opts.photons.caustic_estimator) {
-            (IntegratorKind::DiffusionPhotonMapping, Some(e))
-                if e != CausticEstimator::Diffusion =>
-            {
-                Err(OptionError::Conflict(format!(
-                    "--integrator dpm uses the diffusion estimator; for --estimator {} use --integrator pm",
-                    e.name()
-                )))
-            }
+            (
+                IntegratorKind::DiffusionPhotonMapping | IntegratorKind::ProgressiveDiffusion,
+                Some(e),
+            ) if e != CausticEstimator::Diffusion => Err(OptionError::Conflict(format!(
+                "--integrator {} uses the diffusion estimator; for --estimator {} use --integrator pm",
+                self.name(),
+                e.name()
+            ))),
             (
                 IntegratorKind::ProgressivePhotonMapping
                 | IntegratorKind::StochasticProgressivePhotonMapping
@@ -339,6 +349,7 @@ impl std::str::FromStr for IntegratorKind {
             "pppm" => Ok(Self::ProgressivePhotonMapping),
             "ppds" => Ok(Self::ProgressiveSplatting),
             "ppdm" => Ok(Self::ProgressiveDifferentialMapping),
+            "pdpm" => Ok(Self::ProgressiveDiffusion),
             "sppm" => Ok(Self::StochasticProgressivePhotonMapping),
             "ppm" => Ok(Self::ProgressivePhotonMappingHitPoints),
             _ => Err(format!(
@@ -405,7 +416,8 @@ pub fn render(
     let stats: RenderStats = match kind {
         IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
-        | IntegratorKind::ProgressiveDifferentialMapping => {
+        | IntegratorKind::ProgressiveDifferentialMapping
+        | IntegratorKind::ProgressiveDiffusion => {
             let (st, s) =
                 progressive::render(scene, kind, opts, &stage, &mut film, &filter, &mut notes)?;
             iterations = Some(s.as_ref().map_or(0, |s| s.iterations));

@@ -15,11 +15,15 @@
 //!   dropped. Sharp from the first iteration (footprints adapt to the photon density) and
 //!   consistent (the smoothing goes to 0 while the footprints' count grows).
 //! * `ppdm` — the same schedule over `pdm` (footprints gathered instead of splatted).
+//! * `pdpm` — the same schedule over `dpm`: its bandwidth h (the support of the diffused
+//!   kernel, area ∝ h²) shrinks as `pppm`'s radius, q and the steepness stay, and the noise
+//!   scale keeps its ratio to h (h/2 unless given). The diffused kernel lies inside the disc of
+//!   radius h and integrates to 1, so its bias vanishes with h as the fixed kernel's does.
 //!
-//! Initial bandwidths: `pppm`'s radius is `--radius` or the median distance from a caustic
-//! photon of the first iteration to its k-th nearest neighbour (`--k`, a pilot over that
-//! iteration's own photons); the global map's, the same with `--global-k`; the footprints'
-//! smoothing is `--smoothing`.
+//! Initial bandwidths: `pppm`'s radius (and `pdpm`'s h) is `--radius` or the median distance
+//! from a caustic photon of the first iteration to its k-th nearest neighbour (`--k`, a pilot
+//! over that iteration's own photons); the global map's, the same with `--global-k`; the
+//! footprints' smoothing is `--smoothing`.
 
 use super::IntegratorKind;
 use super::photon_mapping::{self, PhotonMaps};
@@ -30,7 +34,7 @@ use crate::driver::iterations::run_iterations;
 use crate::error::OptionError;
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::options::{Bandwidth, CausticEstimator, RenderOptions, Smoothing};
+use crate::options::{Bandwidth, CausticEstimator, NoiseScale, RenderOptions, Smoothing};
 use crate::stats::RenderStats;
 use caustica_density::estimator::median_knn_radius;
 use caustica_density::{BandwidthSchedule, KernelVolume};
@@ -45,13 +49,22 @@ pub fn one_shot(kind: IntegratorKind) -> Option<IntegratorKind> {
         IntegratorKind::ProgressiveDifferentialMapping => {
             Some(IntegratorKind::PhotonDifferentialMapping)
         }
+        IntegratorKind::ProgressiveDiffusion => Some(IntegratorKind::DiffusionPhotonMapping),
         _ => None,
     }
 }
 
+/// True for the methods whose caustic bandwidth is a radius (`--radius` or the k-NN pilot).
+fn radius_method(kind: IntegratorKind) -> bool {
+    matches!(
+        kind,
+        IntegratorKind::ProgressivePhotonMapping | IntegratorKind::ProgressiveDiffusion
+    )
+}
+
 /// The first iteration's bandwidths and their schedules.
 struct Schedules {
-    /// `pppm`'s caustic radius (m), or the footprints' smoothing s.
+    /// `pppm`'s caustic radius (m), `pdpm`'s bandwidth h (m), or the footprints' smoothing s.
     caustic: BandwidthSchedule,
     /// The global map's radius (m), when there is a global map.
     global: Option<BandwidthSchedule>,
@@ -68,12 +81,13 @@ impl Schedules {
         let alpha = p.progressive.alpha;
         let first = p.progressive.iteration_options(opts, 1);
         // A pilot over the first iteration's own photons (the same paths it traces).
-        let wants_radius =
-            kind == IntegratorKind::ProgressivePhotonMapping && p.progressive.radius.is_none();
+        let wants_radius = radius_method(kind) && p.progressive.radius.is_none();
         let wants_global = PhotonMaps::wants_global(&first);
         let (mut r_caustic, mut r_global) = (None, None);
         if wants_radius || wants_global {
             let mut pilot = first.clone();
+            // The pilot only needs the photons: a plain k-NN map, whatever the method estimates.
+            pilot.photons.caustic_estimator = None;
             if !wants_radius {
                 pilot.photons.light_paths = Some(1);
             }
@@ -95,7 +109,7 @@ impl Schedules {
         }
         let fallback = || (scene.geometry.bounds().extent().length() * 1e-3).max(1e-6);
         let caustic_h1 = match kind {
-            IntegratorKind::ProgressivePhotonMapping => match (p.progressive.radius, r_caustic) {
+            _ if radius_method(kind) => match (p.progressive.radius, r_caustic) {
                 (Some(r), _) => r.get(),
                 (None, Some(r)) => r,
                 (None, None) => {
@@ -136,6 +150,17 @@ impl Schedules {
             IntegratorKind::ProgressivePhotonMapping => {
                 o.photons.caustic_estimator = Some(CausticEstimator::Fixed);
                 o.photons.bandwidth = Bandwidth::new(h).ok();
+            }
+            IntegratorKind::ProgressiveDiffusion => {
+                // (The iterations are dpm renders: the estimator is the diffusion one.)
+                o.photons.bandwidth = Bandwidth::new(h).ok();
+                // An explicit noise scale keeps its ratio to the bandwidth (the default, h/2,
+                // follows it by itself).
+                let ratio = h / self.caustic.bandwidth(1) as f32;
+                let d = &mut o.photons.diffusion;
+                d.noise_scale = d
+                    .noise_scale
+                    .and_then(|n| NoiseScale::new(n.get() * ratio).ok());
             }
             _ => {
                 if let Ok(s) = Smoothing::new(h) {
@@ -214,6 +239,7 @@ pub(crate) fn render(
     let complete = done;
     let name = match kind {
         IntegratorKind::ProgressivePhotonMapping => "radius",
+        IntegratorKind::ProgressiveDiffusion => "bandwidth h",
         _ => "smoothing s",
     };
     notes.push(format!(

@@ -128,6 +128,7 @@ fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
         | IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping
+        | IntegratorKind::ProgressiveDiffusion
         | IntegratorKind::StochasticProgressivePhotonMapping
         | IntegratorKind::ProgressivePhotonMappingHitPoints => None,
     }
