@@ -8,7 +8,7 @@
 #    hit point per pixel), the one-shot pm and pds the same 10^7 light paths with 100 spp in one
 #    pass (their bandwidths fixed: pm k = 100, pds s = 4, no automatic choice). The Cornell box
 #    at 64x64 with global illumination likewise with 20 iterations of 20 000 light paths
-#    (pm: 4 final-gather rays, its default global map).
+#    (4 final-gather rays for pm and pppm; sppm and ppm gather no rays).
 # 2. Fixed cost per iteration: the same renders with 1 light path per iteration, 201 against 1
 #    iterations: (T_201 - T_1) / 200 is what an iteration costs besides its photons (sppm: its
 #    camera pass and the per-pixel update; ppm: the splat setup over its fixed hit points and
@@ -34,7 +34,7 @@ wall() {
   echo "$best"
 }
 
-rates() { # scene size caustics(0/1) iterations paths pm-extra...
+rates() { # scene size caustics(0/1) iterations paths extra-options...
   local s=$1 w=$2 c=$3 n=$4 m=$5
   shift 5
   local base=(render "$s" --width "$w" --height "$w" --seed 1)
@@ -56,7 +56,7 @@ rates() { # scene size caustics(0/1) iterations paths pm-extra...
   ((c)) || methods=(pppm sppm ppm)
   for k in "${methods[@]}"; do
     local t
-    t=$(wall "${base[@]}" --integrator "$k" --iterations "$n" --photons-per-iteration "$m")
+    t=$(wall "${base[@]}" --integrator "$k" --iterations "$n" --photons-per-iteration "$m" "$@")
     echo "| $k | $t | $(awk -v n="$n" -v t="$t" 'BEGIN {printf "%.1f", n / t}') | $(awk -v p="$total" -v t="$t" 'BEGIN {printf "%.2f M", p / t / 1e6}') | $(awk -v a="$t" -v b="$tpm" 'BEGIN {printf "%.2f", a / b}') |"
   done
   echo

@@ -185,7 +185,7 @@ impl IntegratorKind {
                 "stochastic progressive photon mapping: per-pixel radii, a camera pass per iteration (Hachisuka and Jensen 2009)"
             }
             IntegratorKind::ProgressivePhotonMappingHitPoints => {
-                "progressive photon mapping: fixed hit points with their own radii (Hachisuka et al. 2008)"
+                "progressive photon mapping: the fixed hit points of one camera pass, per-pixel radii (Hachisuka et al. 2008)"
             }
         }
     }
