@@ -6,7 +6,8 @@
 # at 64x64: RMSE against time for pppm, ppds, sppm and ppm, each from four initial bandwidths
 # (pppm/sppm/ppm: the first iteration's 50-NN median radius r50 times 1, 1/2, 1/4, 1/8, 1/16 (the
 # Cornell box: the global map's, and pppm from its pilot alone); ppds:
-# smoothing 0.5, 1, 2, 4, 8; ppm with 16 fixed hit points per pixel), alpha 2/3, under one time budget T (the render stops after the
+# smoothing 0.5, 1, 2, 4, 8, and "ppdsf": ppds at s = 1, 2, 4 with a minimum footprint of r50
+# times 1/4, 1/2, 1 on the caustic scenes; ppm with 16 fixed hit points per pixel), alpha 2/3, under one time budget T (the render stops after the
 # iteration that crosses T); one render per curve (--save-iterations 1, 2, 4, ...). Then an
 # alpha sweep (0.3, 0.5, 0.8, 0.95) of pppm, ppds and sppm at their best initial bandwidth on
 # the water wave and the glass sphere, and the one-shot methods at their best bandwidth with
@@ -67,13 +68,16 @@ reference() { # scene
 }
 
 # One progressive render under the budget, its saved images compared with the reference.
+# ppdsf is ppds with a minimum footprint (--min-footprint, given in EXTRA with the label).
+EXTRA=()
+integrator_of() { [[ $1 == ppdsf ]] && echo ppds || echo "$1"; }
 curve() { # scene method alpha bandwidth-option bandwidth-value label
   local s=$1 m=$2 a=$3 opt=$4 v=$5 label=$6 d="$work/$1/$2-a$3-$6"
   grep -q "^$s,$m,$a,$label," "$csv" && return
   rm -rf "$d" && mkdir -p "$d"
   read -ra b <<< "$(base_args "$s")"
-  "$bin" "${b[@]}" --seed 1 --integrator "$m" --time "$T" --photons-per-iteration "$(paths_of "$s")" \
-    --ppm-alpha "$a" "$opt" "$v" $(hit_points "$m") --save-iterations "$saves" -o "$d/final.exr" \
+  "$bin" "${b[@]}" --seed 1 --integrator "$(integrator_of "$m")" --time "$T" --photons-per-iteration "$(paths_of "$s")" \
+    --ppm-alpha "$a" "$opt" "$v" "${EXTRA[@]}" $(hit_points "$m") --save-iterations "$saves" -o "$d/final.exr" \
     > "$d/summary.txt" 2> "$d/notes.txt"
   local last
   last=$(tail -n 1 "$d/final.exr.iterations.csv" | cut -d, -f1)
@@ -102,12 +106,15 @@ best_label() { # scene method
       if (!($4 in it) || $5 + 0 > it[$4]) { it[$4] = $5 + 0; e[$4] = $7 + 0 } }
     END { b = ""; for (l in e) if (b == "" || e[l] < e[b]) b = l; print b }' "$csv"
 }
-option_of() { # scene method label -> "--radius R" or "--smoothing S"
-  if [[ $2 == ppds ]]; then
-    echo "--smoothing ${3#s}"
-  else
-    echo "--radius $(awk -v f="${3#r}" '{printf "%.6g", $1 * f}' "$work/$1/r50.txt")"
-  fi
+option_of() { # scene method label -> "--radius R", "--smoothing S [--min-footprint R]"
+  case $2 in
+    ppds) echo "--smoothing ${3#s}" ;;
+    ppdsf)
+      local sm=${3#s}
+      echo "--smoothing ${sm%%f*} --min-footprint $(awk -v f="${3##*f}" '{printf "%.6g", $1 * f}' "$work/$1/r50.txt")"
+      ;;
+    *) echo "--radius $(awk -v f="${3#r}" '{printf "%.6g", $1 * f}' "$work/$1/r50.txt")" ;;
+  esac
 }
 
 scenes=(glass-sphere water-wave metal-ring cornell-box)
@@ -135,6 +142,16 @@ for s in "${scenes[@]}"; do
   for sm in 0.5 1 2 4 8; do
     echo "   ppds s=$sm"
     curve "$s" ppds 0.6667 --smoothing "$sm" "s$sm"
+  done
+  # ppds with a minimum footprint of r50 times 1/4, 1/2, 1 (shrinking with the smoothing).
+  [[ $s == cornell-box ]] && continue
+  for sm in 1 2 4; do
+    for f in 0.25 0.5 1; do
+      echo "   ppds s=$sm min footprint r50*$f"
+      EXTRA=(--min-footprint "$(awk -v f="$f" '{printf "%.6g", $1 * f}' "$work/$s/r50.txt")")
+      curve "$s" ppdsf 0.6667 --smoothing "$sm" "s${sm}f$f"
+      EXTRA=()
+    done
   done
 done
 
@@ -180,7 +197,7 @@ icsv="$work/iterations.csv"
 for s in glass-sphere water-wave; do
   read -ra b <<< "$(base_args "$s")"
   read -ra mk <<< "$(metric_args "$s")"
-  for m in pppm ppds sppm ppm; do
+  for m in pppm ppds ppdsf sppm ppm; do
     l=$(best_label "$s" "$m")
     grep -q "^$s,$m,$l," "$icsv" && continue
     read -ra o <<< "$(option_of "$s" "$m" "$l")"
@@ -188,7 +205,7 @@ for s in glass-sphere water-wave; do
     rm -rf "$d" && mkdir -p "$d"
     echo "   $s $m $l"
     # shellcheck disable=SC2046
-    "$bin" "${b[@]}" --seed 1 --integrator "$m" --iterations 1000 --photons-per-iteration "$(paths_of "$s")" \
+    "$bin" "${b[@]}" --seed 1 --integrator "$(integrator_of "$m")" --iterations 1000 --photons-per-iteration "$(paths_of "$s")" \
       "${o[@]}" $(hit_points "$m") --save-iterations 1,10,100,1000 -o "$d/final.exr" > /dev/null 2>&1
     tail -n +2 "$d/final.exr.iterations.csv" | while IFS=, read -r it sec img; do
       e=$("$bin" compare "$img" "$work/$s/ref.exr" "${mk[@]}" | awk '/^RMSE/ {print $2}')

@@ -27,12 +27,12 @@ import svg_plot  # noqa: E402
 work, out = sys.argv[1:3]
 os.makedirs(out, exist_ok=True)
 SCENES = ["glass-sphere", "water-wave", "metal-ring", "cornell-box"]
-METHODS = ["pppm", "ppds", "sppm", "ppm"]
-COLOURS = {"pppm": "#1f5fd6", "ppds": "#d62728", "sppm": "#2ca02c", "ppm": "#9467bd",
+METHODS = ["pppm", "ppds", "ppdsf", "sppm", "ppm"]
+COLOURS = {"pppm": "#1f5fd6", "ppds": "#d62728", "ppdsf": "#e377c2", "sppm": "#2ca02c", "ppm": "#9467bd",
            "pm": "#555555", "pds": "#ff7f0e"}
 MAIN = "0.6667"
 # ppm keeps 16 fixed hit points per pixel in the study (bench/progressive_study.sh).
-SHOWN = {"ppm": "ppm (16 hit points/pixel)"}
+SHOWN = {"ppm": "ppm (16 hit points/pixel)", "ppdsf": "ppds + min footprint"}
 budget = float(open(os.path.join(work, "budget.txt")).read())
 
 rows = []
@@ -103,6 +103,9 @@ def describe(method, label):
         return ""
     if method == "ppds":
         return f"s = {label[1:]}"
+    if method == "ppdsf":
+        sm, f = label[1:].split("f")
+        return f"s = {sm}, min footprint {f} r50"
     return f"r = {label[1:]} r50"
 
 
@@ -247,8 +250,8 @@ md.append("")
 md.append("### Equal time: progressive against one-shot\n")
 md.append("One-shot methods with the light paths the best pppm traced in T (about the same time), each at "
           "its best bandwidth of the sweep (pm: k nearest; pds: smoothing s; Cornell box: pm's global k).\n")
-md.append("| scene | pppm | ppds | sppm | ppm | best pm (k) | best pds (s) | ppds / pppm | ppds / sppm |")
-md.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+md.append("| scene | pppm | ppds | ppds + min footprint | sppm | ppm | best pm (k) | best pds (s) | ppds / pppm | ppds / sppm | ppds + min footprint / pppm | / sppm |")
+md.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 for scene in SCENES:
     end = {m: best(scene, m)[1] for m in METHODS}
     e = {m: (v[-1][1] if v else None) for m, v in end.items()}
@@ -262,17 +265,19 @@ for scene in SCENES:
             summary.append([scene, one, "", b["value"], "", b["seconds"], b["rmse"], "", "", ""])
         else:
             cells.append("–")
-    r1 = e["ppds"] / e["pppm"] if e["ppds"] and e["pppm"] else None
-    r2 = e["ppds"] / e["sppm"] if e["ppds"] and e["sppm"] else None
-    md.append(f"| {scene} | " + " | ".join(cells) + f" | {fmt(r1, 2)} | {fmt(r2, 2)} |")
+    def ratio(a, b):
+        return e[a] / e[b] if e[a] and e[b] else None
+    md.append(f"| {scene} | " + " | ".join(cells) + f" | {fmt(ratio('ppds', 'pppm'), 2)} | "
+              f"{fmt(ratio('ppds', 'sppm'), 2)} | {fmt(ratio('ppdsf', 'pppm'), 2)} | {fmt(ratio('ppdsf', 'sppm'), 2)} |")
 md.append("")
 
 # Rates
 md.append("### Rates\n")
 md.append("Light paths per second of the progressive renders (best bandwidth, whole render incl. camera passes) "
           "and of the one-shot renders of the equal-time table (their sweep's mean time per render).\n")
-md.append("| scene | light paths per iteration | pppm it/s | ppds it/s | sppm it/s | ppm it/s | pppm paths/s | ppds paths/s | sppm paths/s | ppm paths/s | pm paths/s | pds paths/s |")
-md.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+md.append("| scene | light paths per iteration | " + " | ".join(f"{m} it/s" for m in METHODS) + " | "
+          + " | ".join(f"{m} paths/s" for m in METHODS) + " | pm paths/s | pds paths/s |")
+md.append("|---|---:|" + "---:|" * (2 * len(METHODS) + 2))
 for scene in SCENES:
     m_paths = 100000 if scene == "glass-sphere" else 20000
     its, pps = [], []

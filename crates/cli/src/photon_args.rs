@@ -115,6 +115,17 @@ pub struct PhotonArgs {
         help_heading = "Photon differentials (pdm, pds)"
     )]
     pub normal_distance: Option<NormalDistance>,
+    /// Smallest principal semi-axis of a caustic photon's footprint, in metres: narrower
+    /// footprints (those that collapse near a caustic fold and would splat fireflies) are widened
+    /// to it, flux kept (default: none, as Frisvad et al. 2014). The progressive methods shrink
+    /// it with the smoothing.
+    #[arg(
+        long,
+        value_name = "R",
+        allow_negative_numbers = true,
+        help_heading = "Photon differentials (pdm, pds)"
+    )]
+    pub min_footprint: Option<f32>,
     /// Choose no bandwidth automatically: pm's k 50, dpm's bandwidth the median distance to the
     /// 50th nearest photon and q 0.2, pdm's and pds's s 1 (or the scene's smoothing).
     #[arg(long, help_heading = "Photon mapping")]
@@ -280,6 +291,14 @@ impl PhotonArgs {
         if let Some(t) = self.normal_distance {
             o.footprints.normal_distance = t;
         }
+        if let Some(r) = self.min_footprint {
+            if !(r > 0.0 && r.is_finite()) {
+                anyhow::bail!(
+                    "--min-footprint must be a positive finite length in metres, got {r}"
+                );
+            }
+            o.footprints.min_semi_axis = Some(r);
+        }
         if let Some(n) = self.volume_photons {
             o.volume.photons = n;
         }
@@ -370,6 +389,7 @@ impl PhotonArgs {
             || self.isotropic
             || self.smoothing.is_some()
             || self.normal_distance.is_some()
+            || self.min_footprint.is_some()
             || self.no_auto_bandwidth
             || self.volume_photons.is_some()
             || self.volume_k.is_some()

@@ -294,11 +294,13 @@ impl RenderSettings {
             opts.photons.final_gather = g;
         }
         kind.check(&opts)?;
-        if (self.photon.smoothing.is_some() || self.photon.normal_distance.is_some())
+        if (self.photon.smoothing.is_some()
+            || self.photon.normal_distance.is_some()
+            || self.photon.min_footprint.is_some())
             && !kind.uses_photon_differentials()
         {
             warnings.push(format!(
-                "--smoothing and --normal-distance only affect --integrator pdm, pds and vpd, not '{}'",
+                "--smoothing, --normal-distance and --min-footprint only affect --integrator pdm, pds, vpd, ppds and ppdm, not '{}'",
                 kind.name()
             ));
         }

@@ -25,7 +25,7 @@ pub struct SweepArgs {
     /// The render option to vary, by its long name: spp, seed, max-depth, sampler, time,
     /// integrator, photons, global-photons, k, global-k, max-radius, kernel, final-gather,
     /// tangent-projection, disc-test, caustics-only, estimator, bandwidth, q, alpha,
-    /// noise-scale, isotropic, smoothing, normal-distance, no-auto-bandwidth, volume-only,
+    /// noise-scale, isotropic, smoothing, normal-distance, min-footprint, no-auto-bandwidth, volume-only,
     /// volume-photons, volume-k, volume-radius, march-step, volume-smoothing or min-semi-axis.
     #[arg(long, value_name = "NAME")]
     pub param: String,
@@ -136,6 +136,7 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("isotropic", |s| &mut s.photon.isotropic),
     ("smoothing", |s| &mut s.photon.smoothing),
     ("normal-distance", |s| &mut s.photon.normal_distance),
+    ("min-footprint", |s| &mut s.photon.min_footprint),
     ("no-auto-bandwidth", |s| &mut s.photon.no_auto_bandwidth),
     ("volume-only", |s| &mut s.volume_only),
     ("volume-photons", |s| &mut s.photon.volume_photons),

@@ -97,6 +97,14 @@ fn bad_pdm_parameters_are_rejected() {
             vec!["--integrator", "pds", "--estimator", "diffusion"],
             "--integrator pm",
         ),
+        (
+            vec!["--integrator", "pds", "--min-footprint", "-0.01"],
+            "--min-footprint must be a positive finite length",
+        ),
+        (
+            vec!["--integrator", "pdm", "--min-footprint", "inf"],
+            "--min-footprint must be a positive finite length",
+        ),
     ] {
         let o = render("bad.pfm", &args);
         assert_clean_failure(&o, &[must]);
@@ -108,7 +116,7 @@ fn smoothing_warns_on_other_integrators() {
     let o = render("warn.pfm", &["--integrator", "pm", "--smoothing", "2"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("--smoothing and --normal-distance only affect"),
+        stderr(&o).contains("--smoothing, --normal-distance and --min-footprint only affect"),
         "{}",
         stderr(&o)
     );

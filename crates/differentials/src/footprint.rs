@@ -153,6 +153,65 @@ impl Footprint {
         })
     }
 
+    /// The footprint of `du`, `dv` (as [`Footprint::new`]) with each principal semi-axis raised
+    /// to at least `min_semi_axis` (m), and whether it was raised. Near a caustic fold first-order
+    /// differentials give footprints of almost no area, whose irradiance Φ/A is a firefly
+    /// wherever they meet an eye point (seed 000 Q-M9 names the same degeneracy for volume
+    /// kernels): the floor bounds it by Φ/(π r²) and keeps the footprint's orientation, flux
+    /// and major axis. A footprint whose semi-axes are both at least `min_semi_axis` is exactly
+    /// [`Footprint::new`]'s. Vectors too parallel for [`Footprint::new`] are rescued: the major
+    /// axis along the longer vector, the minor one across it in the tangent plane.
+    ///
+    /// Errors: those of [`Footprint::new`] other than [`DiffError::CollapsedFootprint`]; that one
+    /// only if both vectors vanish.
+    pub fn widened(
+        center: Vec3,
+        du: Vec3,
+        dv: Vec3,
+        normal: Vec3,
+        min_semi_axis: f32,
+    ) -> Result<(Self, bool), DiffError> {
+        match Self::new(center, du, dv, normal) {
+            Ok(f) => {
+                let (a, b) = f.semi_axis_lengths();
+                if b >= min_semi_axis {
+                    return Ok((f, false));
+                }
+                let [major, minor] = f.principal_semi_axes();
+                let dir = |v: Vec3, fallback: Vec3| v.try_normalize().unwrap_or(fallback);
+                let d0 = dir(major, f.du.normalize());
+                let d1 = dir(minor, f.normal.cross(d0));
+                let g = Self::new(
+                    center,
+                    d0 * (2.0 * a.max(min_semi_axis)),
+                    d1 * (2.0 * b.max(min_semi_axis)),
+                    f.normal,
+                )?;
+                Ok((g, true))
+            }
+            Err(DiffError::CollapsedFootprint) => {
+                let n = unit(normal).ok_or(DiffError::DegenerateNormal)?;
+                let du = du - n * n.dot(du);
+                let dv = dv - n * n.dot(dv);
+                let long = if du.length_squared() >= dv.length_squared() {
+                    du
+                } else {
+                    dv
+                };
+                let d0 = long.try_normalize().ok_or(DiffError::CollapsedFootprint)?;
+                let a = 0.5 * long.length();
+                let g = Self::new(
+                    center,
+                    d0 * (2.0 * a.max(min_semi_axis)),
+                    n.cross(d0) * (2.0 * min_semi_axis),
+                    n,
+                )?;
+                Ok((g, true))
+            }
+            Err(e) => Err(e),
+        }
+    }
+
     /// The footprint of a photon differential `ray` (parameters as in [`crate::emission`]:
     /// `dp[0] = D_u x`, `dp[1] = D_v x`) that has been transferred onto the surface with normal
     /// `normal`: centre `ray.p`, vectors `ray.dp`. See [`Footprint::new`].
@@ -350,6 +409,58 @@ mod tests {
         let t = 2.0 * PI * k as f32 / count as f32;
         let [a, b] = f.conjugate_semi_diameters();
         f.center() + t.cos() * a + t.sin() * b
+    }
+
+    /// The minimum semi-axis: footprints already wider are [`Footprint::new`]'s to the bit; others
+    /// get both principal semi-axes at least the floor, keep their major axis and its direction
+    /// (the ellipse contains the original); parallel vectors are rescued along the longer one.
+    #[test]
+    fn widening_raises_only_the_short_semi_axes() {
+        for (c, du, dv, n) in cases() {
+            let f = Footprint::new(c, du, dv, n).unwrap();
+            let (a, b) = f.semi_axis_lengths();
+            // A floor below the minor axis changes nothing.
+            let (g, w) = Footprint::widened(c, du, dv, n, 0.5 * b).unwrap();
+            assert!(!w && g == f);
+            // A floor above both axes: a disc of that radius.
+            let (g, _) = Footprint::widened(c, du, dv, n, 2.0 * a).unwrap();
+            let (ga, gb) = g.semi_axis_lengths();
+            assert!(close(ga, 2.0 * a, 1e-4) && close(gb, 2.0 * a, 1e-4));
+            // A floor between the axes: the minor axis raised, the major kept.
+            if a < 1.01 * b {
+                continue; // a circle: nothing between its axes
+            }
+            let r = 0.5 * (a + b);
+            let (g, w) = Footprint::widened(c, du, dv, n, r).unwrap();
+            let (ga, gb) = g.semi_axis_lengths();
+            assert!(w && close(ga.max(gb), a.max(r), 1e-4) && close(ga.min(gb), r, 1e-4));
+            let [m0, _] = f.principal_semi_axes();
+            let [g0, _] = g.principal_semi_axes();
+            assert!(
+                m0.normalize().dot(g0.normalize()).abs() > 0.999,
+                "{m0} {g0}"
+            );
+            // The widened ellipse contains the original one.
+            for k in 0..16 {
+                let x = boundary(&f, k, 16) - g.center();
+                let l = Vec2::new(g.rows[0].dot(x), g.rows[1].dot(x));
+                assert!(l.length() <= 1.0 + 1e-4, "{l}");
+            }
+        }
+        // Parallel vectors (collapsed for Footprint::new) keep the longer one as the major axis.
+        let n = Vec3::Z;
+        let (du, dv) = (Vec3::new(0.4, 0.0, 0.0), Vec3::new(-0.2, 0.0, 0.0));
+        assert_eq!(
+            Footprint::new(Vec3::ZERO, du, dv, n).unwrap_err(),
+            DiffError::CollapsedFootprint
+        );
+        let (g, w) = Footprint::widened(Vec3::ZERO, du, dv, n, 0.01).unwrap();
+        let (ga, gb) = g.semi_axis_lengths();
+        assert!(
+            w && close(ga, 0.2, 1e-4) && close(gb, 0.01, 1e-4),
+            "{ga} {gb}"
+        );
+        assert!(Footprint::widened(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, n, 0.01).is_err());
     }
 
     #[test]

@@ -95,6 +95,7 @@ fn bench(c: &mut Criterion) {
                 landings: PHOTONS,
                 collapsed: 0,
                 failed: 0,
+                widened: 0,
                 stats: RenderStats::default(),
                 warning: None,
             },

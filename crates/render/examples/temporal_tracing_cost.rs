@@ -33,8 +33,8 @@ fn trace<const N: usize>(tracer: &LandingTracer, limits: &PathLimits, paths: u64
         sampler.start_path(1, path);
         tracer.trace::<N>(&mut sampler, limits, &mut landings, &mut st);
     }
-    let (photons, collapsed, failed) = photons_from_landings(&landings, paths, tracer.align());
-    (photons.len(), collapsed + failed)
+    let made = photons_from_landings(&landings, paths, tracer.align(), None);
+    (made.photons.len(), made.collapsed + made.failed)
 }
 
 fn main() {

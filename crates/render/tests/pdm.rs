@@ -323,9 +323,31 @@ fn collapsed_and_failed_footprints_are_dropped_and_counted_without_nan() {
         landing(o, Some([Vec3::splat(f32::INFINITY), Vec3::Z])), // not finite: failed
     ];
     let paths = 4;
-    let (photons, collapsed, failed) =
-        photons_from_landings(&landings, paths, caustica_render::ShutterAlign::Forward);
-    assert_eq!((photons.len(), collapsed, failed), (1, 3, 3));
+    let made = photons_from_landings(
+        &landings,
+        paths,
+        caustica_render::ShutterAlign::Forward,
+        None,
+    );
+    let (photons, collapsed, failed) = (made.photons, made.collapsed, made.failed);
+    assert_eq!(
+        (photons.len(), collapsed, failed, made.widened),
+        (1, 3, 3, 0)
+    );
+    // With a minimum semi-axis the parallel vectors are rescued (a thin ellipse along X); a
+    // zero vector beside a non-zero one is too, and the vectors ⟂ the plane project to one
+    // zero and one non-zero: every landing with finite vectors becomes a photon.
+    let floored = photons_from_landings(
+        &landings,
+        paths,
+        caustica_render::ShutterAlign::Forward,
+        Some(0.01),
+    );
+    assert_eq!(
+        (floored.photons.len(), floored.collapsed, floored.failed),
+        (4, 0, 3)
+    );
+    assert_eq!(floored.widened, 3);
     // The kept footprint: vectors X, Z scaled by 1/√4, area π/4 · ¼ = π/16, flux 2/4 W, and at
     // its centre π K(0) Φ/A = 3 Φ/A (eq. 10–11).
     let fp = photons[0].footprint;
@@ -336,6 +358,7 @@ fn collapsed_and_failed_footprints_are_dropped_and_counted_without_nan() {
         landings: landings.len(),
         collapsed,
         failed,
+        widened: 0,
         stats: RenderStats::default(),
         warning: None,
     };

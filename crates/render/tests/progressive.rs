@@ -259,6 +259,43 @@ fn ppds_shrinks_the_smoothing_by_eq_3_27_on_the_footprint_area() {
     assert!(d < 1e-4, "ppds vs pds at the hand-chained smoothing: {d}");
 }
 
+/// ppds's minimum footprint shrinks with its smoothing (footprints scale with s, seed 002 eq.
+/// 5–6): at α = 0.5 it is the mean of pds renders at the hand-chained s_i with the floor
+/// r₁ s_i/s₁, and not the one with the floor kept at r₁.
+#[test]
+fn ppds_shrinks_its_minimum_footprint_with_the_smoothing() {
+    let s = scene("glass-sphere", 32);
+    let mut base = caustics(1);
+    let r1 = 0.03f32;
+    base.photons.footprints.min_semi_axis = Some(r1);
+    let alpha = 0.5;
+    let p = run(
+        &s,
+        IntegratorKind::ProgressiveSplatting,
+        &progressive(base.clone(), 3, alpha, 1.0),
+    );
+    let (mut s2, s1) = (4.0f64, 2.0f64); // s_1 = 2
+    let (mut shrunk, mut kept) = (Vec::new(), Vec::new());
+    for i in 1..=3u64 {
+        let si = s2.sqrt();
+        let mut b = base.clone();
+        b.photons.footprints.min_semi_axis = Some(r1 * (si / s1) as f32);
+        let kind = IntegratorKind::PhotonDifferentialSplatting;
+        shrunk.push(one_shot(&s, kind, &b, i, si as f32));
+        kept.push(one_shot(&s, kind, &base, i, si as f32));
+        s2 *= (i as f64 + alpha) / (i as f64 + 1.0);
+    }
+    let d = max_rel_diff(&p, &mean(&shrunk));
+    assert!(
+        d < 1e-4,
+        "ppds vs pds at the chained smoothing and floor: {d}"
+    );
+    assert!(
+        max_rel_diff(&p, &mean(&kept)) > 1e-3,
+        "the floor did not shrink"
+    );
+}
+
 /// Root-mean-square difference of the green channels.
 fn rmse(a: &Image, b: &Image) -> f64 {
     (a.data

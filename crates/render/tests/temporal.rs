@@ -366,8 +366,8 @@ fn the_centred_alignment_sweeps_around_the_shutters_middle() {
     }
     // Stored with the segment start at x − D_t x/2.
     let only: Vec<_> = mid.iter().map(|(_, l)| *l).collect();
-    let (photons, _, _) = photons_from_landings(&only, 1, ShutterAlign::Centred);
-    let (forward, _, _) = photons_from_landings(&only, 1, ShutterAlign::Forward);
+    let photons = photons_from_landings(&only, 1, ShutterAlign::Centred, None).photons;
+    let forward = photons_from_landings(&only, 1, ShutterAlign::Forward, None).photons;
     assert_eq!(photons.len(), only.len());
     for ((c, f), l) in photons.iter().zip(&forward).zip(&only) {
         let dt = l.dp.unwrap()[TEMPORAL_PARAMS - 1];

@@ -424,12 +424,16 @@ pub(crate) fn render(
     notes.push(maps.summary(t.elapsed().as_secs_f64()));
     match &maps.caustic {
         CausticEstimate::Footprints(d) => notes.push(format!(
-            "photon differentials: smoothing s = {}, {} caustic landings, {} stored, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated; gather radius median {:.4} m, max {:.4} m",
+            "photon differentials: smoothing s = {}, {} caustic landings, {} stored, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated{}; gather radius median {:.4} m, max {:.4} m",
             opts.photons.footprints.smoothing,
             d.landings,
             d.len(),
             d.collapsed,
             d.failed,
+            crate::photon::differential::widened_note(
+                d.widened,
+                opts.photons.footprints.min_semi_axis
+            ),
             d.median_gather_radius(),
             d.max_gather_radius(),
         )),

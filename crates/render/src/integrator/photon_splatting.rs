@@ -39,8 +39,9 @@ use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::photon::caustic::CAUSTIC_STREAM;
 use crate::photon::differential::{
-    DiffPhoton, EMISSION_PARAMS, FootprintFilter, Landing, LandingTracer, RECORD_LANDING_PATHS,
-    TEMPORAL_PARAMS, count_caustic_paths, photons_from_landings, unit_budget,
+    DiffPhoton, EMISSION_PARAMS, FootprintFilter, Landing, LandingTracer, MadePhotons,
+    RECORD_LANDING_PATHS, TEMPORAL_PARAMS, count_caustic_paths, photons_from_landings, unit_budget,
+    widened_note,
 };
 use crate::photon::eye_map::EyeVertex;
 use crate::photon::plan::{PathSet, PathStream, PhotonBudget};
@@ -74,6 +75,8 @@ pub struct PdsReport {
     pub photons: u64,
     pub collapsed: u64,
     pub failed: u64,
+    /// Footprints widened by the minimum semi-axis.
+    pub widened: u64,
     pub splats: u64,
     /// Photons in the global map.
     pub global_photons: usize,
@@ -245,6 +248,7 @@ pub fn render_report(
     report.photons = done.totals.photons;
     report.collapsed = done.totals.collapsed;
     report.failed = done.totals.failed;
+    report.widened = done.totals.widened;
     report.splats = done.splats;
     if let PhotonBudget::Paths(_) = opts.photons.caustic_budget() {
         report.landings =
@@ -288,11 +292,12 @@ fn report_notes(r: &PdsReport, opts: &RenderOptions) -> Vec<String> {
         r.global_secs,
     )];
     notes.push(format!(
-        "splatting: smoothing s = {}, {} photons splatted, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated; {} splats in {splat_secs:.2} s ({:.2} M photons/s, {:.2} M splats/s), {:.1} splats per photon",
+        "splatting: smoothing s = {}, {} photons splatted, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated{}; {} splats in {splat_secs:.2} s ({:.2} M photons/s, {:.2} M splats/s), {:.1} splats per photon",
         opts.photons.footprints.smoothing,
         r.photons,
         r.collapsed,
         r.failed,
+        widened_note(r.widened, opts.photons.footprints.min_semi_axis),
         r.splats,
         r.photons as f64 / splat_secs / 1e6,
         r.splats as f64 / splat_secs / 1e6,
@@ -334,6 +339,7 @@ pub struct ChunkTotals {
     pub photons: u64,
     pub collapsed: u64,
     pub failed: u64,
+    pub widened: u64,
 }
 
 impl std::ops::AddAssign for ChunkTotals {
@@ -341,6 +347,7 @@ impl std::ops::AddAssign for ChunkTotals {
         self.photons += o.photons;
         self.collapsed += o.collapsed;
         self.failed += o.failed;
+        self.widened += o.widened;
     }
 }
 
@@ -360,12 +367,8 @@ pub struct FootprintSplat<'a> {
 
 impl FootprintSplat<'_> {
     /// The photons of chunk `c`'s paths with `N` differential parameters, and the counts of
-    /// collapsed and failed landings.
-    fn trace_landings<const N: usize>(
-        &self,
-        c: u64,
-        st: &mut RenderStats,
-    ) -> (Vec<DiffPhoton>, u64, u64) {
+    /// collapsed, failed and widened landings.
+    fn trace_landings<const N: usize>(&self, c: u64, st: &mut RenderStats) -> MadePhotons {
         let mut landings: Vec<Landing<N>> = Vec::new();
         let mut sampler = Sampler::new(self.stream.sampler, self.stream.seed);
         self.work.for_each_path(c, |path| {
@@ -373,7 +376,12 @@ impl FootprintSplat<'_> {
             self.tracer
                 .trace::<N>(&mut sampler, &self.opts.limits, &mut landings, st);
         });
-        photons_from_landings(&landings, self.work.len(), self.tracer.align())
+        photons_from_landings(
+            &landings,
+            self.work.len(),
+            self.tracer.align(),
+            self.opts.photons.footprints.min_semi_axis,
+        )
     }
 }
 
@@ -391,17 +399,18 @@ impl SplatRule for FootprintSplat<'_> {
     }
 
     fn trace_chunk(&self, c: u64, st: &mut RenderStats) -> (Vec<DiffPhoton>, ChunkTotals) {
-        let (photons, collapsed, failed) = if self.tracer.is_temporal() {
+        let made = if self.tracer.is_temporal() {
             self.trace_landings::<TEMPORAL_PARAMS>(c, st)
         } else {
             self.trace_landings::<EMISSION_PARAMS>(c, st)
         };
         let totals = ChunkTotals {
-            photons: photons.len() as u64,
-            collapsed,
-            failed,
+            photons: made.photons.len() as u64,
+            collapsed: made.collapsed,
+            failed: made.failed,
+            widened: made.widened,
         };
-        (photons, totals)
+        (made.photons, totals)
     }
 
     fn bounds(&self, photon: &DiffPhoton) -> Option<(Vec3, Vec3)> {

@@ -166,6 +166,11 @@ impl Schedules {
                 if let Ok(s) = Smoothing::new(h) {
                     o.photons.footprints.smoothing = s;
                 }
+                // Footprints scale with the smoothing (seed 002 eq. 5–6): so does their floor,
+                // which therefore vanishes with it (consistency).
+                let ratio = h / self.caustic.bandwidth(1) as f32;
+                let f = &mut o.photons.footprints;
+                f.min_semi_axis = f.min_semi_axis.map(|r| r * ratio);
             }
         }
         o.photons.global_bandwidth = self

@@ -313,6 +313,11 @@ pub struct FootprintSettings {
     /// does not reach a point farther than this fraction of its gather radius from its tangent
     /// plane, `|n_p · (x − x_p)| > t · r_max`.
     pub normal_distance: NormalDistance,
+    /// The smallest principal semi-axis a footprint may have (m): narrower footprints are
+    /// widened to it ([`caustica_differentials::Footprint::widened`]; against fireflies from
+    /// footprints collapsed near a caustic fold). None by default, as seed 002. The progressive
+    /// methods shrink it with the smoothing.
+    pub min_semi_axis: Option<f32>,
     /// Temporal photon differentials (seed 003; seed 000 ch. 7): photons traced at the shutter's
     /// opening carry `D_t x` over the shutter's length (seed 003's exposure e, frames), and
     /// their footprints are swept along it. Off: in a moving scene each photon has a time
@@ -375,6 +380,7 @@ impl Default for FootprintSettings {
             kernel: Kernel::Silverman,
             smoothing: Smoothing::ONE,
             normal_distance: NormalDistance::QUARTER,
+            min_semi_axis: None,
             temporal: false,
             sweep: SweepRule::default(),
         }

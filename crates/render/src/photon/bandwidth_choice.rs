@@ -639,6 +639,7 @@ fn scaled(traced: &TracedDiffPhotons, s: f32) -> TracedDiffPhotons {
         landings: traced.landings,
         collapsed: traced.collapsed,
         failed: traced.failed,
+        widened: traced.widened,
         stats: RenderStats::default(),
         warning: None,
     }

@@ -58,23 +58,38 @@ pub struct Landing<const N: usize = 2> {
     pub dp: Option<[Vec3; N]>,
 }
 
+/// The photons made from a batch of landings ([`photons_from_landings`]) and what happened to
+/// the others.
+#[derive(Debug, Default)]
+pub struct MadePhotons {
+    pub photons: Vec<DiffPhoton>,
+    /// Landings dropped because their footprint collapsed (never with a minimum semi-axis).
+    pub collapsed: u64,
+    /// Landings dropped because their differential could not be propagated.
+    pub failed: u64,
+    /// Footprints whose minor semi-axis the minimum semi-axis raised.
+    pub widened: u64,
+}
+
 /// The photons of `landings` from `paths` emitted light paths: flux β/N, vectors scaled by
 /// `1/√(N pmf)` (eq. 5–6 with the light's share of the paths), footprints built on the
-/// landings' planes. A third column is `D_t x`, which does not depend on the emission budget
-/// (it starts at zero and only moving geometry feeds it), so it is kept unscaled; the
-/// footprint's centre is put at the start of its motion segment, `x + align.segment_start() ·
-/// D_t x` (the hit itself for the forward alignment). Returns them with the counts of landings
-/// dropped for a collapsed footprint and for a failed propagation (no vectors, or vectors that
-/// are not finite).
+/// landings' planes, each principal semi-axis raised to `min_semi_axis` (m) when given
+/// ([`Footprint::widened`]; none by default, as seed 002). A third column is `D_t x`, which does
+/// not depend on the emission budget (it starts at zero and only moving geometry feeds it), so
+/// it is kept unscaled; the footprint's centre is put at the start of its motion segment,
+/// `x + align.segment_start() · D_t x` (the hit itself for the forward alignment). Returns them
+/// with the counts of landings dropped for a collapsed footprint and for a failed propagation
+/// (no vectors, or vectors that are not finite), and of footprints widened.
 pub fn photons_from_landings<const N: usize>(
     landings: &[Landing<N>],
     paths: u64,
     align: ShutterAlign,
-) -> (Vec<DiffPhoton>, u64, u64) {
+    min_semi_axis: Option<f32>,
+) -> MadePhotons {
     let start = align.segment_start();
     let n = paths.max(1) as f64;
     let mut photons = Vec::with_capacity(landings.len());
-    let (mut collapsed, mut failed) = (0u64, 0u64);
+    let (mut collapsed, mut failed, mut widened) = (0u64, 0u64, 0u64);
     for l in landings {
         let Some(dp) = l.dp else {
             failed += 1;
@@ -93,7 +108,15 @@ pub fn photons_from_landings<const N: usize>(
             continue;
         }
         let centre = if start != 0.0 { l.p + dt * start } else { l.p };
-        match Footprint::new(centre, dp[0] * scale, dp[1] * scale, l.n) {
+        let (du, dv) = (dp[0] * scale, dp[1] * scale);
+        let made = match min_semi_axis {
+            Some(r) => Footprint::widened(centre, du, dv, l.n, r).map(|(f, w)| {
+                widened += u64::from(w);
+                f
+            }),
+            None => Footprint::new(centre, du, dv, l.n),
+        };
+        match made {
             Ok(footprint) => photons.push(DiffPhoton {
                 footprint,
                 wi: l.wi,
@@ -106,7 +129,20 @@ pub fn photons_from_landings<const N: usize>(
             Err(_) => failed += 1,
         }
     }
-    (photons, collapsed, failed)
+    MadePhotons {
+        photons,
+        collapsed,
+        failed,
+        widened,
+    }
+}
+
+/// The part of a render note that says how many footprints the minimum semi-axis widened
+/// (empty without one).
+pub fn widened_note(widened: u64, min_semi_axis: Option<f32>) -> String {
+    min_semi_axis.map_or(String::new(), |r| {
+        format!(", {widened} widened to the minimum semi-axis {r:.5} m")
+    })
 }
 
 /// Footprints whose surface normal is farther than this cosine from the query's are ignored.

@@ -18,6 +18,8 @@ pub struct PdmMap {
     pub landings: usize,
     pub collapsed: u64,
     pub failed: u64,
+    /// Footprints widened by the minimum semi-axis.
+    pub widened: u64,
     /// Footprint centres grouped by gather radius (one huge footprint must not slow every
     /// query).
     buckets: RadiusBuckets,
@@ -51,6 +53,7 @@ impl PdmMap {
             landings: traced.landings,
             collapsed: traced.collapsed,
             failed: traced.failed,
+            widened: traced.widened,
             buckets,
             filter,
         }

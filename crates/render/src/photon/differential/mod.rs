@@ -39,6 +39,13 @@
 //! direction the walker sampled — a shading normal the surface model does not reproduce).
 //! Dropping loses their energy; the counts are in the render notes.
 //!
+//! **Minimum footprint** (`FootprintSettings::min_semi_axis`, `--min-footprint`, off by
+//! default as in seed 002). Near a caustic fold a footprint's area `|D_u x × D_v x|` goes to zero
+//! and its irradiance `Φ/A` to infinity wherever it meets an eye point: a firefly. With a floor
+//! every principal semi-axis is raised to it (`Footprint::widened`; the flux is kept, so the
+//! estimate is still normalised) and collapsed landings are rescued instead of dropped; the
+//! progressive methods shrink the floor with the smoothing, so it vanishes in the limit.
+//!
 //! # Estimate
 //!
 //! `L(x, ω) = Σ_p f_r(x, ω_p, ω) π K(|M_p (x − x_p)|) Φ_p / A_p` (eq. 10–12, Silverman's kernel,
@@ -70,7 +77,9 @@ pub mod trace;
 pub mod volume_trace;
 
 pub use counting::{CausticPaths, RECORD_LANDING_PATHS, count_caustic_paths};
-pub use footprint::{DiffPhoton, FootprintFilter, Landing, photons_from_landings};
+pub use footprint::{
+    DiffPhoton, FootprintFilter, Landing, MadePhotons, photons_from_landings, widened_note,
+};
 pub use map::PdmMap;
 pub use trace::{
     EMISSION_PARAMS, LandingTracer, TEMPORAL_PARAMS, TracedDiffPhotons, trace_photon_differentials,

@@ -39,6 +39,8 @@ pub struct TracedDiffPhotons {
     pub collapsed: u64,
     /// Landings dropped because the differential could not be propagated.
     pub failed: u64,
+    /// Footprints widened by the minimum semi-axis.
+    pub widened: u64,
     pub stats: RenderStats,
     pub warning: Option<String>,
 }
@@ -61,7 +63,8 @@ pub fn trace_photon_differentials(
     let limits = opts.limits;
     let stream = PathStream::new(opts, stream);
     // Two parameters (emission), or three with time (seed 003).
-    let (photons, collapsed, failed, landings, paths, stats) = if tracer.is_temporal() {
+    let floor = opts.photons.footprints.min_semi_axis;
+    let (made, landings, paths, stats) = if tracer.is_temporal() {
         let (landings, paths, stats) = trace_budget(
             budget,
             &stream,
@@ -69,8 +72,8 @@ pub fn trace_photon_differentials(
             progress,
             |_, sm, out, st| tracer.trace::<TEMPORAL_PARAMS>(sm, &limits, out, st),
         );
-        let (p, c, f) = photons_from_landings(&landings, paths, tracer.align);
-        (p, c, f, landings.len(), paths, stats)
+        let made = photons_from_landings(&landings, paths, tracer.align, floor);
+        (made, landings.len(), paths, stats)
     } else {
         let (landings, paths, stats) = trace_budget(
             budget,
@@ -79,8 +82,8 @@ pub fn trace_photon_differentials(
             progress,
             |_, sm, out, st| tracer.trace::<EMISSION_PARAMS>(sm, &limits, out, st),
         );
-        let (p, c, f) = photons_from_landings(&landings, paths, tracer.align);
-        (p, c, f, landings.len(), paths, stats)
+        let made = photons_from_landings(&landings, paths, tracer.align, floor);
+        (made, landings.len(), paths, stats)
     };
     let warning = shortfall("caustic", landings, paths, budget).map(|w| {
         if landings == 0 {
@@ -90,11 +93,12 @@ pub fn trace_photon_differentials(
         }
     });
     TracedDiffPhotons {
-        photons,
+        photons: made.photons,
         paths,
         landings,
-        collapsed,
-        failed,
+        collapsed: made.collapsed,
+        failed: made.failed,
+        widened: made.widened,
         stats,
         warning,
     }
