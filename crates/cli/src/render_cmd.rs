@@ -304,6 +304,18 @@ impl RenderSettings {
                 kind.name()
             ));
         }
+        if self.photon.final_gather.is_some()
+            && matches!(
+                kind,
+                IntegratorKind::StochasticProgressivePhotonMapping
+                    | IntegratorKind::ProgressivePhotonMappingHitPoints
+            )
+        {
+            warnings.push(format!(
+                "--final-gather has no effect on --integrator {}: its visible points gather photons directly",
+                kind.name()
+            ));
+        }
         if self.photon.any_given() && !kind.uses_photons() {
             warnings.push(format!(
                 "photon-mapping options have no effect on integrator '{}'",

@@ -353,6 +353,7 @@ fn same_bytes_with_one_and_two_threads() {
     for kind in [
         IntegratorKind::ProgressivePhotonMapping,
         IntegratorKind::ProgressiveSplatting,
+        IntegratorKind::ProgressiveDifferentialMapping,
         IntegratorKind::ProgressiveDiffusion,
     ] {
         let on = |threads| {
@@ -576,21 +577,27 @@ fn sppm_agrees_with_the_path_tracer_and_the_light_tracer() {
 }
 
 #[test]
-fn sppm_gives_the_same_bytes_with_one_and_two_threads() {
+fn sppm_and_ppm_give_the_same_bytes_with_one_and_two_threads() {
     let s = scene("caustic-box", 20);
     let mut o = progressive(caustics(1), 3, 2.0 / 3.0, 0.05);
     o.caustics_only = false;
     o.photons.progressive.radius = None;
-    let on = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| run(&s, IntegratorKind::StochasticProgressivePhotonMapping, &o))
-    };
-    let (a, b) = (on(1), on(2));
-    assert!(total(&a) > 0.0);
-    assert!(a.data == b.data, "sppm: 1 and 2 threads differ");
+    for (kind, spp) in [
+        (IntegratorKind::StochasticProgressivePhotonMapping, 1),
+        (IntegratorKind::ProgressivePhotonMappingHitPoints, 4),
+    ] {
+        let o = RenderOptions { spp, ..o.clone() };
+        let on = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| run(&s, kind, &o))
+        };
+        let (a, b) = (on(1), on(2));
+        assert!(total(&a) > 0.0);
+        assert!(a.data == b.data, "{}: 1 and 2 threads differ", kind.name());
+    }
 }
 
 /// PPM keeps the hit points of one camera pass (one per pixel unless --spp) and gathers every light there,

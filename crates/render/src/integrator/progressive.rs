@@ -146,6 +146,8 @@ impl Schedules {
     fn options(&self, kind: IntegratorKind, opts: &RenderOptions, i: u64) -> RenderOptions {
         let mut o = opts.photons.progressive.iteration_options(opts, i);
         let h = self.caustic.bandwidth(i) as f32;
+        // How far the bandwidth has shrunk: lengths tied to it shrink alike.
+        let ratio = h / self.caustic.bandwidth(1) as f32;
         match kind {
             IntegratorKind::ProgressivePhotonMapping => {
                 o.photons.caustic_estimator = Some(CausticEstimator::Fixed);
@@ -156,7 +158,6 @@ impl Schedules {
                 o.photons.bandwidth = Bandwidth::new(h).ok();
                 // An explicit noise scale keeps its ratio to the bandwidth (the default, h/2,
                 // follows it by itself).
-                let ratio = h / self.caustic.bandwidth(1) as f32;
                 let d = &mut o.photons.diffusion;
                 d.noise_scale = d
                     .noise_scale
@@ -168,7 +169,6 @@ impl Schedules {
                 }
                 // Footprints scale with the smoothing (seed 002 eq. 5–6): so does their floor,
                 // which therefore vanishes with it (consistency).
-                let ratio = h / self.caustic.bandwidth(1) as f32;
                 let f = &mut o.photons.footprints;
                 f.min_semi_axis = f.min_semi_axis.map(|r| r * ratio);
             }
