@@ -42,7 +42,7 @@ for w in 64 128 256; do
       [[ $m == pppm ]] && val=$(awk -v r="$r50" -v f="$v" 'BEGIN {printf "%.6g", r * f}')
       local f="$d/$m-$v.exr"
       [[ -f $f ]] || "$bin" "${base[@]}" --integrator "$m" --time "$T" --photons-per-iteration 100000 \
-        --seed 1 "$opt" "$val" -o "$f" > "$f.txt"
+        --seed 1 "$opt" "$val" -o "$f" > "$f.txt" 2> /dev/null
       echo "$v $(rmse "$f" "$d/ref.exr" "$d/mask.exr") $(grep -o '[0-9]* iterations' "$f.txt" | awk '{print $1}')"
     done | sort -k2 -g | head -n 1
   }
@@ -60,7 +60,7 @@ for w in 64 128 256; do
       for seed in 2 3; do
         f="$d/${a[0]}-seed$seed.exr"
         [[ -f $f ]] || "$bin" "${base[@]}" --integrator "${a[0]}" --iterations "$its" \
-          --photons-per-iteration 100000 --seed "$seed" "${a[1]}" "${a[2]}" -o "$f" > /dev/null
+          --photons-per-iteration 100000 --seed "$seed" "${a[1]}" "${a[2]}" -o "$f" > /dev/null 2>&1
       done
       e=$(rmse "$d/${a[0]}-seed2.exr" "$d/ref.exr" "$d/mask.exr")
       n=$(rmse "$d/${a[0]}-seed2.exr" "$d/${a[0]}-seed3.exr" "$d/mask.exr")

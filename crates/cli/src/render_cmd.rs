@@ -35,8 +35,9 @@ pub struct RenderSettings {
     #[arg(short = 'D', value_name = "NAME=VALUE")]
     pub define: Vec<String>,
     /// Samples per pixel (path, the camera passes of pm, dpm, pdm, pds) or light paths per
-    /// pixel (lighttrace). Default: the scene's suggestion, else 16. Not with --time, except
-    /// for pds.
+    /// pixel (lighttrace); per iteration for the progressive methods (default 1), and ppm's
+    /// fixed hit points per pixel. Default: the scene's suggestion, else 16. Not with --time,
+    /// except for pds and the progressive methods.
     #[arg(long, allow_negative_numbers = true)]
     pub spp: Option<u32>,
     /// Render for this many seconds instead of a fixed sample count; the budget is shared by

@@ -160,55 +160,32 @@ impl Footprint {
     /// kernels): the floor bounds it by Φ/(π r²) and keeps the footprint's orientation, flux
     /// and major axis. A footprint whose semi-axes are both at least `min_semi_axis` is exactly
     /// [`Footprint::new`]'s. Vectors too parallel for [`Footprint::new`] are rescued: the major
-    /// axis along the longer vector, the minor one across it in the tangent plane.
+    /// axis along the longer vector, the minor one across it in the tangent plane (two zero
+    /// vectors: a disc of radius `min_semi_axis`).
     ///
-    /// Errors: those of [`Footprint::new`] other than [`DiffError::CollapsedFootprint`]; that one
-    /// only if both vectors vanish.
+    /// The rule is [`crate::medium::widen_ellipse`], the one volume kernels use.
+    ///
+    /// Errors: those of [`Footprint::new`] (a collapsed footprint only if the floor is not
+    /// positive).
+    /// Without a floor (`None`) it is [`Footprint::new`].
     pub fn widened(
         center: Vec3,
         du: Vec3,
         dv: Vec3,
         normal: Vec3,
-        min_semi_axis: f32,
+        min_semi_axis: Option<f32>,
     ) -> Result<(Self, bool), DiffError> {
-        match Self::new(center, du, dv, normal) {
-            Ok(f) => {
-                let (a, b) = f.semi_axis_lengths();
-                if b >= min_semi_axis {
-                    return Ok((f, false));
-                }
-                let [major, minor] = f.principal_semi_axes();
-                let dir = |v: Vec3, fallback: Vec3| v.try_normalize().unwrap_or(fallback);
-                let d0 = dir(major, f.du.normalize());
-                let d1 = dir(minor, f.normal.cross(d0));
-                let g = Self::new(
-                    center,
-                    d0 * (2.0 * a.max(min_semi_axis)),
-                    d1 * (2.0 * b.max(min_semi_axis)),
-                    f.normal,
-                )?;
-                Ok((g, true))
-            }
-            Err(DiffError::CollapsedFootprint) => {
-                let n = unit(normal).ok_or(DiffError::DegenerateNormal)?;
-                let du = du - n * n.dot(du);
-                let dv = dv - n * n.dot(dv);
-                let long = if du.length_squared() >= dv.length_squared() {
-                    du
-                } else {
-                    dv
-                };
-                let d0 = long.try_normalize().ok_or(DiffError::CollapsedFootprint)?;
-                let a = 0.5 * long.length();
-                let g = Self::new(
-                    center,
-                    d0 * (2.0 * a.max(min_semi_axis)),
-                    n.cross(d0) * (2.0 * min_semi_axis),
-                    n,
-                )?;
-                Ok((g, true))
-            }
-            Err(e) => Err(e),
+        let Some(min_semi_axis) = min_semi_axis else {
+            return Self::new(center, du, dv, normal).map(|f| (f, false));
+        };
+        if !all_finite3([&center, &du, &dv, &normal]) {
+            return Err(DiffError::NonFinite);
+        }
+        let n = unit(normal).ok_or(DiffError::DegenerateNormal)?;
+        let (pu, pv) = (du - n * n.dot(du), dv - n * n.dot(dv));
+        match crate::medium::widen_ellipse(pu, pv, n, min_semi_axis) {
+            None => Self::new(center, du, dv, normal).map(|f| (f, false)),
+            Some([a, b]) => Self::new(center, a, b, n).map(|f| (f, true)),
         }
     }
 
@@ -420,10 +397,10 @@ mod tests {
             let f = Footprint::new(c, du, dv, n).unwrap();
             let (a, b) = f.semi_axis_lengths();
             // A floor below the minor axis changes nothing.
-            let (g, w) = Footprint::widened(c, du, dv, n, 0.5 * b).unwrap();
+            let (g, w) = Footprint::widened(c, du, dv, n, Some(0.5 * b)).unwrap();
             assert!(!w && g == f);
             // A floor above both axes: a disc of that radius.
-            let (g, _) = Footprint::widened(c, du, dv, n, 2.0 * a).unwrap();
+            let (g, _) = Footprint::widened(c, du, dv, n, Some(2.0 * a)).unwrap();
             let (ga, gb) = g.semi_axis_lengths();
             assert!(close(ga, 2.0 * a, 1e-4) && close(gb, 2.0 * a, 1e-4));
             // A floor between the axes: the minor axis raised, the major kept.
@@ -431,7 +408,7 @@ mod tests {
                 continue; // a circle: nothing between its axes
             }
             let r = 0.5 * (a + b);
-            let (g, w) = Footprint::widened(c, du, dv, n, r).unwrap();
+            let (g, w) = Footprint::widened(c, du, dv, n, Some(r)).unwrap();
             let (ga, gb) = g.semi_axis_lengths();
             assert!(w && close(ga.max(gb), a.max(r), 1e-4) && close(ga.min(gb), r, 1e-4));
             let [m0, _] = f.principal_semi_axes();
@@ -454,13 +431,16 @@ mod tests {
             Footprint::new(Vec3::ZERO, du, dv, n).unwrap_err(),
             DiffError::CollapsedFootprint
         );
-        let (g, w) = Footprint::widened(Vec3::ZERO, du, dv, n, 0.01).unwrap();
+        let (g, w) = Footprint::widened(Vec3::ZERO, du, dv, n, Some(0.01)).unwrap();
         let (ga, gb) = g.semi_axis_lengths();
         assert!(
             w && close(ga, 0.2, 1e-4) && close(gb, 0.01, 1e-4),
             "{ga} {gb}"
         );
-        assert!(Footprint::widened(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, n, 0.01).is_err());
+        // Two zero vectors: a disc of the floor's radius.
+        let (g, w) = Footprint::widened(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, n, Some(0.01)).unwrap();
+        let (ga, gb) = g.semi_axis_lengths();
+        assert!(w && close(ga, 0.01, 1e-4) && close(gb, 0.01, 1e-4));
     }
 
     #[test]

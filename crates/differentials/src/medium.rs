@@ -236,6 +236,45 @@ pub fn volume_axes(du: Vec3, dv: Vec3, w: Vec3, rule: AxesRule) -> Result<[Vec3;
     }
 }
 
+/// The minimum semi-axis shared by volume kernels (seed 000 Q-M9) and surface footprints: the
+/// conjugate diameters `du`, `dv` (m, in the plane ⊥ unit `normal`) of an ellipse whose minor
+/// principal semi-axis is below `min_semi_axis` (m), replaced by its principal diameters with
+/// each semi-axis raised to at least `min_semi_axis` (the principal directions and the major
+/// semi-axis kept, so the new ellipse contains the old one); `None` when the minor semi-axis is
+/// already that long (keep `du`, `dv` as they are). Parallel vectors keep the longer one as the
+/// major axis, the minor across it; two zero vectors give a disc of radius `min_semi_axis`.
+pub fn widen_ellipse(du: Vec3, dv: Vec3, normal: Vec3, min_semi_axis: f32) -> Option<[Vec3; 2]> {
+    let (axes, dirs) = ellipse_principal_axes(du * 0.5, dv * 0.5).unwrap_or_else(|| {
+        let long = if du.length_squared() >= dv.length_squared() {
+            du
+        } else {
+            dv
+        };
+        match long.try_normalize() {
+            Some(d0) => (
+                [0.5 * long.length(), 0.0],
+                [
+                    d0,
+                    normal
+                        .cross(d0)
+                        .try_normalize()
+                        .unwrap_or(d0.any_orthonormal_vector()),
+                ],
+            ),
+            None => {
+                let f = caustica_core::Frame::from_normal(normal);
+                ([0.0; 2], [f.s, f.t])
+            }
+        }
+    });
+    (axes[1] < min_semi_axis).then(|| {
+        [
+            dirs[0] * (2.0 * axes[0].max(min_semi_axis)),
+            dirs[1] * (2.0 * axes[1].max(min_semi_axis)),
+        ]
+    })
+}
+
 /// The semi-axes `(a, b)` (m, `a ≥ b`) and unit principal directions of the ellipse spanned by
 /// the conjugate semi-diameters `u`, `v` (m): the square roots of the eigenvalues of
 /// `u uᵀ + v vᵀ` restricted to their plane. `None` if they are parallel or zero.

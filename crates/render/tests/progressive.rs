@@ -108,6 +108,35 @@ fn total(im: &Image) -> f64 {
     im.data.iter().map(|p| p[1] as f64).sum()
 }
 
+/// Bandwidths h_1 … h_n chained by hand from eq. 3.27: h²_{i+1} = h²_i (i + α)/(i + 1).
+fn chained(h1: f64, alpha: f64, n: u64) -> Vec<f64> {
+    let mut h2 = h1 * h1;
+    (1..=n)
+        .map(|i| {
+            let h = h2.sqrt();
+            h2 *= (i as f64 + alpha) / (i as f64 + 1.0);
+            h
+        })
+        .collect()
+}
+
+/// The mean of the one-shot renders `kind` of iterations 1, 2, …, iteration `i` at bandwidth
+/// `hs[i − 1]` with the options `base(h)` (options that follow the bandwidth set there).
+fn mean_of_shots(
+    scene: &Scene,
+    kind: IntegratorKind,
+    hs: &[f64],
+    base: impl Fn(f64) -> RenderOptions,
+) -> Vec<[f64; 3]> {
+    let shots: Vec<Image> = (1..=hs.len() as u64)
+        .map(|i| {
+            let h = hs[i as usize - 1];
+            one_shot(scene, kind, &base(h), i, h as f32)
+        })
+        .collect();
+    mean(&shots)
+}
+
 #[test]
 fn pppm_at_alpha_one_is_the_mean_of_independent_pm_renders() {
     let s = scene("glass-sphere", 32);
@@ -118,13 +147,14 @@ fn pppm_at_alpha_one_is_the_mean_of_independent_pm_renders() {
         IntegratorKind::ProgressivePhotonMapping,
         &progressive(base.clone(), 4, 1.0, r),
     );
-    let shots: Vec<Image> = (1..=4)
-        .map(|i| one_shot(&s, IntegratorKind::PhotonMapping, &base, i, r))
-        .collect();
-    let d = max_rel_diff(&p, &mean(&shots));
+    let shots = mean_of_shots(&s, IntegratorKind::PhotonMapping, &[r as f64; 4], |_| {
+        base.clone()
+    });
+    let d = max_rel_diff(&p, &shots);
     assert!(d < 1e-5, "pppm vs mean of pm renders: {d}");
     // The iterations differ (independent photons), so the mean is not any one of them.
-    let d1 = max_rel_diff(&shots[0], &mean(&shots));
+    let first = one_shot(&s, IntegratorKind::PhotonMapping, &base, 1, r);
+    let d1 = max_rel_diff(&first, &shots);
     assert!(d1 > 1e-2, "iterations look identical: {d1}");
 }
 
@@ -138,26 +168,13 @@ fn pppm_shrinks_the_radius_by_eq_3_27() {
         IntegratorKind::ProgressivePhotonMapping,
         &progressive(base.clone(), 3, alpha, r1),
     );
-    // r²_{i+1} = r²_i (i + α)/(i + 1), chained by hand.
-    let mut r2 = (r1 as f64).powi(2);
-    let mut shots = Vec::new();
-    for i in 1..=3u64 {
-        shots.push(one_shot(
-            &s,
-            IntegratorKind::PhotonMapping,
-            &base,
-            i,
-            r2.sqrt() as f32,
-        ));
-        r2 *= (i as f64 + alpha) / (i as f64 + 1.0);
-    }
-    let d = max_rel_diff(&p, &mean(&shots));
+    let pm = IntegratorKind::PhotonMapping;
+    let shots = mean_of_shots(&s, pm, &chained(r1 as f64, alpha, 3), |_| base.clone());
+    let d = max_rel_diff(&p, &shots);
     assert!(d < 1e-4, "pppm vs pm at the hand-chained radii: {d}");
     // And not at a fixed radius.
-    let fixed: Vec<Image> = (1..=3)
-        .map(|i| one_shot(&s, IntegratorKind::PhotonMapping, &base, i, r1))
-        .collect();
-    assert!(max_rel_diff(&p, &mean(&fixed)) > 1e-3);
+    let fixed = mean_of_shots(&s, pm, &[r1 as f64; 3], |_| base.clone());
+    assert!(max_rel_diff(&p, &fixed) > 1e-3);
 }
 
 /// `pdpm` is `dpm` iterated: at α = 1 the mean of independent `dpm` renders at the first
@@ -168,44 +185,32 @@ fn pdpm_is_dpm_at_the_schedules_bandwidths() {
     let s = scene("glass-sphere", 32);
     let base = caustics(1);
     let h1 = 0.08f32;
+    let dpm = IntegratorKind::DiffusionPhotonMapping;
     let p = run(
         &s,
         IntegratorKind::ProgressiveDiffusion,
         &progressive(base.clone(), 3, 1.0, h1),
     );
-    let fixed: Vec<Image> = (1..=3)
-        .map(|i| one_shot(&s, IntegratorKind::DiffusionPhotonMapping, &base, i, h1))
-        .collect();
-    let d = max_rel_diff(&p, &mean(&fixed));
+    let fixed = mean_of_shots(&s, dpm, &[h1 as f64; 3], |_| base.clone());
+    let d = max_rel_diff(&p, &fixed);
     assert!(d < 1e-5, "pdpm at alpha 1 vs mean of dpm renders: {d}");
     // α = 2/3, noise scale h/4 given explicitly: dpm at h_i with noise scale h_i/4.
     let alpha = 2.0 / 3.0;
-    let mut with_noise = base.clone();
-    with_noise.photons.diffusion.noise_scale = Some(NoiseScale::new(h1 / 4.0).unwrap());
+    let quarter = |h: f64| {
+        let mut b = base.clone();
+        b.photons.diffusion.noise_scale = Some(NoiseScale::new(h as f32 / 4.0).unwrap());
+        b
+    };
     let p = run(
         &s,
         IntegratorKind::ProgressiveDiffusion,
-        &progressive(with_noise, 3, alpha, h1),
+        &progressive(quarter(h1 as f64), 3, alpha, h1),
     );
-    let mut h2 = (h1 as f64).powi(2);
-    let mut shots = Vec::new();
-    for i in 1..=3u64 {
-        let h = h2.sqrt() as f32;
-        let mut b = base.clone();
-        b.photons.diffusion.noise_scale = Some(NoiseScale::new(h / 4.0).unwrap());
-        shots.push(one_shot(
-            &s,
-            IntegratorKind::DiffusionPhotonMapping,
-            &b,
-            i,
-            h,
-        ));
-        h2 *= (i as f64 + alpha) / (i as f64 + 1.0);
-    }
-    let d = max_rel_diff(&p, &mean(&shots));
+    let shots = mean_of_shots(&s, dpm, &chained(h1 as f64, alpha, 3), quarter);
+    let d = max_rel_diff(&p, &shots);
     assert!(d < 1e-4, "pdpm vs dpm at the hand-chained bandwidths: {d}");
     assert!(
-        max_rel_diff(&p, &mean(&fixed)) > 1e-3,
+        max_rel_diff(&p, &fixed) > 1e-3,
         "the bandwidth did not shrink"
     );
 }
@@ -225,10 +230,8 @@ fn ppds_and_ppdm_at_alpha_one_are_the_means_of_pds_and_pdm_renders() {
         ),
     ] {
         let p = run(&s, kind, &progressive(base.clone(), 3, 1.0, 1.0));
-        let shots: Vec<Image> = (1..=3)
-            .map(|i| one_shot(&s, inner, &base, i, 2.0))
-            .collect();
-        let d = max_rel_diff(&p, &mean(&shots));
+        let shots = mean_of_shots(&s, inner, &[2.0; 3], |_| base.clone());
+        let d = max_rel_diff(&p, &shots);
         assert!(d < 1e-5, "{} vs mean of {}: {d}", kind.name(), inner.name());
     }
 }
@@ -243,19 +246,10 @@ fn ppds_shrinks_the_smoothing_by_eq_3_27_on_the_footprint_area() {
         IntegratorKind::ProgressiveSplatting,
         &progressive(base.clone(), 3, alpha, 1.0),
     );
-    let mut s2 = 4.0f64; // s_1 = 2
-    let mut shots = Vec::new();
-    for i in 1..=3u64 {
-        shots.push(one_shot(
-            &s,
-            IntegratorKind::PhotonDifferentialSplatting,
-            &base,
-            i,
-            s2.sqrt() as f32,
-        ));
-        s2 *= (i as f64 + alpha) / (i as f64 + 1.0);
-    }
-    let d = max_rel_diff(&p, &mean(&shots));
+    let pds = IntegratorKind::PhotonDifferentialSplatting;
+    // s_1 = 2 (caustics()).
+    let shots = mean_of_shots(&s, pds, &chained(2.0, alpha, 3), |_| base.clone());
+    let d = max_rel_diff(&p, &shots);
     assert!(d < 1e-4, "ppds vs pds at the hand-chained smoothing: {d}");
 }
 
@@ -265,35 +259,28 @@ fn ppds_shrinks_the_smoothing_by_eq_3_27_on_the_footprint_area() {
 #[test]
 fn ppds_shrinks_its_minimum_footprint_with_the_smoothing() {
     let s = scene("glass-sphere", 32);
-    let mut base = caustics(1);
     let r1 = 0.03f32;
-    base.photons.footprints.min_semi_axis = Some(r1);
+    let floor = |r: f32| {
+        let mut o = caustics(1);
+        o.photons.footprints.min_semi_axis = Some(r);
+        o
+    };
     let alpha = 0.5;
     let p = run(
         &s,
         IntegratorKind::ProgressiveSplatting,
-        &progressive(base.clone(), 3, alpha, 1.0),
+        &progressive(floor(r1), 3, alpha, 1.0),
     );
-    let (mut s2, s1) = (4.0f64, 2.0f64); // s_1 = 2
-    let (mut shrunk, mut kept) = (Vec::new(), Vec::new());
-    for i in 1..=3u64 {
-        let si = s2.sqrt();
-        let mut b = base.clone();
-        b.photons.footprints.min_semi_axis = Some(r1 * (si / s1) as f32);
-        let kind = IntegratorKind::PhotonDifferentialSplatting;
-        shrunk.push(one_shot(&s, kind, &b, i, si as f32));
-        kept.push(one_shot(&s, kind, &base, i, si as f32));
-        s2 *= (i as f64 + alpha) / (i as f64 + 1.0);
-    }
-    let d = max_rel_diff(&p, &mean(&shrunk));
+    let pds = IntegratorKind::PhotonDifferentialSplatting;
+    let hs = chained(2.0, alpha, 3); // s_1 = 2
+    let shrunk = mean_of_shots(&s, pds, &hs, |si| floor(r1 * (si / 2.0) as f32));
+    let d = max_rel_diff(&p, &shrunk);
     assert!(
         d < 1e-4,
         "ppds vs pds at the chained smoothing and floor: {d}"
     );
-    assert!(
-        max_rel_diff(&p, &mean(&kept)) > 1e-3,
-        "the floor did not shrink"
-    );
+    let kept = mean_of_shots(&s, pds, &hs, |_| floor(r1));
+    assert!(max_rel_diff(&p, &kept) > 1e-3, "the floor did not shrink");
 }
 
 /// Root-mean-square difference of the green channels.

@@ -420,6 +420,8 @@ fn run(
         if let PhotonBudget::Records(n) = pilot_budget(full) {
             o.photons.caustic_photons = n;
         }
+        // The minimum footprint is absolute: applied after scaling to each candidate s.
+        o.photons.footprints.min_semi_axis = None;
         o
     };
     enum Pilot {
@@ -599,7 +601,7 @@ fn run(
                 |s| s,
                 |s| {
                     let map = CausticEstimate::Footprints(PdmMap::with_filter(
-                        scaled(&traced, s as f32),
+                        scaled(&traced, s as f32, p.footprints.min_semi_axis),
                         filter,
                     ));
                     let sc = score(&pixels, &tilde, |v| map.radiance(v, p));
@@ -622,14 +624,20 @@ fn run(
 
 /// `traced`'s photons with footprints of smoothing `s` instead of 1: the differential vectors
 /// are linear in the initial lengths 2 s √(A/(π N_e)) (seed 002 eq. 5–6; first-order transfer,
-/// seed 000 app. B), so they scale by s. Footprints that collapse are dropped.
-fn scaled(traced: &TracedDiffPhotons, s: f32) -> TracedDiffPhotons {
+/// seed 000 app. B), so they scale by s; then the minimum semi-axis, if any, as the render
+/// applies it. Footprints that collapse are dropped.
+fn scaled(traced: &TracedDiffPhotons, s: f32, min_semi_axis: Option<f32>) -> TracedDiffPhotons {
+    let mut widened = 0;
     let photons: Vec<DiffPhoton> = traced
         .photons
         .iter()
         .filter_map(|ph| {
             let [du, dv] = ph.footprint.differentials();
-            let fp = Footprint::new(ph.footprint.center(), du * s, dv * s, ph.footprint.normal());
+            let (c, n) = (ph.footprint.center(), ph.footprint.normal());
+            let fp = Footprint::widened(c, du * s, dv * s, n, min_semi_axis).map(|(f, w)| {
+                widened += u64::from(w);
+                f
+            });
             fp.ok().map(|footprint| DiffPhoton { footprint, ..*ph })
         })
         .collect();
@@ -639,7 +647,7 @@ fn scaled(traced: &TracedDiffPhotons, s: f32) -> TracedDiffPhotons {
         landings: traced.landings,
         collapsed: traced.collapsed,
         failed: traced.failed,
-        widened: traced.widened,
+        widened,
         stats: RenderStats::default(),
         warning: None,
     }

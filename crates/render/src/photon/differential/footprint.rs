@@ -60,7 +60,7 @@ pub struct Landing<const N: usize = 2> {
 
 /// The photons made from a batch of landings ([`photons_from_landings`]) and what happened to
 /// the others.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct MadePhotons {
     pub photons: Vec<DiffPhoton>,
     /// Landings dropped because their footprint collapsed (never with a minimum semi-axis).
@@ -109,13 +109,10 @@ pub fn photons_from_landings<const N: usize>(
         }
         let centre = if start != 0.0 { l.p + dt * start } else { l.p };
         let (du, dv) = (dp[0] * scale, dp[1] * scale);
-        let made = match min_semi_axis {
-            Some(r) => Footprint::widened(centre, du, dv, l.n, r).map(|(f, w)| {
-                widened += u64::from(w);
-                f
-            }),
-            None => Footprint::new(centre, du, dv, l.n),
-        };
+        let made = Footprint::widened(centre, du, dv, l.n, min_semi_axis).map(|(f, w)| {
+            widened += u64::from(w);
+            f
+        });
         match made {
             Ok(footprint) => photons.push(DiffPhoton {
                 footprint,

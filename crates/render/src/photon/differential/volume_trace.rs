@@ -29,7 +29,7 @@ use crate::transport::light_walk::{
 use caustica_core::sampling::Sampler;
 use caustica_core::{Mat3, Spectrum, Vec3};
 use caustica_density::beam::{axes_bounding_radius, ellipsoid_volume, filter_matrix};
-use caustica_differentials::medium::ellipse_principal_axes;
+use caustica_differentials::medium::widen_ellipse;
 use caustica_differentials::{
     AxesRule, RayDiff, free_flight, phase_area_factor, reflect_sampled, scatter,
     surface_area_factor, volume_axes,
@@ -104,18 +104,12 @@ pub fn volume_kernel(du: Vec3, dv: Vec3, dir: Vec3, rule: KernelRule) -> Option<
     let [mut du, mut dv, mut dw] = volume_axes(du, dv, dir, rule.axes).ok()?;
     let mut widened = false;
     if let Some(r) = rule.min_semi_axis {
-        // Principal semi-axes of the cross-section ellipse (conjugate semi-diameters ½D_u x,
-        // ½D_v x), each raised to r; D_w x = max(|D_u x|, |D_v x|) follows.
-        let (axes, dirs) = ellipse_principal_axes(du * 0.5, dv * 0.5).unwrap_or(([0.0; 2], {
-            let f = caustica_core::Frame::from_normal(dir);
-            [f.s, f.t]
-        }));
-        if axes[1] < r {
+        // The cross-section ellipse's principal semi-axes raised to r (as surface footprints'
+        // are); D_w x = max(|D_u x|, |D_v x|) follows.
+        if let Some([a, b]) = widen_ellipse(du, dv, dir, r) {
             widened = true;
-            let (a, b) = (axes[0].max(r), axes[1].max(r));
-            du = dirs[0] * (2.0 * a);
-            dv = dirs[1] * (2.0 * b);
-            dw = dw.try_normalize().unwrap_or(dir) * (2.0 * a);
+            dw = dw.try_normalize().unwrap_or(dir) * a.length();
+            (du, dv) = (a, b);
         }
     }
     let m = filter_matrix(du, dv, dw)?;
