@@ -38,6 +38,8 @@
 #   [3000000], REF_K [128], SCENE_BUDGET [900] (seconds per scene after which no further photon
 #   count is started), CROPS ["glass-smoke=cone:68,64,26,34"]: extra rectangular regions,
 #   SCENE=NAME:X,Y,W,H (the volume caustic's cone under glass-smoke's ball),
+#   VPD_ARGS, BEAM_ARGS [none]: extra options of every vpd or beam render (e.g. the extensions
+#     "--volume-boundary renormalise --spread-collimated 16"; recorded in the summary's command),
 #   DOCS [docs/results/volume-differentials], PY (python with numpy + matplotlib; default
 #   tools/peers/.venv/bin/python, else the venv of tools/peers/venv.sh, matplotlib added to it).
 # Results: OUT/results.csv (one row per render and region), OUT/SCENE/*.exr|png|log, then
@@ -138,13 +140,17 @@ best() {
 lt() { awk -v a="$1" -v b="$2" 'BEGIN{exit !(a < b)}'; }
 half() { awk -v v="$1" -v p="$2" 'BEGIN{ if (p=="k") printf "%d", v / 2; else printf "%g", v / 2 }'; }
 
+# extra METHOD: the extra options of METHOD's renders (VPD_ARGS, BEAM_ARGS)
+extra() { case "$1" in vpd) echo "${VPD_ARGS:-}" ;; beam) echo "${BEAM_ARGS:-}" ;; esac; }
+
 # sweep METHOD FLAG PARAM "VALUES" (ascending): stage 1 at SPP; stops once PAST values in a row are
 # worse than the best so far in both RMSE and SSIM (the larger bandwidths are the costly renders)
 sweep() {
   local m=$1 flag=$2 p=$3 v br="" bs="" worse=0 improved name
   for v in $4; do
     name="$m-n$N-$p$v"
-    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$v" --spp "$spp" "${common[@]}"
+    # shellcheck disable=SC2046
+    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$v" --spp "$spp" "${common[@]}" $(extra "$m")
     row sweep "$m" "$N" "$p" "$v" "$spp" "$name"
     improved=0
     if [ -z "$br" ] || lt "$m_rmse" "$br"; then br=$m_rmse; improved=1; fi
@@ -161,7 +167,8 @@ refine() {
   read -r vr _ <<<"$(best sweep "$m" rmse)"; read -r vs _ <<<"$(best sweep "$m" ssim)"
   for v in $vr $([ "$vs" = "$vr" ] || echo "$vs"); do
     name="$m-n$N-$p$v-spp$fspp"
-    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$v" --spp "$fspp" "${common[@]}"
+    # shellcheck disable=SC2046
+    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$v" --spp "$fspp" "${common[@]}" $(extra "$m")
     row final "$m" "$N" "$p" "$v" "$fspp" "$name"
     [ "$v" = "$vr" ] && prev=$m_rmse
   done
@@ -169,7 +176,8 @@ refine() {
   for i in 1 2 3; do
     lo=$(half "$v" "$p"); { [ "$p" = k ] && [ "$lo" -lt 2 ]; } && break
     name="$m-n$N-$p$lo-spp$fspp"
-    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$lo" --spp "$fspp" "${common[@]}"
+    # shellcheck disable=SC2046
+    render "$name" --integrator "$m" --volume-photons "$N" "$flag" "$lo" --spp "$fspp" "${common[@]}" $(extra "$m")
     row final "$m" "$N" "$p" "$lo" "$fspp" "$name"
     lt "$m_rmse" "$prev" || break
     prev=$m_rmse; v=$lo
@@ -277,7 +285,7 @@ done
 
 # ---- summary: tables, plots, HTML page -----------------------------------------------------
 cmdline="bash bench/volume_differentials.sh${1:+ $1}"
-for v in SPP FINAL_SPP REF_SPP CHECK_SPP SEED REF_SEED VPM_KS BEAM_KS VPD_SS PAST MATCH_MAX REF_PHOTONS REF_K SCENE_BUDGET CROPS SCENES; do
+for v in SPP FINAL_SPP REF_SPP CHECK_SPP SEED REF_SEED VPM_KS BEAM_KS VPD_SS PAST MATCH_MAX REF_PHOTONS REF_K SCENE_BUDGET CROPS SCENES VPD_ARGS BEAM_ARGS DOCS; do
   [ -z "${!v:-}" ] || cmdline="$v=\"${!v}\" $cmdline"
 done
 cmdline="CAUSTICA_BIN=$bin $cmdline"

@@ -186,6 +186,23 @@ pub struct PhotonArgs {
     /// the ray ends inside it (default: the part of the chord the ray covers).
     #[arg(long, help_heading = "Participating media")]
     pub whole_chord: bool,
+    /// What beam and vpd kernels keep where they reach through a surface: open (the part
+    /// beyond is lost, as in the thesis; default) or renormalise (each kernel divided by the
+    /// fraction of its mass its photon sees: no darkening near walls, floors and the medium's
+    /// boundary).
+    #[arg(long, value_name = "RULE", help_heading = "Participating media")]
+    pub volume_boundary: Option<String>,
+    /// vpd photons of collimated light (beam and directional lights) spread like a point
+    /// light's photons at smoothing S from their first diffuse or medium scattering on
+    /// (default: their directional vectors stay zero, as in the thesis, and light scattered out
+    /// of a laser keeps the laser's cross-section).
+    #[arg(
+        long,
+        value_name = "S",
+        allow_negative_numbers = true,
+        help_heading = "Participating media"
+    )]
+    pub spread_collimated: Option<Smoothing>,
     /// Temporal photon differentials (seed 003): pdm and pds trace their caustic photons at the
     /// frame (--frame) with a time differential over the shutter (--shutter E frames) and sweep
     /// each footprint along it. Only caustic light is blurred this way; a static scene renders
@@ -331,6 +348,17 @@ impl PhotonArgs {
         if self.whole_chord {
             o.volume.clip = caustica_density::beam::Clip::WholeChord;
         }
+        o.volume.spread_collimated = self.spread_collimated;
+        if let Some(b) = &self.volume_boundary {
+            use caustica_render::photon::kernel_boundary::KernelBoundary;
+            o.volume.boundary = match b.as_str() {
+                "open" => KernelBoundary::Open,
+                "renormalise" | "renormalize" => KernelBoundary::Renormalised,
+                _ => anyhow::bail!(
+                    "unknown --volume-boundary '{b}' (expected 'open' or 'renormalise')"
+                ),
+            };
+        }
         o.footprints.temporal = self.temporal;
         o.in_between_frames = self.in_between_frames;
         let pr = &mut o.progressive;
@@ -400,6 +428,8 @@ impl PhotonArgs {
             || self.min_semi_axis.is_some()
             || self.paper_axes
             || self.whole_chord
+            || self.volume_boundary.is_some()
+            || self.spread_collimated.is_some()
             || self.temporal
             || self.in_between_frames.is_some()
             || self.shutter_align.is_some()

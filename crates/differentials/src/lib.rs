@@ -106,7 +106,7 @@ pub use error::DiffError;
 pub use footprint::{Footprint, footprint_area, photon_solid_angle, silverman};
 pub use medium::{
     AxesRule, Rotation, free_flight, phase_area_factor, reflect_sampled, scatter,
-    surface_area_factor, volume_axes,
+    spread_collimated, surface_area_factor, volume_axes,
 };
 pub use ray_differential::{RayDiff, normalize_differential};
 pub use reflection::{reflect, reflection_jacobians};

@@ -204,6 +204,48 @@ pub fn reflect_sampled<const N: usize>(
     scatter(&RayDiff::new(ray.p, v, dp, ray.dv), to, k)
 }
 
+/// The photon solid angle (sr) below which, relative to a fresh one's, [`spread_collimated`]
+/// counts a photon as collimated.
+const COLLIMATED_RATIO: f32 = 1e-6;
+
+/// **Extension** (not in the thesis, seed notes §2.4 [INF]): a *collimated* photon (its
+/// directional vectors span no solid angle: a beam or directional light, only delta events
+/// since) given the directional vectors of a point-light photon, so that the scattering that
+/// follows ([`scatter`], [`reflect_sampled`]) spreads it. Under eq. 8.23–8.26 alone such a
+/// photon keeps `D ω = 0` through every scattering event (`√k · R · 0 = 0`), so light scattered
+/// out of a laser keeps the laser's cross-section forever (a few millimetres) and the smoke
+/// around the beam is rendered as speckle. A point light's photons carry eq. 6's vectors,
+/// orthogonal and of length `2 s √(4π/(π N_e))` = `point_length`; after an isotropic scattering
+/// (`k = 1`) a photon that arrived with them spreads as if the event were a point light, which is
+/// the reading given here to the collimated photon's scattering. Photons with any directional
+/// spread are returned unchanged (the thesis's rule holds for them), as are the positional
+/// vectors. The new vectors are `point_length` times an orthonormal basis ⊥ `V` (rad) whose
+/// first vector is along `D_u x` (projected ⊥ `V`) and whose second is on `D_v x`'s side.
+pub fn spread_collimated<const N: usize>(ray: &RayDiff<N>, point_length: f32) -> RayDiff<N> {
+    if N < 2 || !(point_length > 0.0 && point_length.is_finite()) {
+        return *ray;
+    }
+    let fresh = point_length * point_length;
+    if ray.dv[0].cross(ray.dv[1]).length() > COLLIMATED_RATIO * fresh {
+        return *ray;
+    }
+    // Paired with the positional vectors as eq. 2–3 pair a light's (D_θ ω ∥ D_u x, and D_φ ω on
+    // D_v x's side), so that the footprint only grows over the next flight: an arbitrary basis
+    // could point against D x and shrink it to nothing at some distance.
+    let v = ray.v;
+    let e0 = (ray.dp[0] - v * v.dot(ray.dp[0]))
+        .try_normalize()
+        .unwrap_or_else(|| caustica_core::Frame::from_normal(v).s);
+    let mut e1 = v.cross(e0);
+    if e1.dot(ray.dp[1]) < 0.0 {
+        e1 = -e1;
+    }
+    let mut out = *ray;
+    out.dv[0] = e0 * point_length;
+    out.dv[1] = e1 * point_length;
+    out
+}
+
 /// How [`volume_axes`] forms a stored photon's three vectors.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum AxesRule {
@@ -525,6 +567,59 @@ mod tests {
         let ray = RayDiff::<2>::constant(Vec3::ZERO, Vec3::X);
         assert!(scatter(&ray, Vec3::Y, 0.0).is_err());
         assert!(scatter(&ray, Vec3::ZERO, 1.0).is_err());
+    }
+
+    #[test]
+    fn collimated_photons_spread_like_a_point_lights_and_others_are_left_alone() {
+        // A collimated photon (D ω = 0) gets eq. 6's point-light vectors: photon solid angle
+        // (π/4)|D_θ ω × D_φ ω| = s² 4π / N_e (here N_e = 1, s = 3), ⊥ V, paired with D x so
+        // that its footprint grows monotonically over any flight, and after an isotropic
+        // scattering (k = 1) the same solid angle. A photon with spread is unchanged.
+        use crate::EmissionBudget;
+        let s = 3.0f32;
+        let len = EmissionBudget::new(1, s)
+            .unwrap()
+            .differential_length(4.0 * std::f32::consts::PI)
+            .unwrap();
+        let mut rng = Pcg32::new(4, 4);
+        for _ in 0..200 {
+            let v = rand_unit(&mut rng);
+            let f = caustica_core::Frame::from_normal(v);
+            let a = rng.next_f32() * std::f32::consts::TAU;
+            let (c, sn) = (a.cos(), a.sin());
+            // The beam's cross-section vectors (orthogonal, 2 mm), turned by a random angle.
+            let dp = [
+                (f.s * c + f.t * sn) * 0.002,
+                (f.t * c - f.s * sn) * 0.002 * if rng.next_f32() < 0.5 { 1.0 } else { -1.0 },
+            ];
+            let ray = RayDiff::new(Vec3::ZERO, v, dp, [Vec3::ZERO; 2]);
+            let out = spread_collimated(&ray, len);
+            let omega = std::f32::consts::FRAC_PI_4 * out.dv[0].cross(out.dv[1]).length();
+            let want = s * s * 4.0 * std::f32::consts::PI;
+            assert!((omega - want).abs() < 1e-4 * want, "{omega} vs {want}");
+            assert_eq!(out.dp, ray.dp);
+            for d in out.dv {
+                assert!(d.dot(v).abs() < 1e-5 * len);
+            }
+            // The footprint area grows with the flight distance, never through zero.
+            let area = |t: f32| {
+                let r = free_flight(&out, t).unwrap();
+                r.dp[0].cross(r.dp[1]).length()
+            };
+            let mut last = area(0.0);
+            for t in [1e-4f32, 1e-3, 1e-2, 0.1, 1.0] {
+                let a = area(t);
+                assert!(a > last, "area {a} after {t} m, {last} before");
+                last = a;
+            }
+            // Scattering isotropically (k = 1) keeps that solid angle.
+            let sc = scatter(&out, rand_unit(&mut rng), 1.0).unwrap();
+            let omega = std::f32::consts::FRAC_PI_4 * sc.dv[0].cross(sc.dv[1]).length();
+            assert!((omega - want).abs() < 1e-3 * want, "{omega} vs {want}");
+            // A photon that already spreads (any light but a collimated one) is left alone.
+            let spread = RayDiff::new(Vec3::ZERO, v, dp, [f.s * 0.1 * len, f.t * 0.1 * len]);
+            assert_eq!(spread_collimated(&spread, len), spread);
+        }
     }
 
     #[test]

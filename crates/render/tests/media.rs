@@ -498,6 +498,74 @@ fn volume_photon_differentials_follow_the_volume_photons_with_the_beams_cross_se
 }
 
 #[test]
+fn spread_collimated_photons_grow_after_their_first_scattering_only() {
+    // The extension `--spread-collimated S`: a beam's photons keep the beam's ball at their
+    // first scattering event (stored before any scattering), and once scattered they spread
+    // like a point light's (eq. 6 with ω_e = 4π at smoothing S): no later kernel is smaller than
+    // the beam's ball, and the typical one is far larger. Without it every kernel keeps the
+    // beam's size (previous test).
+    use caustica_render::Smoothing;
+    use caustica_render::photon::differential::volume_trace::{
+        KernelRule, trace_volume_differentials,
+    };
+    use caustica_render::photon::plan::PhotonBudget;
+    let scene = beam_scene(8, 20.0);
+    let opts = RenderOptions {
+        seed: 5,
+        ..Default::default()
+    };
+    let s = 3.0f32;
+    let trace = |spread: Option<f32>| {
+        trace_volume_differentials(
+            &scene,
+            PhotonBudget::Records(5000),
+            Smoothing::new(s).unwrap(),
+            KernelRule {
+                spread_collimated: spread.map(|x| Smoothing::new(x).unwrap()),
+                ..KernelRule::default()
+            },
+            0x77,
+            &opts,
+            &mut |_| true,
+        )
+    };
+    let (plain, spread) = (trace(None), trace(Some(2.0)));
+    assert_eq!(plain.photons.len(), spread.photons.len());
+    let diameter = 2.0 * s * BEAM.radius / (spread.paths as f32).sqrt();
+    let ball = std::f32::consts::PI / 6.0 * diameter.powi(3);
+    let first = spread.photons.iter().map(|p| p.depth).min().unwrap();
+    let mut later = Vec::new();
+    for ((p, k), k0) in spread
+        .photons
+        .iter()
+        .zip(&spread.kernels)
+        .zip(&plain.kernels)
+    {
+        let v = 1.0 / k.inv_volume;
+        if p.depth == first {
+            assert_eq!(k, k0, "first-scattering kernels are the thesis's");
+        } else {
+            assert!(
+                v >= ball * (1.0 - 1e-3),
+                "V = {v} below the beam's ball {ball}"
+            );
+            later.push(v / ball);
+        }
+    }
+    assert!(
+        later.len() > 100,
+        "{} multiply scattered photons",
+        later.len()
+    );
+    later.sort_by(f32::total_cmp);
+    let median = later[later.len() / 2];
+    assert!(
+        median > 10.0,
+        "median later kernel only {median}× the beam's ball"
+    );
+}
+
+#[test]
 fn volume_photon_differentials_of_single_scattering_match_the_closed_form() {
     // TM5 for vpd: each photon's flux is spread over its ellipsoid (eq. 8.16's V with the mean-1
     // kernel), so the total over the image is the closed form's within the noise, at two photon

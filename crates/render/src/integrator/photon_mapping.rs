@@ -17,6 +17,7 @@ use crate::control::Stage;
 use crate::options::{CausticEstimator, RenderOptions};
 use crate::photon::caustic::{CausticEstimate, global_radiance};
 use crate::photon::differential::volume_trace::{KernelRule, trace_volume_differentials};
+use crate::photon::kernel_boundary::KernelBoundary;
 use crate::photon::map::PhotonMap;
 use crate::photon::tracer::{MapKind, TracedPhotons, trace_photons};
 use crate::photon::volume_map::{VolumeEstimate, VolumeMap};
@@ -127,6 +128,7 @@ impl PhotonMaps {
                 let rule = KernelRule {
                     axes: settings.axes,
                     min_semi_axis: settings.min_semi_axis,
+                    spread_collimated: settings.spread_collimated,
                 };
                 let smoothing = settings
                     .smoothing
@@ -153,12 +155,14 @@ impl PhotonMaps {
                         None => String::new(),
                     }
                 ));
-                return VolumeMap::from_ellipsoids(v.photons, v.kernels, v.paths, settings);
+                let map = VolumeMap::from_ellipsoids(v.photons, v.kernels, v.paths, settings);
+                return Self::cut_kernels(map, scene, opts, &mut notes);
             }
             let v = trace_photons(scene, budget, MapKind::Volume, VOLUME_STREAM, opts, progress);
             stats += v.stats;
             warnings.extend(v.warning);
-            VolumeMap::new(v.photons, v.paths, settings)
+            let map = VolumeMap::new(v.photons, v.paths, settings);
+            Self::cut_kernels(map, scene, opts, &mut notes)
         });
         Self {
             caustic,
@@ -168,6 +172,27 @@ impl PhotonMaps {
             warnings,
             notes,
         }
+    }
+
+    /// The volume map with its kernels renormalised where surfaces cut them, if the settings
+    /// ask for it and the estimate uses photon kernels (not the march), noted.
+    fn cut_kernels(
+        mut map: VolumeMap,
+        scene: &Scene,
+        opts: &RenderOptions,
+        notes: &mut Vec<String>,
+    ) -> VolumeMap {
+        let s = map.settings();
+        if s.boundary == KernelBoundary::Renormalised && s.estimate != VolumeEstimate::March {
+            let r = map.renormalise_at_boundaries(scene, opts.seed);
+            notes.push(format!(
+                "volume kernels renormalised at surfaces: {} of {} cut, keeping {:.1} % of their mass on average",
+                r.cut,
+                r.kernels,
+                100.0 * r.mean_kept
+            ));
+        }
+        map
     }
 
     /// True when the render needs volume photons: the scene has a scattering medium.

@@ -19,6 +19,7 @@ pub mod bandwidth_choice;
 pub mod caustic;
 pub mod differential;
 pub mod eye_map;
+pub mod kernel_boundary;
 pub mod map;
 pub mod plan;
 pub mod tracer;

@@ -24,9 +24,10 @@
 
 use crate::options::Smoothing;
 use crate::photon::differential::volume_trace::Ellipsoid;
+use crate::photon::kernel_boundary::{KernelBoundary, kept_fraction};
 use crate::photon::tracer::Photon;
 use crate::transport::medium::MediumSpan;
-use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_core::{Mat3, Ray, Spectrum, Vec3};
 use caustica_density::beam::{
     BeamKernel, Clip, RaySegment, ball_volume, ball_weight, ellipsoid_weight,
 };
@@ -84,8 +85,15 @@ pub struct VolumeSettings {
     pub axes: AxesRule,
     /// Smallest semi-axis (m) of a photon-differential kernel; `None` (default) = as traced.
     pub min_semi_axis: Option<f32>,
+    /// Photon differentials of collimated light spread like a point light's photons at this
+    /// smoothing from their first non-delta scattering on (an extension; default none, as in
+    /// the thesis).
+    pub spread_collimated: Option<Smoothing>,
     /// How much of a kernel a segment that ends inside it receives (seed notes Q-M10).
     pub clip: Clip,
+    /// What the beam estimates' kernels (balls and ellipsoids) keep where they reach through a
+    /// surface ([`KernelBoundary`]; the march's query balls are not photon kernels).
+    pub boundary: KernelBoundary,
 }
 
 impl Default for VolumeSettings {
@@ -100,9 +108,22 @@ impl Default for VolumeSettings {
             smoothing: None,
             axes: AxesRule::Projected,
             min_semi_axis: None,
+            spread_collimated: None,
             clip: Clip::Exact,
+            boundary: KernelBoundary::Open,
         }
     }
+}
+
+/// What [`VolumeMap::renormalise_at_boundaries`] did, for the render's notes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundaryReport {
+    /// Kernels examined.
+    pub kernels: usize,
+    /// Kernels a surface cuts (`F < 1`).
+    pub cut: usize,
+    /// Mean `F` over the cut ones (1 if none).
+    pub mean_kept: f32,
 }
 
 /// The kernels of a volume map's photons.
@@ -122,6 +143,9 @@ pub struct VolumeMap {
     /// ellipsoid's bounding radius).
     pub radii: Vec<f32>,
     kernels: Kernels,
+    /// `1/F` per photon: its kernel's weight where surfaces cut it
+    /// ([`VolumeMap::renormalise_at_boundaries`]); empty = 1 for every photon.
+    inv_kept: Vec<f32>,
     /// The k-d tree of the march and the pilot radii (none for ellipsoids).
     tree: Option<KdTree>,
     bvh: SphereBvh,
@@ -204,6 +228,7 @@ impl VolumeMap {
             photons,
             radii,
             kernels,
+            inv_kept: Vec::new(),
             tree,
             bvh,
             bounds,
@@ -211,6 +236,43 @@ impl VolumeMap {
             settings,
             step: 0.0,
         }
+    }
+
+    /// Cut and normalise ([`crate::photon::kernel_boundary`]): every photon's kernel divided by
+    /// the fraction `F` of its mass that the photon sees without crossing a surface of `scene`,
+    /// so that the part camera rays in the medium can meet holds the photon's whole flux.
+    /// Deterministic for `seed` whatever the thread count. Returns how many kernels surfaces cut
+    /// and the mean `F` over those.
+    pub fn renormalise_at_boundaries(&mut self, scene: &Scene, seed: u64) -> BoundaryReport {
+        let kernel = self.settings.kernel;
+        let kept: Vec<f32> = (0..self.photons.len())
+            .into_par_iter()
+            .map(|i| {
+                let axes = match &self.kernels {
+                    Kernels::Balls => Mat3::from_diagonal(Vec3::splat(self.radii[i])),
+                    Kernels::Ellipsoids(e) => e[i].m.inverse(),
+                };
+                kept_fraction(scene, self.photons[i].p, axes, kernel, seed, i as u64)
+            })
+            .collect();
+        let cut: Vec<f32> = kept.iter().copied().filter(|&f| f < 1.0).collect();
+        let report = BoundaryReport {
+            kernels: kept.len(),
+            cut: cut.len(),
+            mean_kept: if cut.is_empty() {
+                1.0
+            } else {
+                cut.iter().map(|&f| f as f64).sum::<f64>() as f32 / cut.len() as f32
+            },
+        };
+        self.inv_kept = kept.into_iter().map(|f| 1.0 / f).collect();
+        report
+    }
+
+    /// The weight `1/F` of photon `i`'s kernel (1 unless renormalised).
+    #[inline]
+    fn kernel_weight(&self, i: usize) -> f32 {
+        self.inv_kept.get(i).copied().unwrap_or(1.0)
     }
 
     /// The march's step (m).
@@ -231,6 +293,7 @@ impl VolumeMap {
     pub fn memory_bytes(&self) -> usize {
         self.photons.capacity() * std::mem::size_of::<Photon>()
             + self.radii.capacity() * 4
+            + self.inv_kept.capacity() * 4
             + match &self.kernels {
                 Kernels::Balls => 0,
                 Kernels::Ellipsoids(e) => e.capacity() * std::mem::size_of::<Ellipsoid>(),
@@ -302,14 +365,14 @@ impl VolumeMap {
             Kernels::Balls => self.bvh.for_each_crossing(&seg, |i, centre, r| {
                 let ph = &self.photons[i as usize];
                 if let Some(hit) = ball_weight(kernel, &seg, centre, r, clip) {
-                    let p = medium.phase.eval(wo, ph.wi);
+                    let p = medium.phase.eval(wo, ph.wi) * self.kernel_weight(i as usize);
                     l += ph.flux * (tr.at(hit.t) * (p * hit.weight / ball_volume(r)));
                 }
             }),
             Kernels::Ellipsoids(e) => self.bvh.for_each_crossing(&seg, |i, centre, _| {
                 let (ph, e) = (&self.photons[i as usize], &e[i as usize]);
                 if let Some(hit) = ellipsoid_weight(kernel, &seg, centre, e.m, clip) {
-                    let p = medium.phase.eval(wo, ph.wi);
+                    let p = medium.phase.eval(wo, ph.wi) * self.kernel_weight(i as usize);
                     l += ph.flux * (tr.at(hit.t) * (p * hit.weight * e.inv_volume));
                 }
             }),
@@ -558,6 +621,134 @@ mod tests {
                 assert!(a > 0.0, "balls {a} vs ellipsoids {b}");
                 assert!((a - b).abs() <= 2e-4 * a, "balls {a} vs ellipsoids {b}");
             }
+        }
+    }
+
+    #[test]
+    fn renormalised_kernels_cut_by_a_floor_keep_their_flux() {
+        // One photon h above a floor (y = 0), its kernel a ball or a random ellipsoid reaching
+        // through it. Vertical rays down to the floor on a dense grid: Σ L dA = ΔΦ p · (the
+        // kernel's mass above the floor) — the exact marginal F with open kernels (the flux
+        // below is lost), ΔΦ p with renormalised ones (to the accuracy of F's 64 directions).
+        use caustica_core::Affine3A;
+        use caustica_scene::material::Material;
+        use caustica_scene::shape::{ShapeGeometry, TriangleMesh};
+        use caustica_scene::texture::Texture;
+        let mut b = SceneBuilder::new("floor in a medium");
+        b.add_medium(
+            "m",
+            Medium::homogeneous(
+                Spectrum::splat(0.0),
+                Spectrum::splat(0.0),
+                PhaseFunction::henyey_greenstein(0.4).unwrap(),
+            ),
+        )
+        .unwrap();
+        let grey = b
+            .add_material(
+                "grey",
+                Material::Diffuse {
+                    reflectance: Texture::Constant(Spectrum::splat(0.5)),
+                },
+            )
+            .unwrap();
+        let to_world = Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
+            * Affine3A::from_scale(Vec3::splat(10.0));
+        b.add_shape(
+            ShapeGeometry::Mesh(TriangleMesh::rectangle(&to_world)),
+            grey,
+            None,
+            false,
+        )
+        .unwrap();
+        b.set_camera(PerspectiveCamera::look_at(
+            Vec3::new(0.0, 1.0, 5.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            30.0,
+            4,
+            4,
+        ));
+        let scene = b.build().unwrap();
+        let r = 0.2f32;
+        let photon = Photon {
+            p: Vec3::new(0.0, 0.3 * r, 0.0),
+            wi: Vec3::new(0.3, 0.5, -0.2).normalize(),
+            n: Vec3::ZERO,
+            flux: Spectrum::splat(2.0),
+            depth: 1,
+            caustic: false,
+        };
+        // Epanechnikov marginal along y: (1 − z²)², the mass above z = −0.3.
+        let f = |z: f64| z - 2.0 * z.powi(3) / 3.0 + z.powi(5) / 5.0;
+        let total = |map: &VolumeMap, scene: &Scene| {
+            let (n, half) = (200, 0.5f32);
+            let da = (2.0 * half / n as f32).powi(2) as f64;
+            let mut sum = 0.0f64;
+            for i in 0..n {
+                for j in 0..n {
+                    let x = -half + (i as f32 + 0.5) * 2.0 * half / n as f32;
+                    let z = -half + (j as f32 + 0.5) * 2.0 * half / n as f32;
+                    let ray = Ray::new(Vec3::new(x, 1.0, z), -Vec3::Y);
+                    let span = MediumSpan {
+                        ray: &ray,
+                        t_max: 1.0,
+                        medium: 0,
+                        tr: Spectrum::ONE,
+                    };
+                    sum += map.beam(scene, &span)[0] as f64 * da;
+                }
+            }
+            sum
+        };
+        let p = PhaseFunction::henyey_greenstein(0.4)
+            .unwrap()
+            .eval(Vec3::Y, photon.wi) as f64;
+        let phi_p = 2.0 * p;
+        let settings = VolumeSettings {
+            radius: Some(r),
+            ..VolumeSettings::default()
+        };
+        let ball = || VolumeMap::new(vec![photon], 1, settings);
+        // A flat ellipsoid tilted through the floor: its extent along y is |Aᵀ y|.
+        let axes = [
+            Vec3::new(0.18, 0.1, 0.0),
+            Vec3::new(0.0, 0.05, 0.12),
+            Vec3::new(0.01, -0.01, 0.01),
+        ];
+        let m = Mat3::from_cols(axes[0], axes[1], axes[2]).inverse();
+        let e = Ellipsoid {
+            m,
+            inv_volume: 1.0 / (4.0 / 3.0 * std::f32::consts::PI * m.inverse().determinant().abs()),
+            bound: 0.25,
+        };
+        let ellipsoid = || VolumeMap::from_ellipsoids(vec![photon], vec![e], 1, settings);
+        let extent = Mat3::from_cols(axes[0], axes[1], axes[2])
+            .transpose()
+            .mul_vec3(Vec3::Y)
+            .length() as f64;
+        for (what, make, h) in [
+            ("ball", &ball as &dyn Fn() -> VolumeMap, 0.3),
+            ("ellipsoid", &ellipsoid, 0.3 * r as f64 / extent),
+        ] {
+            let kept = (f(1.0) - f(-h)) / (16.0 / 15.0);
+            let open = total(&make(), &scene) / phi_p;
+            assert!(
+                (open - kept).abs() < 0.005,
+                "{what} open: {open} vs F = {kept}"
+            );
+            let mut map = make();
+            let report = map.renormalise_at_boundaries(&scene, 3);
+            assert_eq!(report.cut, 1);
+            assert!(
+                (report.mean_kept as f64 - kept).abs() < 0.03,
+                "{report:?} vs {kept}"
+            );
+            let renormalised = total(&map, &scene) / phi_p;
+            assert!(
+                (renormalised - 1.0).abs() < 0.03,
+                "{what} renormalised: {renormalised}"
+            );
         }
     }
 

@@ -31,7 +31,7 @@ use caustica_core::{Mat3, Spectrum, Vec3};
 use caustica_density::beam::{axes_bounding_radius, ellipsoid_volume, filter_matrix};
 use caustica_differentials::medium::widen_ellipse;
 use caustica_differentials::{
-    AxesRule, RayDiff, free_flight, phase_area_factor, reflect_sampled, scatter,
+    AxesRule, RayDiff, free_flight, phase_area_factor, reflect_sampled, scatter, spread_collimated,
     surface_area_factor, volume_axes,
 };
 use caustica_scene::Scene;
@@ -95,6 +95,12 @@ pub struct KernelRule {
     /// The smallest semi-axis (m) a kernel may have (none by default, as the thesis): the
     /// cross-section's principal semi-axes and `D_w x`'s are raised to it.
     pub min_semi_axis: Option<f32>,
+    /// With a smoothing `S`: collimated photons (beam and directional lights) get the
+    /// directional vectors of a point light's photon at smoothing `S` (eq. 6, `ω_e = 4π`) at
+    /// their first non-delta scattering ([`spread_collimated`]; an extension, off by default
+    /// as in the thesis). A smoothing of its own: a narrow beam needs a large `s` for its
+    /// positional vectors, which as an angular spread would be radians wide.
+    pub spread_collimated: Option<Smoothing>,
 }
 
 /// The ellipsoid of a photon with traced vectors `du`, `dv` (m, already scaled for the
@@ -158,6 +164,12 @@ pub fn trace_volume_differentials(
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedVolumeDiffs {
     let tracer = LandingTracer::new(scene, &unit_budget(smoothing));
+    // Eq. 6 with ω_e = 4π for the unit budget: a point light's directional vector length.
+    let point_length = rule.spread_collimated.and_then(|s| {
+        unit_budget(s)
+            .differential_length(4.0 * std::f32::consts::PI)
+            .ok()
+    });
     let limits = opts.limits;
     let (landings, paths, stats) = trace_budget(
         budget,
@@ -168,6 +180,7 @@ pub fn trace_volume_differentials(
             let mut v = VolumeDiffVisitor::<2> {
                 ray: DiffRay::new(tracer.scene, &tracer.lights),
                 out,
+                point_length,
             };
             walk_light_path_with(tracer.scene, sampler, &limits, st, &mut v);
         },
@@ -248,6 +261,19 @@ enum Built {
 struct VolumeDiffVisitor<'a, const N: usize> {
     ray: DiffRay<'a, N>,
     out: &'a mut Vec<VolumeLanding>,
+    /// The unit budget's point-light directional length when collimated photons are spread at
+    /// their first non-delta scattering ([`KernelRule::spread_collimated`]).
+    point_length: Option<f32>,
+}
+
+impl<const N: usize> VolumeDiffVisitor<'_, N> {
+    /// The ray about to scatter diffusely, spread if it is collimated and the rule asks for it.
+    fn before_scattering(&self, r: RayDiff<N>) -> RayDiff<N> {
+        match self.point_length {
+            Some(l) => spread_collimated(&r, l),
+            None => r,
+        }
+    }
 }
 
 impl<const N: usize> LightVisitor for VolumeDiffVisitor<'_, N> {
@@ -280,10 +306,13 @@ impl<const N: usize> LightVisitor for VolumeDiffVisitor<'_, N> {
 
     fn scatter_in_medium(&mut self, _: &LightMediumVertex, ps: &PhaseSample) -> bool {
         // Eq. 8.23–8.24 (the ray is at the event since `event`).
-        let out = self
-            .ray
-            .ray()
-            .and_then(|r| scatter(&r, ps.wi, phase_area_factor(ps.pdf)?));
+        let out = self.ray.ray().and_then(|r| {
+            scatter(
+                &self.before_scattering(r),
+                ps.wi,
+                phase_area_factor(ps.pdf)?,
+            )
+        });
         self.ray.ray = Some(out);
         true
     }
@@ -297,7 +326,7 @@ impl<const N: usize> LightVisitor for VolumeDiffVisitor<'_, N> {
         // the tangent plane (eq. B.13–B.16) differs from the free flight to the hit only along
         // V (the ds V term), which the projection removes: the flight is the cheaper way there.
         let out = self.ray.ray().and_then(|r| {
-            let at = free_flight(&r, (sc.v.si.p - r.p).dot(r.v))?;
+            let at = self.before_scattering(free_flight(&r, (sc.v.si.p - r.p).dot(r.v))?);
             let k = surface_area_factor(sc.sample.pdf)?;
             let mut r = reflect_sampled(&at, sc.wi, k)?;
             r.p = sc.v.si.p;
