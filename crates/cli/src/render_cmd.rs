@@ -305,6 +305,20 @@ impl RenderSettings {
                 kind.name()
             ));
         }
+        if self.photon.spread_collimated.is_some()
+            && kind != IntegratorKind::VolumePhotonDifferentials
+        {
+            warnings.push(format!(
+                "--spread-collimated only affects --integrator vpd, not '{}'",
+                kind.name()
+            ));
+        }
+        if self.photon.volume_boundary.is_some() && kind == IntegratorKind::VolumetricPhotonMapping
+        {
+            warnings.push(
+                "--volume-boundary has no effect on --integrator vpm: its ray march gathers k-NN balls around the ray, not photon kernels (use beam or vpd)".to_string(),
+            );
+        }
         if self.photon.final_gather.is_some()
             && matches!(
                 kind,

@@ -26,7 +26,8 @@ pub struct SweepArgs {
     /// integrator, photons, global-photons, k, global-k, max-radius, kernel, final-gather,
     /// tangent-projection, disc-test, caustics-only, estimator, bandwidth, q, alpha,
     /// noise-scale, isotropic, smoothing, normal-distance, min-footprint, no-auto-bandwidth, volume-only,
-    /// volume-photons, volume-k, volume-radius, march-step, volume-smoothing or min-semi-axis.
+    /// volume-photons, volume-k, volume-radius, march-step, volume-smoothing, min-semi-axis, volume-boundary or
+    /// spread-collimated.
     #[arg(long, value_name = "NAME")]
     pub param: String,
     /// The values of the parameter, comma-separated (e.g. 10,50,200 or uniform,cone:1.1);
@@ -145,6 +146,8 @@ const PARAMETERS: &[(&str, Field)] = &[
     ("march-step", |s| &mut s.photon.march_step),
     ("volume-smoothing", |s| &mut s.photon.volume_smoothing),
     ("min-semi-axis", |s| &mut s.photon.min_semi_axis),
+    ("volume-boundary", |s| &mut s.photon.volume_boundary),
+    ("spread-collimated", |s| &mut s.photon.spread_collimated),
 ];
 
 /// The setter of parameter `name` (a long option name, with or without the leading `--`).

@@ -183,6 +183,20 @@ impl BeamKernel {
             BeamKernel::Epanechnikov => 10.0 / (3.0 * h * h) * l2 * l2.sqrt(),
         }
     }
+
+    /// The fraction of the kernel's mass within normalised radius `a` (clamped to `[0, 1]`):
+    /// `∫₀^a K(u) u² du / ∫₀¹ K(u) u² du`, `a³` (uniform) or `(5a³ − 3a⁵)/2` (Epanechnikov). Rays
+    /// from a kernel's centre keep this profile in filter space, so it is the mass a ray from
+    /// the centre sees up to a surface (`caustica-render`'s kernel boundaries).
+    #[inline]
+    pub fn radial_mass(self, a: f32) -> f32 {
+        let a = a.clamp(0.0, 1.0);
+        let a3 = a * a * a;
+        match self {
+            BeamKernel::Uniform => a3,
+            BeamKernel::Epanechnikov => 0.5 * a3 * (5.0 - 3.0 * a * a),
+        }
+    }
 }
 
 impl TryFrom<Kernel> for BeamKernel {
@@ -467,6 +481,30 @@ mod tests {
 
     /// TM1: 8.11 and corrected 8.13 equal the kernel integrated along the chord by quadrature
     /// in `t` (8.5 without its factor 2), and `ball_weight` with the whole chord equals them.
+    #[test]
+    fn the_radial_mass_is_the_kernels_integral() {
+        // C(a) against a midpoint rule of ∫₀^a K(u) u² du / ∫₀¹ K(u) u² du.
+        for kernel in [BeamKernel::Uniform, BeamKernel::Epanechnikov] {
+            let integral = |a: f64| {
+                let n = 20_000;
+                (0..n)
+                    .map(|i| {
+                        let u = a * (i as f64 + 0.5) / n as f64;
+                        k_ref(kernel, u * u) * u * u * a / n as f64
+                    })
+                    .sum::<f64>()
+            };
+            for a in [0.0, 0.1, 0.35, 0.5, 0.8, 1.0] {
+                let want = integral(a) / integral(1.0);
+                let got = kernel.radial_mass(a as f32) as f64;
+                assert!(
+                    (got - want).abs() < 1e-5,
+                    "{kernel:?} C({a}) = {got} vs {want}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn closed_forms_811_813_match_quadrature_along_t() {
         let mut rng = Pcg32::new(81, 1);

@@ -666,9 +666,10 @@ fn volume_photon_differentials_survive_thousands_of_scatterings() {
 
 #[test]
 fn vpd_gives_the_same_bytes_for_any_thread_count() {
-    // Multiple scattering, the kernels built in parallel and collected in path order.
-    let scene = beam_scene(12, 20.0);
-    let run = |threads: usize, seed: u64| {
+    // Multiple scattering, the kernels built in parallel and collected in path order; and the
+    // extensions (kernels renormalised in parallel, each from its own random rotation, in a
+    // medium sphere small enough that the null boundary cuts them; collimated photons spread).
+    let run = |scene: &Scene, threads: usize, seed: u64, extensions: bool| {
         let mut opts = RenderOptions {
             spp: 2,
             seed,
@@ -678,13 +679,15 @@ fn vpd_gives_the_same_bytes_for_any_thread_count() {
         opts.photons.light_paths = Some(1000);
         opts.photons.global_photons = 1000;
         opts.photons.final_gather = 1;
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        let img = pool.install(|| {
+        if extensions {
+            opts.photons.volume.boundary =
+                caustica_render::photon::kernel_boundary::KernelBoundary::Renormalised;
+            opts.photons.volume.spread_collimated =
+                Some(caustica_render::Smoothing::new(2.0).unwrap());
+        }
+        let img = common::with_threads(threads, || {
             render(
-                &scene,
+                scene,
                 IntegratorKind::VolumePhotonDifferentials,
                 &opts,
                 &RenderControl::silent(),
@@ -698,7 +701,20 @@ fn vpd_gives_the_same_bytes_for_any_thread_count() {
             .flat_map(|p| p.map(f32::to_bits))
             .collect::<Vec<u32>>()
     };
-    let (a, b, c) = (run(1, 4), run(2, 4), run(2, 5));
+    let scene = beam_scene(12, 20.0);
+    let (a, b, c) = (
+        run(&scene, 1, 4, false),
+        run(&scene, 2, 4, false),
+        run(&scene, 2, 5, false),
+    );
     assert_eq!(a, b, "1 and 2 threads differ");
     assert_ne!(a, c, "the seed has no effect");
+    let small = beam_scene(12, 0.8);
+    let (a, b, plain) = (
+        run(&small, 1, 4, true),
+        run(&small, 2, 4, true),
+        run(&small, 2, 4, false),
+    );
+    assert_eq!(a, b, "1 and 2 threads differ with the extensions");
+    assert_ne!(a, plain, "the extensions have no effect");
 }

@@ -5,6 +5,8 @@
 //! (the error falls with iterations), for thread-count determinism, and for the run control
 //! (Ctrl-C, time budget, bad values).
 
+mod common;
+
 use caustica_core::image_io::Image;
 use caustica_loader::builtin_scene;
 use caustica_render::{
@@ -343,13 +345,7 @@ fn same_bytes_with_one_and_two_threads() {
         IntegratorKind::ProgressiveDifferentialMapping,
         IntegratorKind::ProgressiveDiffusion,
     ] {
-        let on = |threads| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| run(&s, kind, &o))
-        };
+        let on = |threads| common::with_threads(threads, || run(&s, kind, &o));
         let (a, b) = (on(1), on(2));
         assert!(total(&a) > 0.0);
         assert!(a.data == b.data, "{}: 1 and 2 threads differ", kind.name());
@@ -574,13 +570,7 @@ fn sppm_and_ppm_give_the_same_bytes_with_one_and_two_threads() {
         (IntegratorKind::ProgressivePhotonMappingHitPoints, 4),
     ] {
         let o = RenderOptions { spp, ..o.clone() };
-        let on = |threads| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| run(&s, kind, &o))
-        };
+        let on = |threads| common::with_threads(threads, || run(&s, kind, &o));
         let (a, b) = (on(1), on(2));
         assert!(total(&a) > 0.0);
         assert!(a.data == b.data, "{}: 1 and 2 threads differ", kind.name());

@@ -630,46 +630,11 @@ mod tests {
         // through it. Vertical rays down to the floor on a dense grid: Σ L dA = ΔΦ p · (the
         // kernel's mass above the floor) — the exact marginal F with open kernels (the flux
         // below is lost), ΔΦ p with renormalised ones (to the accuracy of F's 64 directions).
-        use caustica_core::Affine3A;
-        use caustica_scene::material::Material;
-        use caustica_scene::shape::{ShapeGeometry, TriangleMesh};
-        use caustica_scene::texture::Texture;
-        let mut b = SceneBuilder::new("floor in a medium");
-        b.add_medium(
-            "m",
-            Medium::homogeneous(
-                Spectrum::splat(0.0),
-                Spectrum::splat(0.0),
-                PhaseFunction::henyey_greenstein(0.4).unwrap(),
-            ),
-        )
-        .unwrap();
-        let grey = b
-            .add_material(
-                "grey",
-                Material::Diffuse {
-                    reflectance: Texture::Constant(Spectrum::splat(0.5)),
-                },
-            )
-            .unwrap();
-        let to_world = Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
-            * Affine3A::from_scale(Vec3::splat(10.0));
-        b.add_shape(
-            ShapeGeometry::Mesh(TriangleMesh::rectangle(&to_world)),
-            grey,
-            None,
-            false,
-        )
-        .unwrap();
-        b.set_camera(PerspectiveCamera::look_at(
-            Vec3::new(0.0, 1.0, 5.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            30.0,
-            4,
-            4,
-        ));
-        let scene = b.build().unwrap();
+        let scene = crate::photon::kernel_boundary::tests::floor(Some(Medium::homogeneous(
+            Spectrum::splat(0.0),
+            Spectrum::splat(0.0),
+            PhaseFunction::henyey_greenstein(0.4).unwrap(),
+        )));
         let r = 0.2f32;
         let photon = Photon {
             p: Vec3::new(0.0, 0.3 * r, 0.0),

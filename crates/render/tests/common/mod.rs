@@ -248,3 +248,12 @@ pub fn ball_on_floor(albedo: f32, intensity: f32, light_y: f32, glass: bool, siz
     ));
     b.build().unwrap()
 }
+
+/// `f` run on a rayon pool of `threads` threads (determinism tests: same bytes for any count).
+pub fn with_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(f)
+}
