@@ -152,8 +152,9 @@ fn cross_section_major_semi_axis(du: Vec3, dv: Vec3) -> Option<f32> {
 
 /// Traces the light paths of `stream` under `budget` (volume photons, as the volume photon
 /// tracer) as photon differentials with smoothing `smoothing`, and returns the stored photons
-/// with their kernels. `progress(fraction)` after each wave. Deterministic for a given seed
-/// whatever the thread count.
+/// with their kernels ([`trace_volume_landings`], then [`kernels_from_landings`]).
+/// `progress(fraction)` after each wave. Deterministic for a given seed whatever the thread
+/// count.
 pub fn trace_volume_differentials(
     scene: &Scene,
     budget: PhotonBudget,
@@ -163,6 +164,30 @@ pub fn trace_volume_differentials(
     opts: &RenderOptions,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedVolumeDiffs {
+    let traced = trace_volume_landings(scene, budget, smoothing, rule, stream, opts, progress);
+    kernels_from_landings(traced, budget, rule)
+}
+
+/// The scattering events of the light paths and their differentials, before the path count
+/// scales them and the kernels are built (the tracing half of [`trace_volume_differentials`]).
+pub struct VolumeLandings {
+    pub landings: Vec<VolumeLanding>,
+    /// Light paths emitted.
+    pub paths: u64,
+    pub stats: RenderStats,
+}
+
+/// The tracing half of [`trace_volume_differentials`]: every scattering event of the light
+/// paths with its differential for `N_e = 1` (the rule's collimated spread applied on the way).
+pub fn trace_volume_landings(
+    scene: &Scene,
+    budget: PhotonBudget,
+    smoothing: Smoothing,
+    rule: KernelRule,
+    stream: u64,
+    opts: &RenderOptions,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> VolumeLandings {
     let tracer = LandingTracer::new(scene, &unit_budget(smoothing));
     // Eq. 6 with ω_e = 4π for the unit budget: a point light's directional vector length.
     let point_length = rule.spread_collimated.and_then(|s| {
@@ -181,10 +206,31 @@ pub fn trace_volume_differentials(
                 ray: DiffRay::new(tracer.scene, &tracer.lights),
                 out,
                 point_length,
+                pending: None,
             };
             walk_light_path_with(tracer.scene, sampler, &limits, st, &mut v);
         },
     );
+    VolumeLandings {
+        landings,
+        paths,
+        stats,
+    }
+}
+
+/// The kernel half of [`trace_volume_differentials`]: each landing's vectors scaled for the path
+/// count (`1/√(N pmf)`, eq. 5–6) and its ellipsoid built by `rule` ([`volume_kernel`]), in
+/// parallel and collected in path order.
+pub fn kernels_from_landings(
+    traced: VolumeLandings,
+    budget: PhotonBudget,
+    rule: KernelRule,
+) -> TracedVolumeDiffs {
+    let VolumeLandings {
+        landings,
+        paths,
+        stats,
+    } = traced;
     let n = paths.max(1) as f64;
     // Kernels in parallel, collected in path order (deterministic).
     let built: Vec<Built> = landings
@@ -264,6 +310,8 @@ struct VolumeDiffVisitor<'a, const N: usize> {
     /// The unit budget's point-light directional length when collimated photons are spread at
     /// their first non-delta scattering ([`KernelRule::spread_collimated`]).
     point_length: Option<f32>,
+    /// The last diffuse scattering, not yet applied ([`Pending`]).
+    pending: Option<Pending>,
 }
 
 impl<const N: usize> VolumeDiffVisitor<'_, N> {
@@ -279,9 +327,13 @@ impl<const N: usize> VolumeDiffVisitor<'_, N> {
 impl<const N: usize> LightVisitor for VolumeDiffVisitor<'_, N> {
     fn event(&mut self, event: LightEvent, _: &mut Sampler, stats: &mut RenderStats) {
         match event {
-            LightEvent::Start(start) => self.ray.start(start),
+            LightEvent::Start(start) => {
+                self.pending = None;
+                self.ray.start(start)
+            }
             LightEvent::Vertex(_) => {}
             LightEvent::Medium(lm) => {
+                self.settle();
                 // Eq. 8.19–8.22: the flight from the ray's origin (the last vertex) to the event.
                 let at = self.ray.ray().and_then(|r: RayDiff<N>| {
                     let s = (lm.v.p - r.p).dot(r.v);
@@ -305,35 +357,63 @@ impl<const N: usize> LightVisitor for VolumeDiffVisitor<'_, N> {
     }
 
     fn scatter_in_medium(&mut self, _: &LightMediumVertex, ps: &PhaseSample) -> bool {
-        // Eq. 8.23–8.24 (the ray is at the event since `event`).
-        let out = self.ray.ray().and_then(|r| {
-            scatter(
-                &self.before_scattering(r),
-                ps.wi,
-                phase_area_factor(ps.pdf)?,
-            )
+        self.settle();
+        self.pending = Some(Pending::Phase {
+            wi: ps.wi,
+            pdf: ps.pdf,
         });
-        self.ray.ray = Some(out);
         true
     }
 
     fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+        self.settle();
         if sc.sample.flags.is_delta() {
             self.ray.scatter_delta(sc);
-            return true;
+        } else {
+            self.pending = Some(Pending::Sampled {
+                hit: sc.v.si.p,
+                wi: sc.wi,
+                pdf: sc.sample.pdf,
+            });
         }
-        // Eq. 8.25–8.26 with the projection ⊥ the incident direction (Q-M5). The transfer onto
-        // the tangent plane (eq. B.13–B.16) differs from the free flight to the hit only along
-        // V (the ds V term), which the projection removes: the flight is the cheaper way there.
-        let out = self.ray.ray().and_then(|r| {
-            let at = self.before_scattering(free_flight(&r, (sc.v.si.p - r.p).dot(r.v))?);
-            let k = surface_area_factor(sc.sample.pdf)?;
-            let mut r = reflect_sampled(&at, sc.wi, k)?;
-            r.p = sc.v.si.p;
-            Ok(r)
+        true
+    }
+}
+
+/// A diffuse scattering whose differential is not computed until a later event needs it: the
+/// last one of a path that stores no further photon (most paths in thin media end on a diffuse
+/// bounce) then costs nothing. Applying it later gives the same values as applying it at once.
+#[derive(Clone, Copy, Debug)]
+enum Pending {
+    /// A phase-function sample at the ray's current origin (the event): eq. 8.23–8.24.
+    Phase { wi: Vec3, pdf: f32 },
+    /// An importance-sampled surface reflection at `hit` (m): eq. 8.25–8.26.
+    Sampled { hit: Vec3, wi: Vec3, pdf: f32 },
+}
+
+impl<const N: usize> VolumeDiffVisitor<'_, N> {
+    /// Applies the pending scattering, if any, to the differential.
+    fn settle(&mut self) {
+        let Some(p) = self.pending.take() else {
+            return;
+        };
+        let out = self.ray.ray().and_then(|r| match p {
+            // Eq. 8.23–8.24 (the ray is at the event since `event`).
+            Pending::Phase { wi, pdf } => {
+                scatter(&self.before_scattering(r), wi, phase_area_factor(pdf)?)
+            }
+            // Eq. 8.25–8.26 with the projection ⊥ the incident direction (Q-M5). The transfer
+            // onto the tangent plane (eq. B.13–B.16) differs from the free flight to the hit
+            // only along V (the ds V term), which the projection removes: the flight is the
+            // cheaper way there.
+            Pending::Sampled { hit, wi, pdf } => {
+                let at = self.before_scattering(free_flight(&r, (hit - r.p).dot(r.v))?);
+                let mut r = reflect_sampled(&at, wi, surface_area_factor(pdf)?)?;
+                r.p = hit;
+                Ok(r)
+            }
         });
         self.ray.ray = Some(out);
-        true
     }
 }
 
