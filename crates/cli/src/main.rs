@@ -5,6 +5,7 @@
 mod compare_cmd;
 mod convert_cmd;
 mod eta;
+mod pcf_args;
 mod photon_args;
 mod photons_cmd;
 mod render_cmd;

@@ -266,6 +266,8 @@ pub struct PhotonArgs {
     /// For comparisons with the paper.
     #[arg(long, help_heading = "Motion")]
     pub paper_area: bool,
+    #[command(flatten)]
+    pub pcf: crate::pcf_args::PcfArgs,
 }
 
 impl PhotonArgs {
@@ -370,6 +372,9 @@ impl PhotonArgs {
             pr.alpha = a;
         }
         pr.radius = self.radius;
+        // pcf's α is --ppm-alpha too, with its own default (and range (0, 1)); checked only
+        // when pcf runs (`IntegratorKind::check`).
+        self.pcf.apply(&mut o.pcf, self.ppm_alpha)?;
         pr.validate()?;
         let sweep_given =
             self.shutter_align.is_some() || self.time_filter.is_some() || self.paper_area;
@@ -436,6 +441,7 @@ impl PhotonArgs {
             || self.time_filter.is_some()
             || self.paper_area
             || self.progressive_given()
+            || self.pcf.any_given()
     }
 
     /// True if any option of the progressive methods was given.

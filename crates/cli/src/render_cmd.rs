@@ -223,9 +223,15 @@ impl RenderSettings {
                 kind.name()
             );
         }
+        if self.photon.pcf.any_given() && kind != IntegratorKind::PhotonConeFocusing {
+            bail!(
+                "the --cone-*, --importon*, --camera-exponent, --no-mis, --no-camera-mirror and --no-nested options are for --integrator pcf, not {}",
+                kind.name()
+            );
+        }
         if self.photon.progressive_given() && !kind.is_progressive() {
             bail!(
-                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds, ppdm, pdpm, sppm or ppm), not {}",
+                "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds, ppdm, pdpm, sppm, ppm or pcf), not {}",
                 kind.name()
             );
         }
@@ -934,7 +940,8 @@ fn render_one(
         | IntegratorKind::ProgressiveDifferentialMapping
         | IntegratorKind::ProgressiveDiffusion
         | IntegratorKind::StochasticProgressivePhotonMapping
-        | IntegratorKind::ProgressivePhotonMappingHitPoints => format!(
+        | IntegratorKind::ProgressivePhotonMappingHitPoints
+        | IntegratorKind::PhotonConeFocusing => format!(
             "{} iterations, {:.1} spp",
             rendered.iterations.unwrap_or(0),
             rendered.film.mean_samples()

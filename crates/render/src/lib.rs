@@ -24,6 +24,7 @@ pub mod filter;
 pub mod integrator;
 pub mod memory;
 pub mod options;
+pub mod pcf;
 pub mod photon;
 pub mod photon_view;
 pub mod stats;

@@ -230,6 +230,15 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         | IntegratorKind::ProgressiveDiffusion => {}
         IntegratorKind::StochasticProgressivePhotonMapping
         | IntegratorKind::ProgressivePhotonMappingHitPoints => {}
+        IntegratorKind::PhotonConeFocusing => {
+            // About three vertices per light path and a cone per technique at each (an upper
+            // estimate for the triplet), each with its k-d tree entry and axis byte.
+            m.add(
+                "cone map",
+                p.progressive.paths_per_iteration.saturating_mul(9),
+                size_of::<crate::pcf::PhotonCone>() as u64 + 17,
+            );
+        }
     }
     if choice::chooses(kind, p) && !opts.volume_only {
         // The automatic bandwidth choice (freed before the photon pass; counted anyway, as an

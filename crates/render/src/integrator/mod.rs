@@ -2,6 +2,7 @@
 
 pub mod light_tracer;
 pub mod path;
+pub mod pcf;
 pub mod photon_mapping;
 pub mod photon_splatting;
 pub mod progressive;
@@ -69,6 +70,10 @@ pub enum IntegratorKind {
     /// Progressive photon mapping (Hachisuka et al. 2008): the hit points of one camera pass
     /// (`--spp` per pixel), photons gathered there with per-pixel statistics.
     ProgressivePhotonMappingHitPoints,
+    /// Photon cone focusing (seed 001 ch. 3–4): photon cones on every surface, delta ones
+    /// included, estimated by a 4-D position × direction kernel that shrinks by eq. 3.27;
+    /// camera paths path-traced up to a lookup vertex.
+    PhotonConeFocusing,
 }
 
 impl IntegratorKind {
@@ -88,6 +93,7 @@ impl IntegratorKind {
         "pdpm",
         "sppm",
         "ppm",
+        "pcf",
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -106,6 +112,7 @@ impl IntegratorKind {
             IntegratorKind::ProgressiveDiffusion => "pdpm",
             IntegratorKind::StochasticProgressivePhotonMapping => "sppm",
             IntegratorKind::ProgressivePhotonMappingHitPoints => "ppm",
+            IntegratorKind::PhotonConeFocusing => "pcf",
         }
     }
 
@@ -126,6 +133,7 @@ impl IntegratorKind {
                 | IntegratorKind::ProgressiveDiffusion
                 | IntegratorKind::StochasticProgressivePhotonMapping
                 | IntegratorKind::ProgressivePhotonMappingHitPoints
+                | IntegratorKind::PhotonConeFocusing
         )
     }
 
@@ -134,6 +142,7 @@ impl IntegratorKind {
         progressive::one_shot(self).is_some()
             || self == IntegratorKind::StochasticProgressivePhotonMapping
             || self == IntegratorKind::ProgressivePhotonMappingHitPoints
+            || self == IntegratorKind::PhotonConeFocusing
     }
 
     /// True for the progressive methods that can continue from a state file (`--resume`).
@@ -187,11 +196,14 @@ impl IntegratorKind {
             IntegratorKind::ProgressivePhotonMappingHitPoints => {
                 "progressive photon mapping: the fixed hit points of one camera pass, per-pixel radii (Hachisuka et al. 2008)"
             }
+            IntegratorKind::PhotonConeFocusing => {
+                "photon cone focusing: cones on every surface, a 4-D kernel shrinking per iteration (seed 001 ch. 3-4)"
+            }
         }
     }
 
     /// Every integrator, in the order of [`IntegratorKind::NAMES`].
-    pub const ALL: [IntegratorKind; 15] = [
+    pub const ALL: [IntegratorKind; 16] = [
         IntegratorKind::Path,
         IntegratorKind::LightTrace,
         IntegratorKind::PhotonMapping,
@@ -207,6 +219,7 @@ impl IntegratorKind {
         IntegratorKind::ProgressiveDiffusion,
         IntegratorKind::StochasticProgressivePhotonMapping,
         IntegratorKind::ProgressivePhotonMappingHitPoints,
+        IntegratorKind::PhotonConeFocusing,
     ];
 
     /// Checks that this integrator can render with `opts` (the values themselves are valid by
@@ -222,6 +235,14 @@ impl IntegratorKind {
                     "--integrator {} does not trace volume photons yet: for --volume-only use vpm, beam or vpd",
                     self.name()
                 )));
+            }
+        }
+        if self == IntegratorKind::PhotonConeFocusing {
+            opts.photons.pcf.validate()?;
+            if opts.caustics_only {
+                return Err(OptionError::Conflict(
+                    "--caustics-only is not available with --integrator pcf: its cones do not separate caustic paths; use lighttrace, pm, dpm, pdm or pds".into(),
+                ));
             }
         }
         if opts.caustics_only && self == IntegratorKind::Path {
@@ -352,6 +373,7 @@ impl std::str::FromStr for IntegratorKind {
             "pdpm" => Ok(Self::ProgressiveDiffusion),
             "sppm" => Ok(Self::StochasticProgressivePhotonMapping),
             "ppm" => Ok(Self::ProgressivePhotonMappingHitPoints),
+            "pcf" => Ok(Self::PhotonConeFocusing),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -433,6 +455,12 @@ pub fn render(
             };
             let (st, s) =
                 sppm::render(scene, visible, opts, &stage, &mut film, &filter, &mut notes)?;
+            iterations = Some(s.as_ref().map_or(0, |s| s.iterations));
+            state = s;
+            st
+        }
+        IntegratorKind::PhotonConeFocusing => {
+            let (st, s) = pcf::render(scene, opts, &stage, &mut film, &filter, &mut notes)?;
             iterations = Some(s.as_ref().map_or(0, |s| s.iterations));
             state = s;
             st

@@ -24,15 +24,55 @@ use caustica_scene::bsdf::TransportMode;
 use caustica_scene::intersection::NONE;
 use caustica_scene::phase::Phase;
 
+/// What a camera path does at its surface vertices beyond path tracing: photon cone focusing
+/// ends the path at a lookup vertex with its cone-map estimate (seed 001 eq. 3.14) and, nested,
+/// replaces next-event estimation before it by direct-light cones (sec. 3.6). The plain path
+/// tracer is [`PathOnly`].
+pub trait CameraRule {
+    /// At surface vertex `depth` (1 = the first hit), after the emission found there was
+    /// counted: `Some(L)` ends the path with `L` (W/m²/sr), the radiance the vertex scatters
+    /// toward the previous one.
+    fn lookup(&self, v: &Vertex, depth: u32) -> Option<Spectrum> {
+        let _ = (v, depth);
+        None
+    }
+    /// At a vertex that does not look up: `Some(L)` (W/m²/sr) is its scattered direct light in
+    /// place of next-event estimation, and the emission the next bounce finds is not counted
+    /// (it is part of `L`).
+    fn direct(&self, v: &Vertex, depth: u32) -> Option<Spectrum> {
+        let _ = (v, depth);
+        None
+    }
+}
+
+/// The path tracer's rule: no lookups, NEE everywhere.
+pub struct PathOnly;
+
+impl CameraRule for PathOnly {}
+
 /// Radiance arriving at the camera along `ray`.
 pub fn radiance(
+    scene: &Scene,
+    ray: Ray,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+) -> Spectrum {
+    radiance_with(scene, ray, sampler, opts, stats, &PathOnly)
+}
+
+/// [`radiance`] under a [`CameraRule`]. Same sampler use whatever the rule does.
+pub fn radiance_with(
     scene: &Scene,
     mut ray: Ray,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
+    rule: &impl CameraRule,
 ) -> Spectrum {
     let mut l = Spectrum::ZERO;
+    // The previous vertex's direct light came from the rule: emission found next is in it.
+    let mut prev_direct_by_rule = false;
     let mut beta = Spectrum::ONE;
     let mut medium = scene.camera_medium;
     // State of the previous vertex for MIS of emission hit by BSDF or phase sampling.
@@ -48,7 +88,9 @@ pub fn radiance(
                 for &li in &scene.infinite_lights {
                     let light = &scene.lights[li as usize];
                     let le = light.le(Vec3::ZERO, -ray.d);
-                    let w = if prev_delta {
+                    let w = if prev_direct_by_rule {
+                        0.0
+                    } else if prev_delta {
                         1.0
                     } else {
                         power_heuristic(
@@ -73,6 +115,7 @@ pub fn radiance(
                 }
                 let mv = MediumVertex::new(scene, p, &ray, m);
                 l += beta * sample_direct_at(scene, Scatterer::Medium(&mv), sampler, stats, true);
+                prev_direct_by_rule = false;
                 let u = sampler.next_2d();
                 let u_rr = sampler.next_1d();
                 let Some(ps) = mv.phase.sample(mv.wo, u) else {
@@ -95,7 +138,9 @@ pub fn radiance(
             let light = &scene.lights[si.light as usize];
             let le = light.le(si.ng, -ray.d);
             if !le.is_black() {
-                let w = if prev_delta {
+                let w = if prev_direct_by_rule {
+                    0.0
+                } else if prev_delta {
                     1.0
                 } else {
                     power_heuristic(
@@ -110,10 +155,23 @@ pub fn radiance(
             break;
         }
         let v = Vertex::new(scene, si, &ray);
+        if let Some(lo) = rule.lookup(&v, depth) {
+            l += beta * lo;
+            break;
+        }
         let flags = v.bsdf.flags();
         // Fixed dimension layout per bounce: 3 for NEE (+2 for its shadow ray in scenes with
         // media), 3 for the BSDF, 1 for roulette.
-        if flags.is_smooth() {
+        let by_rule = rule.direct(&v, depth);
+        prev_direct_by_rule = by_rule.is_some();
+        if let Some(ld) = by_rule {
+            l += beta * ld;
+            sampler.next_1d();
+            sampler.next_2d();
+            if scene.has_media {
+                sampler.next_2d();
+            }
+        } else if flags.is_smooth() {
             l += beta * sample_direct(scene, &v, medium, sampler, stats, true);
         } else {
             sampler.next_1d();

@@ -1,10 +1,12 @@
 //! What a render is asked to do: the options every integrator shares ([`RenderOptions`]) and the
 //! settings of each family ([`photon`]), whose values validate themselves ([`value`]).
 
+pub mod pcf;
 pub mod photon;
 pub mod progressive;
 pub mod value;
 
+pub use pcf::{ConeTechniques, LookupRule, PcfSettings};
 pub use photon::{
     AutoBandwidth, CausticEstimator, DiffusionSettings, FootprintSettings, PhotonOptions,
     ShutterAlign, SweepRule,

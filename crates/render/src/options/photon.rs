@@ -68,6 +68,8 @@ pub struct PhotonOptions {
     pub in_between_frames: Option<u32>,
     /// The progressive methods' iterations and schedule (`pppm`, `ppds`, `ppdm`).
     pub progressive: super::ProgressiveSettings,
+    /// Photon cone focusing's own settings (`pcf`; its iterations are `progressive`'s).
+    pub pcf: super::PcfSettings,
 }
 
 impl PhotonOptions {
@@ -130,6 +132,7 @@ impl Default for PhotonOptions {
             volume: VolumeSettings::default(),
             in_between_frames: None,
             progressive: Default::default(),
+            pcf: Default::default(),
         }
     }
 }

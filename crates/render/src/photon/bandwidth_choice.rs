@@ -130,7 +130,8 @@ fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
         | IntegratorKind::ProgressiveDifferentialMapping
         | IntegratorKind::ProgressiveDiffusion
         | IntegratorKind::StochasticProgressivePhotonMapping
-        | IntegratorKind::ProgressivePhotonMappingHitPoints => None,
+        | IntegratorKind::ProgressivePhotonMappingHitPoints
+        | IntegratorKind::PhotonConeFocusing => None,
     }
 }
 

@@ -1,6 +1,6 @@
 //! Shapes: triangle meshes and analytic spheres and disks. Rectangles and cubes are built as
 //! meshes ([`TriangleMesh::rectangle`], [`TriangleMesh::cube`]); the case-study scenes' water
-//! wave and ring are generated in [`procedural`].
+//! wave and ring are generated in [`procedural`], the torus of `torus-glass` in [`torus`].
 
 pub mod aabb;
 pub mod disk;
@@ -8,6 +8,7 @@ pub mod mesh;
 pub mod motion;
 pub mod procedural;
 pub mod sphere;
+pub mod torus;
 
 pub use aabb::Aabb;
 pub use disk::Disk;
@@ -18,6 +19,7 @@ pub use procedural::{
     ring_mesh, rod_mesh, water_wave_mesh,
 };
 pub use sphere::Sphere;
+pub use torus::torus_mesh;
 
 use crate::intersection::NONE;
 

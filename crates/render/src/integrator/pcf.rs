@@ -1,0 +1,310 @@
+//! Photon cone focusing, `pcf` (seed 001 ch. 3–4, Alg. 1): iterations of (1) light paths
+//! whose every surface vertex stores photon cones (`pcf::tracer`), (2) a cone map, (3) a
+//! camera pass that path-traces each camera path up to a lookup vertex and takes the cone
+//! map's estimate there (eq. 3.14, `pcf::split`), the 4-D kernel shrinking by eq. 3.27 between
+//! iterations (`pcf::kernel`); the image is the equal-weight mean of the iterations (the KZ
+//! proof's average, spec notes Q19), only one iteration's cones alive at a time. The conical
+//! importon map is traced once before the loop (Alg. 1 line 3).
+//!
+//! Built on the shared walkers and drivers: the light walker with a cone visitor, the path
+//! tracer's loop under a [`CameraRule`], the progressive iteration driver (time budget,
+//! Ctrl-C, checkpoints, `--resume`) and the pixel driver.
+
+use super::IntegratorKind;
+use super::path::{CameraRule, radiance_with};
+use crate::control::Stage;
+use crate::driver::iteration_state::{IterationState, fingerprint};
+use crate::driver::iterations::run_iterations;
+use crate::driver::pixels::render_pixels;
+use crate::error::OptionError;
+use crate::film::Film;
+use crate::filter::Filter;
+use crate::options::{PcfSettings, RenderOptions};
+use crate::pcf::importon::ImportonRule;
+use crate::pcf::techniques::CameraLobe;
+use crate::pcf::{
+    ConeRule, ConeSchedule, DiskCapKernel, ImportonMap, LookupStats, PathSplit, PhotonCone,
+    PhotonConeMap, trace_cones,
+};
+use crate::stats::RenderStats;
+use crate::transport::vertex::Vertex;
+use caustica_core::Spectrum;
+use caustica_scene::Scene;
+use std::sync::Mutex;
+
+/// σ₁ when not given: this fraction of the scene's bounding-box diagonal (0.1 m in the 2 m
+/// Cornell box, seed 001 sec. 4.1.2's "≈ 0.1").
+pub const DEFAULT_SIGMA1_FRACTION: f32 = 0.03;
+
+/// The camera side of an iteration: the split and the cone map under its kernel.
+struct PcfCamera<'a> {
+    map: &'a PhotonConeMap,
+    kernel: DiskCapKernel,
+    split: PathSplit,
+    stats: &'a Mutex<LookupStats>,
+}
+
+impl PcfCamera<'_> {
+    fn estimate(&self, v: &Vertex, direct_only: bool) -> Spectrum {
+        let mut st = LookupStats::default();
+        let w = v.frame.to_world(v.wo);
+        let l = self
+            .map
+            .estimate(v.si.p, w, &self.kernel, direct_only, &mut st);
+        if let Ok(mut s) = self.stats.lock() {
+            *s += st;
+        }
+        l
+    }
+}
+
+impl CameraRule for PcfCamera<'_> {
+    fn lookup(&self, v: &Vertex, depth: u32) -> Option<Spectrum> {
+        self.split
+            .is_lookup(depth, v.bsdf.flags())
+            .then(|| self.estimate(v, false))
+    }
+    fn direct(&self, v: &Vertex, _depth: u32) -> Option<Spectrum> {
+        self.split.nested.then(|| self.estimate(v, true))
+    }
+}
+
+/// The resolved parameters of a `pcf` render.
+pub struct PcfPlan {
+    pub settings: PcfSettings,
+    pub sigma1: f32,
+    pub schedule: ConeSchedule,
+    /// Light paths per iteration (N_L).
+    pub paths: u64,
+}
+
+impl PcfPlan {
+    pub fn new(scene: &Scene, opts: &RenderOptions) -> Result<Self, OptionError> {
+        let settings = opts.photons.pcf;
+        settings.validate()?;
+        let sigma1 = settings.sigma1.unwrap_or_else(|| {
+            (scene.geometry.bounds().extent().length() * DEFAULT_SIGMA1_FRACTION).max(1e-6)
+        });
+        let schedule = ConeSchedule::new(
+            sigma1 as f64,
+            (settings.theta1_deg as f64).to_radians(),
+            settings.order,
+            settings.alpha(),
+        )
+        .map_err(|e| OptionError::Invalid {
+            what: "the pcf schedule",
+            rule: "alpha in (0, 1) and a positive sigma_1",
+            got: e.to_string(),
+        })?;
+        Ok(Self {
+            settings,
+            sigma1,
+            schedule,
+            paths: opts.photons.progressive.paths_per_iteration,
+        })
+    }
+}
+
+/// The cones and lookups of one iteration (for tests and benchmarks): iteration `i`'s cone
+/// map of `plan`.
+pub fn iteration_map(
+    scene: &Scene,
+    opts: &RenderOptions,
+    plan: &PcfPlan,
+    importons: Option<&ImportonMap>,
+    i: u64,
+) -> (PhotonConeMap, RenderStats) {
+    let kernel = plan.schedule.kernel(i);
+    let rule = cone_rule(scene, plan, importons, &kernel);
+    let first = (i.max(1) - 1).saturating_mul(plan.paths);
+    let (cones, n, st) = trace_cones(
+        scene,
+        opts,
+        &rule,
+        first..first.saturating_add(plan.paths),
+        &mut |_| true,
+    );
+    (PhotonConeMap::build(cones, n), st)
+}
+
+fn cone_rule<'a>(
+    scene: &Scene,
+    plan: &PcfPlan,
+    importons: Option<&'a ImportonMap>,
+    kernel: &DiskCapKernel,
+) -> ConeRule<'a> {
+    let s = &plan.settings;
+    ConeRule {
+        techniques: s.techniques,
+        mis: s.mis,
+        camera: scene.camera.position(),
+        camera_exponent: s
+            .camera_exponent
+            .unwrap_or_else(|| CameraLobe::exponent_for_cap(kernel.theta)),
+        camera_mirror: s.camera_mirror,
+        importons: if s.techniques.importons {
+            importons
+        } else {
+            None
+        },
+    }
+}
+
+/// The importon map of `plan` (traced once, before the iterations), if its technique is on.
+pub fn importon_map(
+    scene: &Scene,
+    opts: &RenderOptions,
+    plan: &PcfPlan,
+    on_wave: &mut dyn FnMut(u64) -> bool,
+) -> Option<(ImportonMap, RenderStats)> {
+    let s = &plan.settings;
+    if !s.techniques.importons {
+        return None;
+    }
+    let paths = s.importon_paths.unwrap_or(plan.paths);
+    Some(ImportonMap::trace(
+        scene,
+        opts,
+        paths,
+        ImportonRule {
+            first_vertex: if s.techniques.camera { 2 } else { 1 },
+        },
+        s.importon_k,
+        s.importon_radius.unwrap_or(plan.sigma1),
+        s.importon_angle_deg.unwrap_or(s.theta1_deg).to_radians(),
+        on_wave,
+    ))
+}
+
+/// Renders with `pcf` into `film`.
+pub(crate) fn render(
+    scene: &Scene,
+    opts: &RenderOptions,
+    stage: &Stage,
+    film: &mut Film,
+    filter: &Filter,
+    notes: &mut Vec<String>,
+) -> Result<(RenderStats, Option<IterationState>), OptionError> {
+    let kind = IntegratorKind::PhotonConeFocusing;
+    let plan = PcfPlan::new(scene, opts)?;
+    let s = plan.settings;
+    notes.extend(s.warnings());
+    let p = &opts.photons.progressive;
+    let max = p.max_iterations(opts);
+    // The importon map, before the loop (a small share of the bar).
+    let pre = stage.part(0.0, 0.02).labelled("tracing importons");
+    let mut stats = RenderStats::default();
+    let importons = importon_map(scene, opts, &plan, &mut |_| pre.report_and_go_on(1.0));
+    let importons = match importons {
+        Some((map, st)) => {
+            stats += st;
+            if map.is_empty() {
+                notes.push(
+                    "warning: no importons were stored (no non-delta surface seen by the camera beyond the first hit): the importon technique draws nothing".into(),
+                );
+            }
+            Some(map)
+        }
+        None => None,
+    };
+    let stage = stage.part(0.02, 1.0);
+    let first = match &opts.resume {
+        Some(state) => {
+            let next = state.restore_into(film, &fingerprint(scene, kind, opts), 0)?;
+            notes.push(format!("resumed after iteration {}", state.iterations));
+            next
+        }
+        None => 1,
+    };
+    let fp = fingerprint(scene, kind, opts);
+    let snapshot = |f: &Film, i: u64| IterationState {
+        fingerprint: fp.clone(),
+        iterations: i,
+        film: f.clone(),
+        extra: Vec::new(),
+    };
+    let lookups = Mutex::new(LookupStats::default());
+    let mut cones_total = 0u64;
+    let mut cone_bytes = 0usize;
+    let split = PathSplit {
+        rule: s.lookup,
+        nested: s.nested,
+    };
+    let run = run_iterations(film, &stage, first, max, None, &snapshot, |i, st, f| {
+        let o = p.iteration_options(opts, i);
+        let kernel = plan.schedule.kernel(i);
+        let rule = cone_rule(scene, &plan, importons.as_ref(), &kernel);
+        let trace = st.part(0.0, 0.5).labelled("tracing cones");
+        let first_path = o.photons.first_path;
+        let (cones, n, mut stats) = trace_cones(
+            scene,
+            &o,
+            &rule,
+            first_path..first_path.saturating_add(plan.paths),
+            &mut |done| trace.report_and_go_on(done as f64 / plan.paths.max(1) as f64),
+        );
+        cones_total += cones.len() as u64;
+        let map = PhotonConeMap::build(cones, n);
+        cone_bytes = cone_bytes.max(map.memory_bytes());
+        let camera = PcfCamera {
+            map: &map,
+            kernel,
+            split,
+            stats: &lookups,
+        };
+        let pixels = st.part(0.5, 1.0).labelled("looking up cones");
+        stats += render_pixels(f, filter, &o, &pixels, |sampler, raster, sst| {
+            let u_lens = sampler.next_2d();
+            let time = scene.sample_time(|| sampler.next_1d());
+            let ray = scene.camera.generate_ray(raster, u_lens).ray.at_time(time);
+            radiance_with(scene, ray, sampler, &o, sst, &camera)
+        });
+        stats
+    });
+    stats += run.stats;
+    let done = if run.iterations > 0 {
+        run.last
+    } else {
+        first - 1
+    };
+    let k1 = plan.schedule.kernel(1);
+    let kn = plan.schedule.kernel(done.max(1));
+    let traced = run.iterations.max(1);
+    let l = lookups.lock().map(|g| *g).unwrap_or_default();
+    notes.push(format!(
+        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {}{}",
+        plan.paths,
+        opts.spp,
+        k1.sigma,
+        kn.sigma,
+        (k1.theta as f64).to_degrees(),
+        (kn.theta as f64).to_degrees(),
+        s.theta1_deg,
+        s.order,
+        s.alpha(),
+        s.techniques.names(),
+        if s.mis { " (MIS, power heuristic)" } else { " (no MIS)" },
+        s.lookup.name(),
+        if s.nested { ", nested" } else { "" },
+    ));
+    notes.push(format!(
+        "pcf: {:.0} cones per iteration ({:.2} per light path, {} B per cone with its tree, {:.1} MB at most); {} lookups, {:.1} cones scanned and {:.2} inside the kernel per lookup{}",
+        cones_total as f64 / traced as f64,
+        cones_total as f64 / (traced * plan.paths.max(1)) as f64,
+        std::mem::size_of::<PhotonCone>() + 17,
+        cone_bytes as f64 / 1e6,
+        l.lookups,
+        l.scanned as f64 / l.lookups.max(1) as f64,
+        l.inside as f64 / l.lookups.max(1) as f64,
+        importons.as_ref().map_or(String::new(), |m| format!(
+            "; {} importons from {} camera paths",
+            m.len(),
+            m.paths
+        )),
+    ));
+    if let Some(why) = run.stopped {
+        notes.push(format!("pcf: stopped {why}"));
+    }
+    let state = (done > 0).then(|| snapshot(film, done));
+    Ok((stats, state))
+}

@@ -1,0 +1,400 @@
+//! Settings of photon cone focusing (`pcf`, seed 001 ch. 3–4): the parameters of its Table 4.1
+//! (M, S, σ₁, θ₁, α, p) and those the seed leaves unstated (spec notes sec. 2.11): the cone
+//! techniques and MIS, the camera-NEE exponent, the conical importons, the lookup rule and
+//! nested PCF. The light paths per iteration (M, read as light paths: spec notes Q3) and the
+//! camera samples per iteration (S) are the progressive settings'
+//! ([`super::ProgressiveSettings`]).
+
+use crate::error::OptionError;
+
+/// Which cone-direction samplers make cones at a non-delta light vertex (seed 001 sec. 4.2).
+/// Each enabled technique draws one direction per vertex (multi-sample MIS, spec notes Q6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ConeTechniques {
+    /// The BSDF's own sampler given the incident direction (sec. 4.2.1; eq. 4.1–4.2 for
+    /// Blinn–Phong).
+    pub bsdf: bool,
+    /// Camera next-event: a Blinn–Phong lobe around the direction to the camera (sec. 4.2.2).
+    pub camera: bool,
+    /// Conical importons traced from the camera before the loop (sec. 4.2.3).
+    pub importons: bool,
+    /// Uniform directions over the sphere: "no guiding" of Fig. 4.2 (spec notes Q22), for
+    /// ablations.
+    pub uniform: bool,
+}
+
+impl ConeTechniques {
+    /// The triplet, seed 001's "main sampling strategy" (sec. 4.3).
+    pub const TRIPLET: ConeTechniques = ConeTechniques {
+        bsdf: true,
+        camera: true,
+        importons: true,
+        uniform: false,
+    };
+
+    /// Parses a comma-separated list of `bsdf`, `camera` (or `nee`), `importons`, `uniform`.
+    pub fn parse(text: &str) -> Result<Self, OptionError> {
+        let mut t = ConeTechniques {
+            bsdf: false,
+            camera: false,
+            importons: false,
+            uniform: false,
+        };
+        for name in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            match name {
+                "bsdf" => t.bsdf = true,
+                "camera" | "nee" => t.camera = true,
+                "importons" | "importon" => t.importons = true,
+                "uniform" => t.uniform = true,
+                _ => {
+                    return Err(OptionError::Unparsable {
+                        what: "--cone-techniques",
+                        rule: "a comma-separated list of bsdf, camera, importons, uniform",
+                        got: text.into(),
+                    });
+                }
+            }
+        }
+        Ok(t)
+    }
+
+    /// The names of the enabled techniques, comma-separated.
+    pub fn names(&self) -> String {
+        let mut v = Vec::new();
+        for (on, n) in [
+            (self.bsdf, "bsdf"),
+            (self.camera, "camera"),
+            (self.importons, "importons"),
+            (self.uniform, "uniform"),
+        ] {
+            if on {
+                v.push(n);
+            }
+        }
+        v.join(",")
+    }
+
+    /// Number of enabled techniques.
+    pub fn count(&self) -> usize {
+        [self.bsdf, self.camera, self.importons, self.uniform]
+            .iter()
+            .filter(|&&b| b)
+            .count()
+    }
+}
+
+/// At which camera vertex the cone map is looked up (seed 001 Alg. 1 line 13: "a suitable
+/// point"). Every rule depends only on the camera-path prefix, which keeps the split of
+/// eq. 3.14 exact (spec notes sec. 2.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LookupRule {
+    /// The first hit, whatever its surface: "directly visualize the photon cone map".
+    First,
+    /// The first vertex whose BSDF is not delta: path tracing through mirrors and glass.
+    NonDelta,
+    /// The first vertex with a diffuse lobe: path tracing through delta and glossy surfaces
+    /// (sec. 4.2.3's shiny surfaces).
+    Diffuse,
+    /// Vertex `n` (1 = the first hit), or an earlier one where the path ends.
+    Bounce(u32),
+}
+
+impl LookupRule {
+    pub fn parse(text: &str) -> Result<Self, OptionError> {
+        let bad = || OptionError::Unparsable {
+            what: "--cone-lookup",
+            rule: "first, non-delta, diffuse or bounce:N (N >= 1)",
+            got: text.into(),
+        };
+        Ok(match text {
+            "first" => LookupRule::First,
+            "non-delta" | "nondelta" => LookupRule::NonDelta,
+            "diffuse" => LookupRule::Diffuse,
+            _ => match text.strip_prefix("bounce:") {
+                Some(n) => match n.parse::<u32>() {
+                    Ok(n) if n >= 1 => LookupRule::Bounce(n),
+                    _ => return Err(bad()),
+                },
+                None => return Err(bad()),
+            },
+        })
+    }
+
+    pub fn name(&self) -> String {
+        match self {
+            LookupRule::First => "first".into(),
+            LookupRule::NonDelta => "non-delta".into(),
+            LookupRule::Diffuse => "diffuse".into(),
+            LookupRule::Bounce(n) => format!("bounce:{n}"),
+        }
+    }
+}
+
+/// Settings of `pcf`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PcfSettings {
+    /// σ₁, the first iteration's spatial bandwidth in metres (`--cone-radius`); `None`: 3 % of
+    /// the scene's bounding-box diagonal (0.1 m in a 2 m box, seed 001 sec. 4.1.2's ≈ 0.1).
+    pub sigma1: Option<f32>,
+    /// θ₁, the first iteration's angular bandwidth in degrees, a cap half-angle in (0, 180]
+    /// (`--cone-angle`, default 18°, seed 001 sec. 4.1.2; above 60° "not recommended").
+    pub theta1_deg: f32,
+    /// p ≥ 1, the order of t(σ) = θ₁ (σ/σ₁)^p (`--cone-order`, default 1; spec notes Q1).
+    pub order: f64,
+    /// α of eq. 3.27 in (0, 1) (`--ppm-alpha`); `None`: 0.5, the α = 2/(p + 3) that balances
+    /// variance N^−α against squared bias N^{2(α−1)/(p+1)} at p = 1 (spec notes sec. 2.5).
+    pub alpha: Option<f64>,
+    /// The cone techniques (`--cone-techniques`, default the triplet).
+    pub techniques: ConeTechniques,
+    /// Power-heuristic MIS (β = 2, eq. 4.4) between the techniques; off: every technique's
+    /// cone at full weight (biased ×(number of techniques); an ablation, T-15).
+    pub mis: bool,
+    /// Camera-NEE Blinn–Phong exponent; `None`: per iteration, the n that puts half the lobe's
+    /// mass inside the current cap, cos^{n+1} t = 1/2 (spec notes Q8).
+    pub camera_exponent: Option<f32>,
+    /// Fold camera-NEE directions that fall below the surface of a reflection-only BSDF into
+    /// the upper side (sec. 4.2.2's mirroring, read as a reflection in the tangent plane with
+    /// the folded density, spec notes Q8).
+    pub camera_mirror: bool,
+    /// Camera paths traced for the importon map (`--importons`); `None`: the light paths of
+    /// one iteration.
+    pub importon_paths: Option<u64>,
+    /// Importons the mixture of a light vertex draws from (its nearest neighbours).
+    pub importon_k: usize,
+    /// The importons' spatial search radius (m); `None`: σ₁.
+    pub importon_radius: Option<f32>,
+    /// The importons' cap half-angle (degrees); `None`: θ₁ (fixed: seed 001 does not adapt it).
+    pub importon_angle_deg: Option<f32>,
+    /// Where the cone map is looked up (`--cone-lookup`).
+    pub lookup: LookupRule,
+    /// Nested PCF (sec. 3.6): direct light at the camera vertices before the lookup from
+    /// light-path-length-1 cones instead of NEE (point lights behind glass).
+    pub nested: bool,
+}
+
+impl Default for PcfSettings {
+    fn default() -> Self {
+        Self {
+            sigma1: None,
+            theta1_deg: 18.0,
+            order: 1.0,
+            alpha: None,
+            techniques: ConeTechniques::TRIPLET,
+            mis: true,
+            camera_exponent: None,
+            camera_mirror: true,
+            importon_paths: None,
+            importon_k: 8,
+            importon_radius: None,
+            importon_angle_deg: None,
+            lookup: LookupRule::NonDelta,
+            nested: true,
+        }
+    }
+}
+
+/// The default α of `pcf`.
+pub const DEFAULT_PCF_ALPHA: f64 = 0.5;
+
+impl PcfSettings {
+    /// α of the schedule.
+    pub fn alpha(&self) -> f64 {
+        self.alpha.unwrap_or(DEFAULT_PCF_ALPHA)
+    }
+
+    /// Checks the values (the issue's "bad input"); the message names the option.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let a = self.alpha();
+        if !(a > 0.0 && a < 1.0) {
+            return Err(OptionError::Invalid {
+                what: "--ppm-alpha of pcf",
+                rule: "a number in (0, 1) (seed 001 sec. 3.5.3: at 0 the variance never vanishes, at 1 the bias never does)",
+                got: a.to_string(),
+            });
+        }
+        if !(self.order.is_finite() && self.order >= 1.0) {
+            return Err(OptionError::Invalid {
+                what: "--cone-order (p)",
+                rule: "a number >= 1 (seed 001 Lemma 3.3: t(sigma) a polynomial of order p >= 1)",
+                got: self.order.to_string(),
+            });
+        }
+        if !(self.theta1_deg > 0.0 && self.theta1_deg <= 180.0) {
+            return Err(OptionError::Invalid {
+                what: "--cone-angle (theta_1)",
+                rule: "a cap half-angle in degrees in (0, 180]",
+                got: self.theta1_deg.to_string(),
+            });
+        }
+        if let Some(s) = self.sigma1
+            && !(s.is_finite() && s > 0.0)
+        {
+            return Err(OptionError::Invalid {
+                what: "--cone-radius (sigma_1)",
+                rule: "a finite length > 0 in metres",
+                got: s.to_string(),
+            });
+        }
+        if let Some(s) = self.importon_radius
+            && !(s.is_finite() && s > 0.0)
+        {
+            return Err(OptionError::Invalid {
+                what: "--importon-radius",
+                rule: "a finite length > 0 in metres",
+                got: s.to_string(),
+            });
+        }
+        if let Some(t) = self.importon_angle_deg
+            && !(t > 0.0 && t <= 180.0)
+        {
+            return Err(OptionError::Invalid {
+                what: "--importon-angle",
+                rule: "a cap half-angle in degrees in (0, 180]",
+                got: t.to_string(),
+            });
+        }
+        if let Some(n) = self.camera_exponent
+            && !(n.is_finite() && n >= 0.0)
+        {
+            return Err(OptionError::Invalid {
+                what: "--camera-exponent",
+                rule: "a finite number >= 0",
+                got: n.to_string(),
+            });
+        }
+        if self.importon_k == 0 {
+            return Err(OptionError::Invalid {
+                what: "--importon-k",
+                rule: "at least 1",
+                got: "0".into(),
+            });
+        }
+        if self.importon_paths == Some(0) {
+            return Err(OptionError::Invalid {
+                what: "--importons",
+                rule: "at least 1 camera path",
+                got: "0".into(),
+            });
+        }
+        let t = self.techniques;
+        if !t.bsdf && !t.uniform {
+            return Err(OptionError::Conflict(format!(
+                "--cone-techniques {} leaves directions where the BSDF is non-zero unsampled (camera NEE and importons cover only lobes around the camera and the importons): include bsdf or uniform",
+                if t.count() == 0 {
+                    "(none)".to_string()
+                } else {
+                    t.names()
+                }
+            )));
+        }
+        Ok(())
+    }
+
+    /// Warnings about values that are valid but unwise.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        if self.theta1_deg > 60.0 {
+            w.push(format!(
+                "--cone-angle {}° is above 60°, which seed 001 (sec. 4.1.2) does not recommend: highlights blur and convergence needs many iterations",
+                self.theta1_deg
+            ));
+        }
+        w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_values_are_refused_with_the_option_named() {
+        let ok = PcfSettings::default();
+        assert!(ok.validate().is_ok());
+        let cases: Vec<(PcfSettings, &str)> = vec![
+            (
+                PcfSettings {
+                    alpha: Some(1.0),
+                    ..ok
+                },
+                "alpha",
+            ),
+            (
+                PcfSettings {
+                    alpha: Some(0.0),
+                    ..ok
+                },
+                "alpha",
+            ),
+            (PcfSettings { order: 0.5, ..ok }, "cone-order"),
+            (
+                PcfSettings {
+                    theta1_deg: 0.0,
+                    ..ok
+                },
+                "cone-angle",
+            ),
+            (
+                PcfSettings {
+                    theta1_deg: 181.0,
+                    ..ok
+                },
+                "cone-angle",
+            ),
+            (
+                PcfSettings {
+                    sigma1: Some(0.0),
+                    ..ok
+                },
+                "cone-radius",
+            ),
+            (
+                PcfSettings {
+                    techniques: ConeTechniques::parse("camera,importons").unwrap(),
+                    ..ok
+                },
+                "unsampled",
+            ),
+        ];
+        for (s, name) in cases {
+            let e = s.validate().unwrap_err().to_string();
+            assert!(e.contains(name), "{e}");
+        }
+        assert!(
+            PcfSettings {
+                theta1_deg: 90.0,
+                ..ok
+            }
+            .warnings()[0]
+                .contains("60")
+        );
+    }
+
+    #[test]
+    fn parsing() {
+        assert_eq!(
+            ConeTechniques::parse("bsdf,nee").unwrap(),
+            ConeTechniques {
+                bsdf: true,
+                camera: true,
+                importons: false,
+                uniform: false
+            }
+        );
+        assert!(ConeTechniques::parse("bsdf,foo").is_err());
+        assert_eq!(
+            LookupRule::parse("bounce:3").unwrap(),
+            LookupRule::Bounce(3)
+        );
+        assert!(LookupRule::parse("bounce:0").is_err());
+        assert!(LookupRule::parse("x").is_err());
+        for r in [
+            LookupRule::First,
+            LookupRule::NonDelta,
+            LookupRule::Diffuse,
+            LookupRule::Bounce(2),
+        ] {
+            assert_eq!(LookupRule::parse(&r.name()).unwrap(), r);
+        }
+    }
+}

@@ -1,0 +1,172 @@
+//! Conical importons (seed 001 sec. 4.2.3): camera importance traced once before the loop
+//! (Alg. 1 line 3) into a map that guides cone directions toward where the camera looks,
+//! including through shiny surfaces (its Fig. 4.6: cones on the ground should point toward the
+//! reflection of the view in a metal sphere).
+//!
+//! The seed leaves the details open; ours follow the spec notes (Q9): camera paths with the
+//! camera pass's depth and roulette; at each non-delta camera vertex j ≥ 2 (j ≥ 1 when camera
+//! NEE is off, which already aims at the camera from first hits) an importon of position, unit
+//! direction back toward the previous camera vertex (where radiance must leave to be seen) and
+//! one float of importance, the luminance of the camera-path throughput. A light vertex draws
+//! from its k nearest importons within a fixed radius, in proportion to importance, a direction
+//! uniform in a fixed cap around the importon's (the seed does not adapt the cap: "we do not
+//! reproject (splat) the samples").
+
+use super::techniques::ImportonMixture;
+use crate::options::RenderOptions;
+use crate::photon::plan::{PathStream, trace_path_range};
+use crate::stats::RenderStats;
+use crate::transport::limits::russian_roulette;
+use crate::transport::medium::{Segment, trace_segment};
+use crate::transport::vertex::Vertex;
+use caustica_core::{Vec2, Vec3};
+use caustica_density::{KdTree, Neighbor};
+use caustica_scene::Scene;
+use caustica_scene::bsdf::TransportMode;
+
+/// The random-number stream of the importon paths.
+pub const IMPORTON_STREAM: u64 = 0x1A90;
+
+/// A conical importon.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConicalImporton {
+    /// Position (m).
+    pub p: Vec3,
+    /// Unit direction toward the previous camera vertex (world space).
+    pub dir: Vec3,
+    /// Importance (dimensionless luminance of the camera-path throughput).
+    pub importance: f32,
+}
+
+/// Where importons are stored.
+#[derive(Clone, Copy, Debug)]
+pub struct ImportonRule {
+    /// The first camera vertex that stores one (1 or 2).
+    pub first_vertex: u32,
+}
+
+/// The importons of a scene and how a light vertex queries them.
+pub struct ImportonMap {
+    tree: KdTree,
+    importons: Vec<ConicalImporton>,
+    /// Paths traced.
+    pub paths: u64,
+    radius2: f32,
+    k: usize,
+    cos_cap: f32,
+}
+
+impl ImportonMap {
+    /// Traces `paths` camera paths of `opts`' seed (uniform over the film) and keeps their
+    /// importons; queries take the `k` nearest within `radius` (m) and caps of half-angle
+    /// `angle` (rad).
+    #[allow(clippy::too_many_arguments)]
+    pub fn trace(
+        scene: &Scene,
+        opts: &RenderOptions,
+        paths: u64,
+        rule: ImportonRule,
+        k: usize,
+        radius: f32,
+        angle: f32,
+        on_wave: &mut dyn FnMut(u64) -> bool,
+    ) -> (Self, RenderStats) {
+        let stream = PathStream::new(opts, IMPORTON_STREAM);
+        let cam = &scene.camera;
+        let (w, h) = (cam.width as f32, cam.height as f32);
+        let (importons, done, stats) =
+            trace_path_range(0..paths, &stream, on_wave, |_, sampler, out, st| {
+                let u = sampler.next_2d();
+                let u_lens = sampler.next_2d();
+                let time = scene.sample_time(|| sampler.next_1d());
+                let mut ray = cam
+                    .generate_ray(Vec2::new(u.x * w, u.y * h), u_lens)
+                    .ray
+                    .at_time(time);
+                let mut medium = scene.camera_medium;
+                let mut beta = caustica_core::Spectrum::ONE;
+                let mut depth = 0u32;
+                loop {
+                    let si = match trace_segment(scene, &ray, &mut medium, sampler, st) {
+                        Segment::Surface { si, .. } => si,
+                        _ => break,
+                    };
+                    depth += 1;
+                    if depth >= opts.limits.max_depth {
+                        break;
+                    }
+                    let v = Vertex::new(scene, si, &ray);
+                    let flags = v.bsdf.flags();
+                    if depth >= rule.first_vertex && flags.is_smooth() {
+                        let importance = beta.luminance();
+                        if importance > 0.0 && importance.is_finite() {
+                            out.push(ConicalImporton {
+                                p: v.si.p,
+                                dir: -ray.d,
+                                importance,
+                            });
+                        }
+                    }
+                    let uc = sampler.next_1d();
+                    let u = sampler.next_2d();
+                    let u_rr = sampler.next_1d();
+                    let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance) else {
+                        break;
+                    };
+                    let wi = v.frame.to_world(bs.wi);
+                    if !v.same_side_consistent(-ray.d, wi, bs.wi) {
+                        break;
+                    }
+                    beta *= bs.weight;
+                    if beta.is_black()
+                        || !russian_roulette(&mut beta, depth, opts.limits.rr_depth, u_rr)
+                    {
+                        break;
+                    }
+                    medium = v.si.medium_toward(wi, medium);
+                    ray = v.si.spawn_ray(wi);
+                }
+            });
+        let points: Vec<Vec3> = importons.iter().map(|i| i.p).collect();
+        (
+            Self {
+                tree: KdTree::build(&points),
+                importons,
+                paths: done,
+                radius2: radius * radius,
+                k,
+                cos_cap: angle.cos(),
+            },
+            stats,
+        )
+    }
+
+    /// Number of importons.
+    pub fn len(&self) -> usize {
+        self.importons.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.importons.is_empty()
+    }
+
+    /// Bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        self.tree.memory_bytes() + self.importons.len() * std::mem::size_of::<ConicalImporton>()
+    }
+
+    /// The mixture a light vertex at `x` draws from (empty when no importon is near): the
+    /// `k` nearest importons within the radius, in a fixed order, so its density can be
+    /// evaluated again for MIS.
+    pub fn mixture_at(&self, x: Vec3, scratch: &mut Vec<Neighbor>) -> ImportonMixture {
+        self.tree.knn(x, self.k, self.radius2, scratch);
+        let lobes = scratch
+            .iter()
+            .map(|n| {
+                let i = &self.importons[n.index as usize];
+                (i.dir, i.importance)
+            })
+            .collect();
+        ImportonMixture::new(lobes, self.cos_cap)
+    }
+}
