@@ -173,14 +173,39 @@ impl Bsdf {
     }
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Spectrum {
+        #[cfg(feature = "eval-counter")]
+        instrument::count();
         dispatch!(self, b => b.eval(wo, wi, mode))
     }
     #[inline]
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        #[cfg(feature = "eval-counter")]
+        instrument::count();
         dispatch!(self, b => b.sample(wo, uc, u, mode))
     }
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        #[cfg(feature = "eval-counter")]
+        instrument::count();
         dispatch!(self, b => b.pdf(wo, wi, mode))
+    }
+}
+
+/// Per-thread counts of BSDF calls (`eval`, `sample`, `pdf`), with the `eval-counter` feature.
+#[cfg(feature = "eval-counter")]
+pub mod instrument {
+    use std::cell::Cell;
+
+    thread_local! {
+        static CALLS: Cell<u64> = const { Cell::new(0) };
+    }
+
+    pub(super) fn count() {
+        CALLS.with(|c| c.set(c.get() + 1));
+    }
+
+    /// BSDF calls made on this thread so far.
+    pub fn calls() -> u64 {
+        CALLS.with(|c| c.get())
     }
 }
