@@ -407,3 +407,57 @@ fn lookup_rules_and_nesting_converge_to_one_image() {
         );
     }
 }
+
+/// T-10: a sphere under a constant environment of radiance L, Lambertian of albedo a and a
+/// mirror of reflectance R: the radiance leaving it is a L (R L) in every direction, and the
+/// surface of a sphere within chord distance σ of a point has area exactly πσ² (Archimedes),
+/// so with the cap inside every nearby horizon PCF is unbiased at any σ.
+#[test]
+fn a_furnace_sphere_is_unbiased_at_any_sigma() {
+    use caustica_scene::light::EnvironmentLight;
+    use caustica_scene::shape::Sphere;
+    for (m, want) in [
+        (
+            Material::Diffuse {
+                reflectance: Texture::Constant(Spectrum::splat(0.5)),
+            },
+            0.5,
+        ),
+        (
+            Material::Mirror {
+                reflectance: Spectrum::splat(0.8),
+            },
+            0.8,
+        ),
+    ] {
+        let mut b = SceneBuilder::new("furnace");
+        let mat = b.add_material("ball", m).unwrap();
+        b.add_shape(
+            ShapeGeometry::Sphere(Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            }),
+            mat,
+            None,
+            false,
+        )
+        .unwrap();
+        b.add_light(Light::Environment(EnvironmentLight::constant(
+            Spectrum::ONE,
+        )));
+        b.set_camera(PerspectiveCamera::look_at(
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            35.0,
+            16,
+            16,
+        ));
+        let scene = b.build().unwrap();
+        let n = Vec3::new(0.3, 0.5, 0.8).normalize();
+        for sigma in [0.3f32, 0.6] {
+            let (mean, se, _) = estimate(&scene, settings("bsdf", sigma, 20.0), 200_000, 10, n, n);
+            assert_close(&format!("furnace {want} σ {sigma}"), mean, se, want, 0.02);
+        }
+    }
+}
