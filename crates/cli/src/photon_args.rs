@@ -215,13 +215,13 @@ pub struct PhotonArgs {
     /// the shutter.
     #[arg(long, value_name = "N", help_heading = "Motion")]
     pub in_between_frames: Option<u32>,
-    /// Progressive methods (pppm, ppds, ppdm, pdpm, sppm, ppm): iterations to run (default 16, or as many as
+    /// Progressive methods (pppm, ppds, ppdm, pdpm, sppm, ppm, pcf): iterations to run (default 16, or as many as
     /// --time allows). --spp is then the camera samples per pixel of each iteration (default 1).
     #[arg(
         long,
         value_name = "N",
         allow_negative_numbers = true,
-        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm)"
+        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm, pcf)"
     )]
     pub iterations: Option<u64>,
     /// Light paths each iteration traces for each photon map (default 100000).
@@ -229,16 +229,17 @@ pub struct PhotonArgs {
         long,
         value_name = "M",
         allow_negative_numbers = true,
-        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm)"
+        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm, pcf)"
     )]
     pub photons_per_iteration: Option<u64>,
     /// The schedule's alpha in (0, 1] (seed 001 eq. 3.27: the kernel's area shrinks by
-    /// (i + alpha)/(i + 1) per iteration; default 2/3, Mitsuba 0.6 uses 0.7, 1 keeps it fixed).
+    /// (i + alpha)/(i + 1) per iteration; default 2/3, Mitsuba 0.6 uses 0.7, 1 keeps it fixed;
+    /// pcf: in (0, 1), default 0.5).
     #[arg(
         long,
         value_name = "ALPHA",
         allow_negative_numbers = true,
-        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm)"
+        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm, pcf)"
     )]
     pub ppm_alpha: Option<f64>,
     /// First-iteration gather radius in metres of pppm, sppm and ppm (and pdpm's bandwidth h;
@@ -248,7 +249,7 @@ pub struct PhotonArgs {
         long,
         value_name = "R",
         allow_negative_numbers = true,
-        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm)"
+        help_heading = "Progressive (pppm, ppds, ppdm, pdpm, sppm, ppm, pcf)"
     )]
     pub radius: Option<caustica_render::Radius>,
     /// With --temporal: where the shutter lies around the instant photons are traced at:

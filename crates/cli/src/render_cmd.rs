@@ -118,7 +118,7 @@ pub struct RenderArgs {
     /// their state file then, see --resume).
     #[arg(long)]
     pub checkpoint: Option<f64>,
-    /// Continue a progressive render (pppm, ppds, ppdm, pdpm, sppm, ppm) from its state file, which every such
+    /// Continue a progressive render (pppm, ppds, ppdm, pdpm, sppm, ppm, pcf) from its state file, which every such
     /// render writes next to its image (OUTPUT.state: after the last complete iteration, at
     /// Ctrl-C, and with --checkpoint periodically). Give the same scene and options, and the
     /// total --iterations (or --time) wanted: the result has the bytes of an uninterrupted
@@ -773,7 +773,7 @@ fn render_one(
     if let Some(path) = &args.resume {
         let Some(fp) = &fingerprint else {
             bail!(
-                "--resume continues a progressive render (--integrator pppm, ppds, ppdm, pdpm, sppm or ppm), not {}",
+                "--resume continues a progressive render (--integrator pppm, ppds, ppdm, pdpm, sppm, ppm or pcf), not {}",
                 kind.name()
             );
         };
@@ -802,7 +802,7 @@ fn render_one(
     }
     if args.save_iterations.is_some() && !kind.is_progressive() {
         bail!(
-            "--save-iterations writes the images of a progressive render's iterations (--integrator pppm, ppds, ppdm, pdpm, sppm or ppm), not of {}",
+            "--save-iterations writes the images of a progressive render's iterations (--integrator pppm, ppds, ppdm, pdpm, sppm, ppm or pcf), not of {}",
             kind.name()
         );
     }

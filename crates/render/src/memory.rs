@@ -163,6 +163,30 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         return m;
     }
     let p = &opts.photons;
+    if kind == IntegratorKind::PhotonConeFocusing {
+        // About three vertices per light path and a cone per technique at each (an upper
+        // estimate for the triplet), each with its k-d tree entry and axis byte; the
+        // iteration's film; the importon map (about two per camera path).
+        let paths = p.progressive.paths_per_iteration;
+        m.add(
+            "iteration film",
+            pixels,
+            2 * size_of::<[f64; 3]>() as u64 + 4,
+        );
+        m.add(
+            "cone map",
+            paths.saturating_mul(9),
+            size_of::<crate::pcf::PhotonCone>() as u64 + 17,
+        );
+        if p.pcf.techniques.importons {
+            m.add(
+                "importon map",
+                p.pcf.importon_paths.unwrap_or(paths).saturating_mul(2),
+                size_of::<crate::pcf::ConicalImporton>() as u64 + 17,
+            );
+        }
+        return m;
+    }
     let photon = size_of::<Photon>() as u64 + TREE_BYTES_PER_POINT;
     if (p.global_photons > 0 || p.global_light_paths.is_some())
         && !opts.caustics_only
@@ -230,15 +254,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         | IntegratorKind::ProgressiveDiffusion => {}
         IntegratorKind::StochasticProgressivePhotonMapping
         | IntegratorKind::ProgressivePhotonMappingHitPoints => {}
-        IntegratorKind::PhotonConeFocusing => {
-            // About three vertices per light path and a cone per technique at each (an upper
-            // estimate for the triplet), each with its k-d tree entry and axis byte.
-            m.add(
-                "cone map",
-                p.progressive.paths_per_iteration.saturating_mul(9),
-                size_of::<crate::pcf::PhotonCone>() as u64 + 17,
-            );
-        }
+        IntegratorKind::PhotonConeFocusing => {}
     }
     if choice::chooses(kind, p) && !opts.volume_only {
         // The automatic bandwidth choice (freed before the photon pass; counted anyway, as an

@@ -11,6 +11,11 @@ pub struct RenderStats {
     pub rays: u64,
     /// Sample contributions discarded because they were NaN or infinite.
     pub nonfinite: u64,
+    /// Photon-cone-map lookups (pcf), the cones they scanned (within σ) and the cones inside
+    /// the 4-D kernel.
+    pub cone_lookups: u64,
+    pub cones_scanned: u64,
+    pub cones_inside: u64,
 }
 
 impl AddAssign for RenderStats {
@@ -18,5 +23,8 @@ impl AddAssign for RenderStats {
         self.samples += o.samples;
         self.rays += o.rays;
         self.nonfinite += o.nonfinite;
+        self.cone_lookups += o.cone_lookups;
+        self.cones_scanned += o.cones_scanned;
+        self.cones_inside += o.cones_inside;
     }
 }

@@ -545,6 +545,9 @@ pub fn check_memory(
             "pds keeps one eye vertex per camera sample: lower --spp or --width/--height"
         }
         Some("global map") => "lower --global-photons",
+        Some("cone map") | Some("importon map") => {
+            "pcf keeps one iteration's cones: lower --photons-per-iteration (or --importons)"
+        }
         Some("film") => "lower the resolution (--width/--height)",
         _ => "lower --photons or --light-paths",
     };

@@ -32,15 +32,15 @@ pub trait CameraRule {
     /// At surface vertex `depth` (1 = the first hit), after the emission found there was
     /// counted: `Some(L)` ends the path with `L` (W/m²/sr), the radiance the vertex scatters
     /// toward the previous one.
-    fn lookup(&self, v: &Vertex, depth: u32) -> Option<Spectrum> {
-        let _ = (v, depth);
+    fn lookup(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
+        let _ = (v, depth, stats);
         None
     }
     /// At a vertex that does not look up: `Some(L)` (W/m²/sr) is its scattered direct light in
     /// place of next-event estimation, and the emission the next bounce finds is not counted
     /// (it is part of `L`).
-    fn direct(&self, v: &Vertex, depth: u32) -> Option<Spectrum> {
-        let _ = (v, depth);
+    fn direct(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
+        let _ = (v, depth, stats);
         None
     }
 }
@@ -155,14 +155,14 @@ pub fn radiance_with(
             break;
         }
         let v = Vertex::new(scene, si, &ray);
-        if let Some(lo) = rule.lookup(&v, depth) {
+        if let Some(lo) = rule.lookup(&v, depth, stats) {
             l += beta * lo;
             break;
         }
         let flags = v.bsdf.flags();
         // Fixed dimension layout per bounce: 3 for NEE (+2 for its shadow ray in scenes with
         // media), 3 for the BSDF, 1 for roulette.
-        let by_rule = rule.direct(&v, depth);
+        let by_rule = rule.direct(&v, depth, stats);
         prev_direct_by_rule = by_rule.is_some();
         if let Some(ld) = by_rule {
             l += beta * ld;

@@ -30,7 +30,6 @@ use crate::stats::RenderStats;
 use crate::transport::vertex::Vertex;
 use caustica_core::Spectrum;
 use caustica_scene::Scene;
-use std::sync::Mutex;
 
 /// σ₁ when not given: this fraction of the scene's bounding-box diagonal (0.1 m in the 2 m
 /// Cornell box, seed 001 sec. 4.1.2's "≈ 0.1").
@@ -41,31 +40,30 @@ struct PcfCamera<'a> {
     map: &'a PhotonConeMap,
     kernel: DiskCapKernel,
     split: PathSplit,
-    stats: &'a Mutex<LookupStats>,
 }
 
 impl PcfCamera<'_> {
-    fn estimate(&self, v: &Vertex, direct_only: bool) -> Spectrum {
+    fn estimate(&self, v: &Vertex, direct_only: bool, stats: &mut RenderStats) -> Spectrum {
         let mut st = LookupStats::default();
         let w = v.frame.to_world(v.wo);
         let l = self
             .map
             .estimate(v.si.p, w, &self.kernel, direct_only, &mut st);
-        if let Ok(mut s) = self.stats.lock() {
-            *s += st;
-        }
+        stats.cone_lookups += st.lookups;
+        stats.cones_scanned += st.scanned;
+        stats.cones_inside += st.inside;
         l
     }
 }
 
 impl CameraRule for PcfCamera<'_> {
-    fn lookup(&self, v: &Vertex, depth: u32) -> Option<Spectrum> {
+    fn lookup(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
         self.split
             .is_lookup(depth, v.bsdf.flags())
-            .then(|| self.estimate(v, false))
+            .then(|| self.estimate(v, false, stats))
     }
-    fn direct(&self, v: &Vertex, _depth: u32) -> Option<Spectrum> {
-        self.split.nested.then(|| self.estimate(v, true))
+    fn direct(&self, v: &Vertex, _depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
+        self.split.nested.then(|| self.estimate(v, true, stats))
     }
 }
 
@@ -223,7 +221,6 @@ pub(crate) fn render(
         film: f.clone(),
         extra: Vec::new(),
     };
-    let lookups = Mutex::new(LookupStats::default());
     let mut cones_total = 0u64;
     let mut cone_bytes = 0usize;
     let split = PathSplit {
@@ -250,7 +247,6 @@ pub(crate) fn render(
             map: &map,
             kernel,
             split,
-            stats: &lookups,
         };
         let pixels = st.part(0.5, 1.0).labelled("looking up cones");
         stats += render_pixels(f, filter, &o, &pixels, |sampler, raster, sst| {
@@ -270,7 +266,11 @@ pub(crate) fn render(
     let k1 = plan.schedule.kernel(1);
     let kn = plan.schedule.kernel(done.max(1));
     let traced = run.iterations.max(1);
-    let l = lookups.lock().map(|g| *g).unwrap_or_default();
+    let l = LookupStats {
+        lookups: stats.cone_lookups,
+        scanned: stats.cones_scanned,
+        inside: stats.cones_inside,
+    };
     notes.push(format!(
         "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {}{}",
         plan.paths,

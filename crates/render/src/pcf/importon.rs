@@ -86,11 +86,9 @@ impl ImportonMap {
                 let mut medium = scene.camera_medium;
                 let mut beta = caustica_core::Spectrum::ONE;
                 let mut depth = 0u32;
-                loop {
-                    let si = match trace_segment(scene, &ray, &mut medium, sampler, st) {
-                        Segment::Surface { si, .. } => si,
-                        _ => break,
-                    };
+                while let Segment::Surface { si, .. } =
+                    trace_segment(scene, &ray, &mut medium, sampler, st)
+                {
                     depth += 1;
                     if depth >= opts.limits.max_depth {
                         break;

@@ -125,7 +125,7 @@ impl ImportonMixture {
 
     /// True if the mixture can draw a direction.
     pub fn is_empty(&self) -> bool {
-        !(self.total > 0.0)
+        self.total.is_nan() || self.total <= 0.0
     }
 
     /// Picks a lobe with `uc` in proportion to importance, then a direction uniform in its cap.
