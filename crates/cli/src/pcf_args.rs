@@ -1,7 +1,7 @@
 //! Options of photon cone focusing (`--integrator pcf`), flattened into the photon options.
 
 use anyhow::Result;
-use caustica_render::options::{ConeTechniques, LookupRule, PcfSettings};
+use caustica_render::options::{ConeSurfaces, ConeTechniques, LookupRule, PcfSettings};
 use clap::Args;
 
 const HEADING: &str = "Photon cone focusing (pcf)";
@@ -49,6 +49,11 @@ pub struct PcfArgs {
     /// mirrors and glass; default), diffuse (through glossy surfaces too), bounce:N.
     #[arg(long, value_name = "RULE", help_heading = HEADING)]
     pub cone_lookup: Option<String>,
+    /// Which cones within sigma count: same (the lookup's shape, normals agreeing; default)
+    /// or any (every cone in the ball: seed 001's estimator, which leaks between surfaces
+    /// closer than sigma).
+    #[arg(long, value_name = "any|same", help_heading = HEADING)]
+    pub cone_surfaces: Option<String>,
     /// Next-event estimation instead of nested PCF's direct-light cones at the camera
     /// vertices before the lookup (point lights behind glass then go dark).
     #[arg(long, help_heading = HEADING)]
@@ -83,6 +88,9 @@ impl PcfArgs {
         if let Some(r) = &self.cone_lookup {
             s.lookup = LookupRule::parse(r)?;
         }
+        if let Some(c) = &self.cone_surfaces {
+            s.surfaces = ConeSurfaces::parse(c)?;
+        }
         s.nested = !self.no_nested;
         s.alpha = alpha;
         Ok(())
@@ -102,6 +110,7 @@ impl PcfArgs {
             || self.importon_radius.is_some()
             || self.importon_angle.is_some()
             || self.cone_lookup.is_some()
+            || self.cone_surfaces.is_some()
             || self.no_nested
     }
 }

@@ -136,7 +136,7 @@ fn bench(c: &mut Criterion) {
         let k = plan.schedule.kernel(i);
         let mut st = LookupStats::default();
         for q in &queries {
-            map.estimate(q.0, q.1, &k, false, &mut st);
+            map.estimate(q.0, q.1, &k, false, None, &mut st);
         }
         println!(
             "{label}: sigma {:.4} m, t {:.2} deg: {:.1} cones scanned, {:.2} inside per lookup",
@@ -149,7 +149,7 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 let mut st = LookupStats::default();
                 for q in &queries {
-                    black_box(map.estimate(q.0, q.1, &k, false, &mut st));
+                    black_box(map.estimate(q.0, q.1, &k, false, None, &mut st));
                 }
                 st
             })

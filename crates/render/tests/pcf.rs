@@ -78,7 +78,7 @@ fn estimate(
         let imp = importon_map(scene, &o, &plan, &mut |_| true).map(|m| m.0);
         let (map, _) = iteration_map(scene, &o, &plan, imp.as_ref(), 1);
         let k = plan.schedule.kernel(1);
-        let l = map.estimate(x, w, &k, false, &mut LookupStats::default());
+        let l = map.estimate(x, w, &k, false, None, &mut LookupStats::default());
         vals.push(l.c[1] as f64);
         kernel = Some(k);
     }
@@ -309,7 +309,7 @@ fn lookups_evaluate_no_bsdf() {
     for j in 0..2000 {
         let a = j as f32 * 0.01;
         let x = Vec3::new(a.sin() * 0.5, 0.0, a.cos() * 0.5);
-        total += map.estimate(x, Vec3::Y, &k, j % 2 == 0, &mut st).c[0];
+        total += map.estimate(x, Vec3::Y, &k, j % 2 == 0, None, &mut st).c[0];
     }
     assert_eq!(instrument::calls(), start, "a lookup called a BSDF");
     assert!(total > 0.0 && st.inside > 0);

@@ -19,7 +19,7 @@ use crate::driver::pixels::render_pixels;
 use crate::error::OptionError;
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::options::{PcfSettings, RenderOptions};
+use crate::options::{ConeSurfaces, PcfSettings, RenderOptions};
 use crate::pcf::importon::ImportonRule;
 use crate::pcf::techniques::CameraLobe;
 use crate::pcf::{
@@ -40,15 +40,20 @@ struct PcfCamera<'a> {
     map: &'a PhotonConeMap,
     kernel: DiskCapKernel,
     split: PathSplit,
+    surfaces: ConeSurfaces,
 }
 
 impl PcfCamera<'_> {
     fn estimate(&self, v: &Vertex, direct_only: bool, stats: &mut RenderStats) -> Spectrum {
         let mut st = LookupStats::default();
         let w = v.frame.to_world(v.wo);
+        let surface = match self.surfaces {
+            ConeSurfaces::Any => None,
+            ConeSurfaces::Same => Some((v.si.shape, v.si.ng)),
+        };
         let l = self
             .map
-            .estimate(v.si.p, w, &self.kernel, direct_only, &mut st);
+            .estimate(v.si.p, w, &self.kernel, direct_only, surface, &mut st);
         stats.cone_lookups += st.lookups;
         stats.cones_scanned += st.scanned;
         stats.cones_inside += st.inside;
@@ -247,6 +252,7 @@ pub(crate) fn render(
             map: &map,
             kernel,
             split,
+            surfaces: s.surfaces,
         };
         let pixels = st.part(0.5, 1.0).labelled("looking up cones");
         stats += render_pixels(f, filter, &o, &pixels, |sampler, raster, sst| {
@@ -272,7 +278,7 @@ pub(crate) fn render(
         inside: stats.cones_inside,
     };
     notes.push(format!(
-        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {}{}",
+        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {}{}; cone surfaces {}",
         plan.paths,
         opts.spp,
         k1.sigma,
@@ -286,6 +292,7 @@ pub(crate) fn render(
         if s.mis { " (MIS, power heuristic)" } else { " (no MIS)" },
         s.lookup.name(),
         if s.nested { ", nested" } else { "" },
+        s.surfaces.name(),
     ));
     notes.push(format!(
         "pcf: {:.0} cones per iteration ({:.2} per light path, {} B per cone with its tree, {:.1} MB at most); {} lookups, {:.1} cones scanned and {:.2} inside the kernel per lookup{}",

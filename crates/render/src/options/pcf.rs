@@ -130,6 +130,41 @@ impl LookupRule {
     }
 }
 
+/// Which cones within σ of a lookup count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConeSurfaces {
+    /// Every cone in the ball of radius σ: seed 001's estimator (eq. 3.3 with a 3-D
+    /// distance). Surfaces closer than σ leak into each other (its sec. 5.3.3, Fig. 5.14): a
+    /// painting 3 cm behind a glass plate gathers the plate's cones too.
+    Any,
+    /// Only cones on the query's shape whose geometric normal agrees with the query's
+    /// (n_j·n_x > 0; spec notes Q10's normal test, with the shape identity): no leaking between
+    /// nearby surfaces or the two sides of a thin plate, at the price of the classic boundary
+    /// bias where a shape ends within σ (its cut disc is still normalised by πσ²).
+    Same,
+}
+
+impl ConeSurfaces {
+    pub fn parse(text: &str) -> Result<Self, OptionError> {
+        match text {
+            "any" => Ok(ConeSurfaces::Any),
+            "same" => Ok(ConeSurfaces::Same),
+            _ => Err(OptionError::Unparsable {
+                what: "--cone-surfaces",
+                rule: "any or same",
+                got: text.into(),
+            }),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ConeSurfaces::Any => "any",
+            ConeSurfaces::Same => "same",
+        }
+    }
+}
+
 /// Settings of `pcf`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PcfSettings {
@@ -170,6 +205,8 @@ pub struct PcfSettings {
     /// Nested PCF (sec. 3.6): direct light at the camera vertices before the lookup from
     /// light-path-length-1 cones instead of NEE (point lights behind glass).
     pub nested: bool,
+    /// Which cones within σ count (`--cone-surfaces`, default `same`).
+    pub surfaces: ConeSurfaces,
 }
 
 impl Default for PcfSettings {
@@ -189,6 +226,7 @@ impl Default for PcfSettings {
             importon_angle_deg: None,
             lookup: LookupRule::NonDelta,
             nested: true,
+            surfaces: ConeSurfaces::Same,
         }
     }
 }

@@ -82,12 +82,16 @@ impl PhotonConeMap {
 
     /// L̂(x, ω) (W/m²/sr) with kernel `k`: the radiance leaving `x` in the unit direction `w`.
     /// `direct_only`: only cones of light-path length 1 (nested PCF's direct light).
+    /// `surface`: only cones on this shape whose geometric normal agrees with this one
+    /// (n_j·n_x > 0; `ConeSurfaces::Same`); `None`: every cone in the ball (seed 001's
+    /// estimator).
     pub fn estimate(
         &self,
         x: Vec3,
         w: Vec3,
         k: &DiskCapKernel,
         direct_only: bool,
+        surface: Option<(u32, Vec3)>,
         stats: &mut LookupStats,
     ) -> Spectrum {
         let mut sum = Spectrum::ZERO;
@@ -95,7 +99,11 @@ impl PhotonConeMap {
         self.tree.range(x, k.sigma * k.sigma, |i, _| {
             let c = &self.cones[i as usize];
             scanned += 1;
-            if c.dir.dot(w) > k.cos_theta && (!direct_only || c.length == 1) {
+            let on_surface = match surface {
+                None => true,
+                Some((shape, n)) => c.shape == shape && c.ng.dot(n) > 0.0,
+            };
+            if c.dir.dot(w) > k.cos_theta && (!direct_only || c.length == 1) && on_surface {
                 inside += 1;
                 sum += c.value;
             }
@@ -107,5 +115,45 @@ impl PhotonConeMap {
             return Spectrum::ZERO;
         }
         sum * (k.inv_volume / self.light_paths as f32)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cone(p: Vec3, shape: u32, ng: Vec3) -> PhotonCone {
+        PhotonCone {
+            p,
+            dir: Vec3::Y,
+            value: Spectrum::ONE,
+            length: 1,
+            shape,
+            ng,
+        }
+    }
+
+    #[test]
+    fn surface_filter_keeps_the_query_surface_only() {
+        // A plate (shape 0, normal +y) with a parallel sheet 1 cm below (shape 1) and the
+        // plate's underside (shape 0, normal −y): "any" gathers all three, "same" the plate.
+        let mut cones = Vec::new();
+        for i in 0..10 {
+            let x = i as f32 * 0.001;
+            cones.push(cone(Vec3::new(x, 0.0, 0.0), 0, Vec3::Y));
+            cones.push(cone(Vec3::new(x, -0.01, 0.0), 1, Vec3::Y));
+            cones.push(cone(Vec3::new(x, -0.005, 0.0), 0, -Vec3::Y));
+        }
+        let map = PhotonConeMap::build(cones, 1);
+        let k = DiskCapKernel::new(0.1, 0.3);
+        let mut st = LookupStats::default();
+        let any = map.estimate(Vec3::ZERO, Vec3::Y, &k, false, None, &mut st);
+        let same = map.estimate(Vec3::ZERO, Vec3::Y, &k, false, Some((0, Vec3::Y)), &mut st);
+        assert!((any.c[0] / k.inv_volume - 30.0).abs() < 1e-3);
+        assert!((same.c[0] / k.inv_volume - 10.0).abs() < 1e-3);
+        // Normalised by light paths: twice the paths, half the estimate.
+        let map2 = PhotonConeMap::build(map.cones().to_vec(), 2);
+        let half = map2.estimate(Vec3::ZERO, Vec3::Y, &k, false, None, &mut st);
+        assert!((half.c[0] * 2.0 - any.c[0]).abs() < 1e-3 * any.c[0]);
     }
 }

@@ -72,8 +72,13 @@ impl ConeRule<'_> {
             return;
         }
         let shade_in = wi.dot(ns).abs() / cos_ig;
-        let length = lv.depth.min(255) as u8;
         let p = v.si.p;
+        let site = Site {
+            p,
+            length: lv.depth.min(255) as u8,
+            shape: v.si.shape,
+            ng,
+        };
         let flags = v.bsdf.flags();
         let t = self.techniques;
         // Fixed draws per vertex.
@@ -97,7 +102,7 @@ impl ConeRule<'_> {
                 return;
             }
             let value = lv.beta * bs.weight * (shade_in / cos_os);
-            push(out, p, wo, value, length);
+            push(out, &site, wo, value);
             return;
         }
 
@@ -161,7 +166,7 @@ impl ConeRule<'_> {
                 1.0
             };
             let value = lv.beta * f * (weight * shade_in / pt);
-            push(out, p, w, value, length);
+            push(out, &site, w, value);
         };
         if let Some((uc, u)) = u_bsdf {
             let w = v
@@ -184,16 +189,26 @@ impl ConeRule<'_> {
 }
 
 #[inline]
-fn push(out: &mut Vec<PhotonCone>, p: Vec3, dir: Vec3, value: Spectrum, length: u8) {
+fn push(out: &mut Vec<PhotonCone>, at: &Site, dir: Vec3, value: Spectrum) {
     if value.is_black() || !value.c.iter().all(|c| c.is_finite()) {
         return;
     }
     out.push(PhotonCone {
-        p,
+        p: at.p,
         dir,
         value,
-        length,
+        length: at.length,
+        shape: at.shape,
+        ng: at.ng,
     });
+}
+
+/// Where the cones of a vertex are made.
+struct Site {
+    p: Vec3,
+    length: u8,
+    shape: u32,
+    ng: Vec3,
 }
 
 /// Traces light paths `paths` of the cone stream and returns their cones in path order, the
