@@ -2,6 +2,7 @@
 # Issue 20: peak memory of the progressive methods is flat in the number of iterations (only
 # one iteration's photons or footprints alive, plus the pooled film), and their iteration rate.
 #   bash bench/progressive_memory.sh [max iterations (default 10000)]
+#   KINDS="pcf" bash bench/progressive_memory.sh   # some methods only (default: all)
 # Each method on the water wave at 32x32, 1 spp and 2000 light paths per iteration, at
 # 10, 100, 1000 and 10000 iterations: peak RSS (GNU time's "Maximum resident set size") and
 # wall time. The one-shot pm/pds at the same per-iteration work is the baseline of the rate.
@@ -14,10 +15,13 @@ out=$(mktemp -d)
 common=(render water-wave --width 32 --height 32 --caustics-only --seed 1 -q)
 echo "| method | iterations | peak RSS (MB) | wall (s) | iterations/s |"
 echo "|---|---:|---:|---:|---:|"
-for kind in pppm ppds sppm ppm; do
+for kind in ${KINDS:-pppm ppds sppm ppm pcf}; do
   for n in 10 100 1000 10000; do
     ((n > max)) && continue
-    /usr/bin/time -f "%M %e" -o "$out/t" "$bin" "${common[@]}" --integrator "$kind" \
+    args=("${common[@]}")
+    # pcf's cones do not separate caustic paths: it renders everything.
+    [[ $kind == pcf ]] && args=(render water-wave --width 32 --height 32 --seed 1 -q)
+    /usr/bin/time -f "%M %e" -o "$out/t" "$bin" "${args[@]}" --integrator "$kind" \
       --iterations "$n" --photons-per-iteration 2000 --spp 1 -o "$out/$kind.exr" > /dev/null 2>&1
     read -r kb secs < "$out/t"
     awk -v k="$kind" -v n="$n" -v kb="$kb" -v s="$secs" \

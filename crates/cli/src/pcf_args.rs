@@ -1,7 +1,7 @@
 //! Options of photon cone focusing (`--integrator pcf`), flattened into the photon options.
 
 use anyhow::Result;
-use caustica_render::options::{ConeSurfaces, ConeTechniques, LookupRule, PcfSettings};
+use caustica_render::options::{ConeSurfaces, ConeTechniques, LookupRule, Nesting, PcfSettings};
 use clap::Args;
 
 const HEADING: &str = "Photon cone focusing (pcf)";
@@ -54,10 +54,12 @@ pub struct PcfArgs {
     /// closer than sigma).
     #[arg(long, value_name = "any|same", help_heading = HEADING)]
     pub cone_surfaces: Option<String>,
-    /// Next-event estimation instead of nested PCF's direct-light cones at the camera
-    /// vertices before the lookup (point lights behind glass then go dark).
-    #[arg(long, help_heading = HEADING)]
-    pub no_nested: bool,
+    /// Nested PCF at the camera vertices before the lookup: delta-lights (default: at glass
+    /// and mirrors, the direct light of point, spot and directional lights from their
+    /// length-1 cones, which path tracing cannot find), all (all direct light from length-1
+    /// cones instead of NEE, the spec notes' design) or off.
+    #[arg(long, value_name = "off|delta-lights|all", help_heading = HEADING)]
+    pub nested: Option<String>,
 }
 
 impl PcfArgs {
@@ -91,7 +93,9 @@ impl PcfArgs {
         if let Some(c) = &self.cone_surfaces {
             s.surfaces = ConeSurfaces::parse(c)?;
         }
-        s.nested = !self.no_nested;
+        if let Some(n) = &self.nested {
+            s.nested = Nesting::parse(n)?;
+        }
         s.alpha = alpha;
         Ok(())
     }
@@ -111,6 +115,6 @@ impl PcfArgs {
             || self.importon_angle.is_some()
             || self.cone_lookup.is_some()
             || self.cone_surfaces.is_some()
-            || self.no_nested
+            || self.nested.is_some()
     }
 }

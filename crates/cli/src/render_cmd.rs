@@ -225,7 +225,7 @@ impl RenderSettings {
         }
         if self.photon.pcf.any_given() && kind != IntegratorKind::PhotonConeFocusing {
             bail!(
-                "the --cone-*, --importon*, --camera-exponent, --no-mis, --no-camera-mirror and --no-nested options are for --integrator pcf, not {}",
+                "the --cone-*, --importon*, --camera-exponent, --no-mis, --no-camera-mirror and --nested options are for --integrator pcf, not {}",
                 kind.name()
             );
         }

@@ -19,7 +19,7 @@ use caustica_loader::builtin_scene;
 use caustica_render::RenderOptions;
 use caustica_render::integrator::pcf::{PcfPlan, importon_map};
 use caustica_render::options::{ConeTechniques, PcfSettings};
-use caustica_render::pcf::{ConeRule, LookupStats, PhotonConeMap, trace_cones};
+use caustica_render::pcf::{ConeRule, ConeSet, LookupStats, PhotonConeMap, trace_cones};
 use caustica_render::stats::RenderStats;
 use caustica_render::transport::light_walk::walk_light_path;
 use caustica_scene::Scene;
@@ -136,7 +136,7 @@ fn bench(c: &mut Criterion) {
         let k = plan.schedule.kernel(i);
         let mut st = LookupStats::default();
         for q in &queries {
-            map.estimate(q.0, q.1, &k, false, None, &mut st);
+            map.estimate(q.0, q.1, &k, ConeSet::All, None, &mut st);
         }
         println!(
             "{label}: sigma {:.4} m, t {:.2} deg: {:.1} cones scanned, {:.2} inside per lookup",
@@ -149,7 +149,7 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 let mut st = LookupStats::default();
                 for q in &queries {
-                    black_box(map.estimate(q.0, q.1, &k, false, None, &mut st));
+                    black_box(map.estimate(q.0, q.1, &k, ConeSet::All, None, &mut st));
                 }
                 st
             })

@@ -11,8 +11,8 @@ mod common;
 
 use caustica_core::{Affine3A, Spectrum, Vec3};
 use caustica_render::integrator::pcf::{PcfPlan, importon_map, iteration_map};
-use caustica_render::options::{ConeTechniques, LookupRule, PcfSettings};
-use caustica_render::pcf::{DiskCapKernel, LookupStats};
+use caustica_render::options::{ConeTechniques, LookupRule, Nesting, PcfSettings};
+use caustica_render::pcf::{ConeSet, DiskCapKernel, LookupStats};
 use caustica_render::{IntegratorKind, RenderControl, RenderOptions, render};
 use caustica_scene::bsdf::fresnel::fresnel_dielectric;
 use caustica_scene::camera::PerspectiveCamera;
@@ -78,7 +78,7 @@ fn estimate(
         let imp = importon_map(scene, &o, &plan, &mut |_| true).map(|m| m.0);
         let (map, _) = iteration_map(scene, &o, &plan, imp.as_ref(), 1);
         let k = plan.schedule.kernel(1);
-        let l = map.estimate(x, w, &k, false, None, &mut LookupStats::default());
+        let l = map.estimate(x, w, &k, ConeSet::All, None, &mut LookupStats::default());
         vals.push(l.c[1] as f64);
         kernel = Some(k);
     }
@@ -309,7 +309,20 @@ fn lookups_evaluate_no_bsdf() {
     for j in 0..2000 {
         let a = j as f32 * 0.01;
         let x = Vec3::new(a.sin() * 0.5, 0.0, a.cos() * 0.5);
-        total += map.estimate(x, Vec3::Y, &k, j % 2 == 0, None, &mut st).c[0];
+        total += map
+            .estimate(
+                x,
+                Vec3::Y,
+                &k,
+                if j % 2 == 0 {
+                    ConeSet::Direct
+                } else {
+                    ConeSet::All
+                },
+                None,
+                &mut st,
+            )
+            .c[0];
     }
     assert_eq!(instrument::calls(), start, "a lookup called a BSDF");
     assert!(total > 0.0 && st.inside > 0);
@@ -385,11 +398,12 @@ fn lookup_rules_and_nesting_converge_to_one_image() {
     let scene = b.build().unwrap();
     let mut means = Vec::new();
     for (rule, nested) in [
-        (LookupRule::NonDelta, true),
-        (LookupRule::NonDelta, false),
-        (LookupRule::First, true),
-        (LookupRule::Diffuse, false),
-        (LookupRule::Bounce(2), true),
+        (LookupRule::NonDelta, Nesting::DeltaLights),
+        (LookupRule::NonDelta, Nesting::Off),
+        (LookupRule::NonDelta, Nesting::All),
+        (LookupRule::First, Nesting::DeltaLights),
+        (LookupRule::Diffuse, Nesting::All),
+        (LookupRule::Bounce(2), Nesting::Off),
     ] {
         let s = PcfSettings {
             lookup: rule,
@@ -403,7 +417,7 @@ fn lookup_rules_and_nesting_converge_to_one_image() {
     for (rule, nested, m) in &means {
         assert!(
             (m / base - 1.0).abs() < 0.03,
-            "{rule:?} nested {nested}: mean {m} vs {base}"
+            "{rule:?} nested {nested:?}: mean {m} vs {base}"
         );
     }
 }

@@ -36,13 +36,25 @@ pub trait CameraRule {
         let _ = (v, depth, stats);
         None
     }
-    /// At a vertex that does not look up: `Some(L)` (W/m²/sr) is its scattered direct light in
-    /// place of next-event estimation, and the emission the next bounce finds is not counted
-    /// (it is part of `L`).
-    fn direct(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
+    /// Direct light at a vertex that does not look up ([`Direct`]).
+    fn direct(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Direct {
         let _ = (v, depth, stats);
-        None
+        Direct::Nee
     }
+}
+
+/// How a vertex before the lookup gets its direct light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Direct {
+    /// Next-event estimation (at non-delta vertices), MIS-combined with the emission the next
+    /// bounce finds: the path tracer.
+    Nee,
+    /// `L` (W/m²/sr) is all the direct light the vertex scatters, in place of NEE, and the
+    /// emission the next bounce finds is not counted (it is in `L`).
+    Replace(Spectrum),
+    /// `L` (W/m²/sr) is added to what the path tracer does there: light it cannot find (a delta
+    /// light seen through a delta vertex).
+    Add(Spectrum),
 }
 
 /// The path tracer's rule: no lookups, NEE everywhere.
@@ -163,8 +175,11 @@ pub fn radiance_with(
         // Fixed dimension layout per bounce: 3 for NEE (+2 for its shadow ray in scenes with
         // media), 3 for the BSDF, 1 for roulette.
         let by_rule = rule.direct(&v, depth, stats);
-        prev_direct_by_rule = by_rule.is_some();
-        if let Some(ld) = by_rule {
+        prev_direct_by_rule = matches!(by_rule, Direct::Replace(_));
+        if let Direct::Add(ld) = by_rule {
+            l += beta * ld;
+        }
+        if let Direct::Replace(ld) = by_rule {
             l += beta * ld;
             sampler.next_1d();
             sampler.next_2d();

@@ -11,7 +11,7 @@
 //! Ctrl-C, checkpoints, `--resume`) and the pixel driver.
 
 use super::IntegratorKind;
-use super::path::{CameraRule, radiance_with};
+use super::path::{CameraRule, Direct, radiance_with};
 use crate::control::Stage;
 use crate::driver::iteration_state::{IterationState, fingerprint};
 use crate::driver::iterations::run_iterations;
@@ -23,8 +23,8 @@ use crate::options::{ConeSurfaces, PcfSettings, RenderOptions};
 use crate::pcf::importon::ImportonRule;
 use crate::pcf::techniques::CameraLobe;
 use crate::pcf::{
-    ConeRule, ConeSchedule, DiskCapKernel, ImportonMap, LookupStats, PathSplit, PhotonCone,
-    PhotonConeMap, trace_cones,
+    ConeRule, ConeSchedule, ConeSet, DiskCapKernel, ImportonMap, LookupStats, PathSplit,
+    PhotonCone, PhotonConeMap, trace_cones,
 };
 use crate::stats::RenderStats;
 use crate::transport::vertex::Vertex;
@@ -44,7 +44,7 @@ struct PcfCamera<'a> {
 }
 
 impl PcfCamera<'_> {
-    fn estimate(&self, v: &Vertex, direct_only: bool, stats: &mut RenderStats) -> Spectrum {
+    fn estimate(&self, v: &Vertex, set: ConeSet, stats: &mut RenderStats) -> Spectrum {
         let mut st = LookupStats::default();
         let w = v.frame.to_world(v.wo);
         let surface = match self.surfaces {
@@ -53,7 +53,7 @@ impl PcfCamera<'_> {
         };
         let l = self
             .map
-            .estimate(v.si.p, w, &self.kernel, direct_only, surface, &mut st);
+            .estimate(v.si.p, w, &self.kernel, set, surface, &mut st);
         stats.cone_lookups += st.lookups;
         stats.cones_scanned += st.scanned;
         stats.cones_inside += st.inside;
@@ -65,10 +65,14 @@ impl CameraRule for PcfCamera<'_> {
     fn lookup(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
         self.split
             .is_lookup(depth, v.bsdf.flags())
-            .then(|| self.estimate(v, false, stats))
+            .then(|| self.estimate(v, ConeSet::All, stats))
     }
-    fn direct(&self, v: &Vertex, _depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
-        self.split.nested.then(|| self.estimate(v, true, stats))
+    fn direct(&self, v: &Vertex, _depth: u32, stats: &mut RenderStats) -> Direct {
+        match self.split.direct_at(v.bsdf.flags()) {
+            Direct::Nee => Direct::Nee,
+            Direct::Add(_) => Direct::Add(self.estimate(v, ConeSet::DirectFromDeltaLights, stats)),
+            Direct::Replace(_) => Direct::Replace(self.estimate(v, ConeSet::Direct, stats)),
+        }
     }
 }
 
@@ -278,7 +282,7 @@ pub(crate) fn render(
         inside: stats.cones_inside,
     };
     notes.push(format!(
-        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {}{}; cone surfaces {}",
+        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {}, nested {}; cone surfaces {}",
         plan.paths,
         opts.spp,
         k1.sigma,
@@ -291,7 +295,7 @@ pub(crate) fn render(
         s.techniques.names(),
         if s.mis { " (MIS, power heuristic)" } else { " (no MIS)" },
         s.lookup.name(),
-        if s.nested { ", nested" } else { "" },
+        s.nested.name(),
         s.surfaces.name(),
     ));
     notes.push(format!(

@@ -130,6 +130,46 @@ impl LookupRule {
     }
 }
 
+/// Nested PCF (seed 001 sec. 3.6): cone estimates in place of next-event estimation at the
+/// camera vertices before the lookup.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Nesting {
+    /// Next-event estimation and emission hits everywhere before the lookup: point lights seen
+    /// through glass or in mirrors are missed (L S+ E with a delta light).
+    Off,
+    /// Only where path tracing cannot reach: at delta camera vertices, the direct light of
+    /// delta lights (point, spot, directional, beam) from their length-1 cones, added to the
+    /// emission hits of the other lights, which path tracing finds exactly. Elsewhere NEE.
+    DeltaLights,
+    /// The spec notes' design (sec. 2.10): at every camera vertex before the lookup, all
+    /// direct light from length-1 cones instead of NEE, and emission found by the next bounce
+    /// not counted. Blurs highlights and directly lit glossy surfaces by the kernel.
+    All,
+}
+
+impl Nesting {
+    pub fn parse(text: &str) -> Result<Self, OptionError> {
+        match text {
+            "off" | "none" => Ok(Nesting::Off),
+            "delta-lights" | "delta" => Ok(Nesting::DeltaLights),
+            "all" => Ok(Nesting::All),
+            _ => Err(OptionError::Unparsable {
+                what: "--nested",
+                rule: "off, delta-lights or all",
+                got: text.into(),
+            }),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Nesting::Off => "off",
+            Nesting::DeltaLights => "delta-lights",
+            Nesting::All => "all",
+        }
+    }
+}
+
 /// Which cones within σ of a lookup count.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ConeSurfaces {
@@ -202,9 +242,8 @@ pub struct PcfSettings {
     pub importon_angle_deg: Option<f32>,
     /// Where the cone map is looked up (`--cone-lookup`).
     pub lookup: LookupRule,
-    /// Nested PCF (sec. 3.6): direct light at the camera vertices before the lookup from
-    /// light-path-length-1 cones instead of NEE (point lights behind glass).
-    pub nested: bool,
+    /// Nested PCF (sec. 3.6; `--nested`, default `delta-lights`).
+    pub nested: Nesting,
     /// Which cones within σ count (`--cone-surfaces`, default `same`).
     pub surfaces: ConeSurfaces,
 }
@@ -225,7 +264,7 @@ impl Default for PcfSettings {
             importon_radius: None,
             importon_angle_deg: None,
             lookup: LookupRule::NonDelta,
-            nested: true,
+            nested: Nesting::DeltaLights,
             surfaces: ConeSurfaces::Same,
         }
     }

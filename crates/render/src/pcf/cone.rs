@@ -17,6 +17,8 @@ pub struct PhotonCone {
     /// Edges from the light to X_j (1: direct light), saturated at 255: nested PCF's direct
     /// estimate uses the length-1 cones only (spec notes sec. 2.10).
     pub length: u8,
+    /// Emitted by a delta light (point, spot, directional, beam): one path tracing cannot hit.
+    pub delta_light: bool,
     /// The shape the cone lies on (`SurfaceInteraction::shape`).
     pub shape: u32,
     /// Its geometric normal (unit, as the shape orients it, never flipped).

@@ -25,6 +25,28 @@ pub struct PhotonConeMap {
     light_paths: u64,
 }
 
+/// Which cones a lookup sums.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConeSet {
+    /// Every light-path length: the estimate at the lookup vertex.
+    All,
+    /// Length 1 (direct light): nested PCF's `all`.
+    Direct,
+    /// Length 1 from delta lights: nested PCF's `delta-lights`.
+    DirectFromDeltaLights,
+}
+
+impl ConeSet {
+    #[inline]
+    fn admits(self, c: &PhotonCone) -> bool {
+        match self {
+            ConeSet::All => true,
+            ConeSet::Direct => c.length == 1,
+            ConeSet::DirectFromDeltaLights => c.length == 1 && c.delta_light,
+        }
+    }
+}
+
 /// What lookups did (for the render notes).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LookupStats {
@@ -81,7 +103,7 @@ impl PhotonConeMap {
     }
 
     /// L̂(x, ω) (W/m²/sr) with kernel `k`: the radiance leaving `x` in the unit direction `w`.
-    /// `direct_only`: only cones of light-path length 1 (nested PCF's direct light).
+    /// `set`: which light-path lengths and lights count ([`ConeSet`]).
     /// `surface`: only cones on this shape whose geometric normal agrees with this one
     /// (n_j·n_x > 0; `ConeSurfaces::Same`); `None`: every cone in the ball (seed 001's
     /// estimator).
@@ -90,7 +112,7 @@ impl PhotonConeMap {
         x: Vec3,
         w: Vec3,
         k: &DiskCapKernel,
-        direct_only: bool,
+        set: ConeSet,
         surface: Option<(u32, Vec3)>,
         stats: &mut LookupStats,
     ) -> Spectrum {
@@ -103,7 +125,7 @@ impl PhotonConeMap {
                 None => true,
                 Some((shape, n)) => c.shape == shape && c.ng.dot(n) > 0.0,
             };
-            if c.dir.dot(w) > k.cos_theta && (!direct_only || c.length == 1) && on_surface {
+            if c.dir.dot(w) > k.cos_theta && set.admits(c) && on_surface {
                 inside += 1;
                 sum += c.value;
             }
@@ -128,6 +150,7 @@ mod tests {
             dir: Vec3::Y,
             value: Spectrum::ONE,
             length: 1,
+            delta_light: false,
             shape,
             ng,
         }
@@ -147,13 +170,20 @@ mod tests {
         let map = PhotonConeMap::build(cones, 1);
         let k = DiskCapKernel::new(0.1, 0.3);
         let mut st = LookupStats::default();
-        let any = map.estimate(Vec3::ZERO, Vec3::Y, &k, false, None, &mut st);
-        let same = map.estimate(Vec3::ZERO, Vec3::Y, &k, false, Some((0, Vec3::Y)), &mut st);
+        let any = map.estimate(Vec3::ZERO, Vec3::Y, &k, ConeSet::All, None, &mut st);
+        let same = map.estimate(
+            Vec3::ZERO,
+            Vec3::Y,
+            &k,
+            ConeSet::All,
+            Some((0, Vec3::Y)),
+            &mut st,
+        );
         assert!((any.c[0] / k.inv_volume - 30.0).abs() < 1e-3);
         assert!((same.c[0] / k.inv_volume - 10.0).abs() < 1e-3);
         // Normalised by light paths: twice the paths, half the estimate.
         let map2 = PhotonConeMap::build(map.cones().to_vec(), 2);
-        let half = map2.estimate(Vec3::ZERO, Vec3::Y, &k, false, None, &mut st);
+        let half = map2.estimate(Vec3::ZERO, Vec3::Y, &k, ConeSet::All, None, &mut st);
         assert!((half.c[0] * 2.0 - any.c[0]).abs() < 1e-3 * any.c[0]);
     }
 }

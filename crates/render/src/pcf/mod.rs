@@ -11,7 +11,7 @@ pub mod techniques;
 pub mod tracer;
 
 pub use cone::PhotonCone;
-pub use cone_map::{LookupStats, PhotonConeMap};
+pub use cone_map::{ConeSet, LookupStats, PhotonConeMap};
 pub use importon::{ConicalImporton, ImportonMap};
 pub use kernel::{AngularMap, ConeSchedule, DiskCapKernel};
 pub use split::PathSplit;

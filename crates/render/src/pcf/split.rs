@@ -16,14 +16,16 @@
 //!
 //! Any rule for k that depends only on the camera prefix keeps this partition.
 
-use crate::options::LookupRule;
+use crate::integrator::path::Direct;
+use crate::options::{LookupRule, Nesting};
+use caustica_core::Spectrum;
 use caustica_scene::bsdf::BsdfFlags;
 
 /// The split of a camera path between path tracing and the cone map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PathSplit {
     pub rule: LookupRule,
-    pub nested: bool,
+    pub nested: Nesting,
 }
 
 impl PathSplit {
@@ -37,46 +39,84 @@ impl PathSplit {
             LookupRule::Bounce(n) => depth == n,
         }
     }
+
+    /// How a camera vertex before the lookup with BSDF `flags` gets its direct light (the
+    /// spectrum is a placeholder the caller fills with the cone estimate): `Nesting::Off` NEE;
+    /// `DeltaLights` adds delta lights' length-1 cones at delta vertices (where NEE finds
+    /// nothing and no bounce can hit a delta light) and keeps NEE and emission hits for the
+    /// rest; `All` replaces NEE and the next emission hit by all length-1 cones.
+    pub fn direct_at(&self, flags: BsdfFlags) -> Direct {
+        match self.nested {
+            Nesting::Off => Direct::Nee,
+            Nesting::DeltaLights if !flags.is_smooth() => Direct::Add(Spectrum::ZERO),
+            Nesting::DeltaLights => Direct::Nee,
+            Nesting::All => Direct::Replace(Spectrum::ZERO),
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The terms of the estimator that count a full camera-side path x_1 … x_m followed by an
-    /// emitter (m = 0: the emitter is seen directly): the bookkeeping of
-    /// `path::radiance_with` under the PCF rule, counted as weights that must sum to 1.
-    fn count(split: PathSplit, prefix: &[BsdfFlags], m: usize) -> f64 {
+    /// The weights with which the estimator counts a full camera-side path x_1 … x_m followed
+    /// by an emitter (m = 0: the emitter seen directly), delta (point, spot, …) or not: the
+    /// bookkeeping of `path::radiance_with` under the PCF rule, as weights that must sum to 1.
+    fn count(split: PathSplit, prefix: &[BsdfFlags], m: usize, delta_light: bool) -> f64 {
         // k: the first vertex of the prefix the rule looks up at (none: path tracing only).
         let k = (0..prefix.len())
             .find(|&j| split.is_lookup(j as u32 + 1, prefix[j]))
             .map(|j| j + 1);
         if m == 0 {
-            return 1.0; // emission at x_1, weight 1
+            return 1.0; // emission at x_1 with weight 1 (a non-delta emitter seen directly)
         }
+        if let Some(k) = k
+            && m >= k
+        {
+            return 1.0; // the cone estimate at x_k (all lengths, all lights)
+        }
+        // Last scattering at x_m, m < k: what x_m's direct term and the emission hit found by
+        // its bounce count.
+        let flags = prefix[m - 1];
+        let (w_bsdf, w_nee) = (0.3, 0.7); // any MIS pair summing to 1
         let mut total = 0.0;
-        match k {
-            Some(k) if m >= k => total += 1.0, // the cone estimate at x_k
-            _ => {
-                // Last scattering at x_m, m < k: emission found at x_{m+1} and NEE at x_m.
-                let smooth = prefix[m - 1].is_smooth();
-                if split.nested {
-                    total += 1.0; // length-1 cones at x_m; the emission hit weighs 0
-                } else if smooth {
-                    let (w_bsdf, w_nee) = (0.3, 0.7); // any MIS pair summing to 1
-                    total += w_bsdf + w_nee;
-                } else {
-                    total += 1.0; // delta: emission weight 1, NEE finds nothing
+        let mut emission_counted = true;
+        match split.direct_at(flags) {
+            Direct::Nee => {
+                if flags.is_smooth() {
+                    // NEE reaches every light; MIS with the emission hit of non-delta ones.
+                    total += if delta_light { 1.0 } else { w_nee };
+                    if !delta_light {
+                        total += w_bsdf;
+                    }
+                    emission_counted = false;
                 }
             }
+            Direct::Add(_) => {
+                // Delta lights' length-1 cones at a delta vertex.
+                if delta_light {
+                    total += 1.0;
+                }
+            }
+            Direct::Replace(_) => {
+                total += 1.0; // every light's length-1 cones; the next emission hit weighs 0
+                emission_counted = false;
+            }
+        }
+        // At a delta vertex under NEE or Add, the bounce hits a non-delta emitter with
+        // weight 1 (NEE finds nothing there); a delta light cannot be hit.
+        if emission_counted && !delta_light {
+            total += 1.0;
         }
         total
     }
 
     #[test]
-    fn every_path_is_counted_once_for_every_rule_with_and_without_nesting() {
+    fn every_path_is_counted_once_for_every_rule_and_nesting() {
         // T-5: enumerate camera prefixes of up to 5 vertices over delta / glossy / diffuse
-        // surfaces, every rule and nesting, every path length.
+        // surfaces, every rule and nesting, every path length, delta and area lights. Without
+        // nesting, paths from a delta light whose last camera-side scattering is delta are
+        // not counted (0): the gap nesting fills.
         let kinds = [
             BsdfFlags::DELTA | BsdfFlags::REFLECTION,
             BsdfFlags::GLOSSY | BsdfFlags::REFLECTION,
@@ -89,25 +129,40 @@ mod tests {
             LookupRule::Bounce(2),
             LookupRule::Bounce(3),
         ];
-        let mut checked = 0;
+        let (mut checked, mut gaps) = (0, 0);
         for len in 1..=5usize {
             for code in 0..3usize.pow(len as u32) {
                 let prefix: Vec<BsdfFlags> = (0..len)
                     .map(|j| kinds[(code / 3usize.pow(j as u32)) % 3])
                     .collect();
                 for rule in rules {
-                    for nested in [false, true] {
+                    for nested in [Nesting::Off, Nesting::DeltaLights, Nesting::All] {
                         let split = PathSplit { rule, nested };
                         for m in 0..=len {
-                            let c = count(split, &prefix, m);
-                            assert_eq!(c, 1.0, "{rule:?} nested {nested} {prefix:?} m {m}");
-                            checked += 1;
+                            for delta_light in [false, true] {
+                                if m == 0 && delta_light {
+                                    continue; // a delta light is never seen directly
+                                }
+                                let c = count(split, &prefix, m, delta_light);
+                                let gap = nested == Nesting::Off
+                                    && delta_light
+                                    && m >= 1
+                                    && !prefix[m - 1].is_smooth()
+                                    && (0..m).all(|j| !split.is_lookup(j as u32 + 1, prefix[j]));
+                                let want = if gap { 0.0 } else { 1.0 };
+                                assert_eq!(
+                                    c, want,
+                                    "{rule:?} {nested:?} {prefix:?} m {m} delta light {delta_light}"
+                                );
+                                gaps += gap as usize;
+                                checked += 1;
+                            }
                         }
                     }
                 }
             }
         }
-        assert!(checked > 1000);
+        assert!(checked > 1000 && gaps > 0);
     }
 
     #[test]
@@ -117,7 +172,7 @@ mod tests {
         let diffuse = BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION;
         let s = |rule| PathSplit {
             rule,
-            nested: false,
+            nested: Nesting::Off,
         };
         assert!(s(LookupRule::First).is_lookup(1, delta));
         assert!(!s(LookupRule::NonDelta).is_lookup(1, delta));

@@ -59,6 +59,7 @@ impl ConeRule<'_> {
     pub fn cones_at(
         &self,
         lv: &LightVertex,
+        delta_light: bool,
         sampler: &mut Sampler,
         scratch: &mut Vec<Neighbor>,
         out: &mut Vec<PhotonCone>,
@@ -76,6 +77,7 @@ impl ConeRule<'_> {
         let site = Site {
             p,
             length: lv.depth.min(255) as u8,
+            delta_light,
             shape: v.si.shape,
             ng,
         };
@@ -198,6 +200,7 @@ fn push(out: &mut Vec<PhotonCone>, at: &Site, dir: Vec3, value: Spectrum) {
         dir,
         value,
         length: at.length,
+        delta_light: at.delta_light,
         shape: at.shape,
         ng: at.ng,
     });
@@ -207,6 +210,7 @@ fn push(out: &mut Vec<PhotonCone>, at: &Site, dir: Vec3, value: Spectrum) {
 struct Site {
     p: Vec3,
     length: u8,
+    delta_light: bool,
     shape: u32,
     ng: Vec3,
 }
@@ -223,10 +227,11 @@ pub fn trace_cones(
     let stream = PathStream::new(opts, CONE_STREAM);
     trace_path_range(paths, &stream, on_wave, |_, sampler, out, st| {
         let mut scratch = Vec::new();
-        walk_light_path(scene, sampler, &opts.limits, st, |ev, s, _| {
-            if let LightEvent::Vertex(lv) = ev {
-                rule.cones_at(lv, s, &mut scratch, out);
-            }
+        let mut delta_light = false;
+        walk_light_path(scene, sampler, &opts.limits, st, |ev, s, _| match ev {
+            LightEvent::Start(start) => delta_light = scene.lights[start.light].is_delta(),
+            LightEvent::Vertex(lv) => rule.cones_at(lv, delta_light, s, &mut scratch, out),
+            LightEvent::Medium(_) => {}
         });
     })
 }
