@@ -85,13 +85,17 @@ for s in "${scenes[@]}"; do
     pfms "$d/ref-$h.exr"
   done
   echo "== $s: equal time, T = $T s"
-  for m in pcf sppm pppm ppds path lighttrace; do
+  for m in pcf pcf-nested-off sppm pppm ppds path lighttrace; do
     o="$d/et-$m.exr"
     [[ -f ${o%.exr}.pfm ]] && continue
     echo "   $m"
     case $m in
       pcf) run "$o" render "$s" "${base[@]}" --integrator pcf --time "$T" --photons-per-iteration "$PATHS" \
              --spp 2 --seed 1 --save-iterations "$saves" ;;
+      # Without nesting: no point-light glints in glass and mirrors, which sppm (the
+      # reference) cannot render either; the like-for-like comparison.
+      pcf-nested-off) run "$o" render "$s" "${base[@]}" --integrator pcf --nested off --time "$T" \
+             --photons-per-iteration "$PATHS" --spp 2 --seed 1 --save-iterations "$saves" ;;
       sppm | pppm | ppds) run "$o" render "$s" "${base[@]}" --integrator "$m" --time "$T" \
              --photons-per-iteration "$PATHS" --seed 1 --save-iterations "$saves" ;;
       *) run "$o" render "$s" "${base[@]}" --integrator "$m" --time "$T" --seed 1 ;;

@@ -36,8 +36,8 @@ P = dict(kv.split("=", 1) for kv in open(os.path.join(work, "params.txt")).read(
 RES, T = int(P["RES"]), float(P["T"])
 S = RES / 128.0
 SCENES = ["mirror-caustic-box", "torus-glass", "painting-sheet"]
-METHODS = ["pcf", "sppm", "pppm", "ppds", "path", "lighttrace"]
-COLOURS = {"pcf": "#d62728", "sppm": "#2ca02c", "pppm": "#1f5fd6", "ppds": "#9467bd", "path": "#555555",
+METHODS = ["pcf", "pcf-nested-off", "sppm", "pppm", "ppds", "path", "lighttrace"]
+COLOURS = {"pcf": "#d62728", "pcf-nested-off": "#e377c2", "sppm": "#2ca02c", "pppm": "#1f5fd6", "ppds": "#9467bd", "path": "#555555",
            "lighttrace": "#ff7f0e", "A": "#d62728", "B": "#1f5fd6", "C": "#2ca02c"}
 # Probe blocks (centre column, row at 128 x 128; scaled with RES), chosen on the reference:
 PROBES = {
@@ -342,7 +342,7 @@ for s in SCENES:
             csv_rows["equal_time"].append([s, m, "region", what, sm["seconds"], cr["rmse"], cr["ssim"], cr["rel"]])
         md.append(row)
         its = iterations(prefix)
-        if its and m in ("pcf", "sppm", "pppm", "ppds"):
+        if its and m in ("pcf", "pcf-nested-off", "sppm", "pppm", "ppds"):
             pts = [(sec, compare(img, rp, scaled(reg[1]) if reg else None)["rmse"]) for _, sec, img in its]
             curves.append((m, pts, COLOURS[m]))
         else:

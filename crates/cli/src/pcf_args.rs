@@ -54,6 +54,11 @@ pub struct PcfArgs {
     /// closer than sigma).
     #[arg(long, value_name = "any|same", help_heading = HEADING)]
     pub cone_surfaces: Option<String>,
+    /// Direct light at a non-delta lookup vertex: nee (default: next-event estimation, the
+    /// cones of longer light paths for the rest, as photon mapping does) or cones (all light
+    /// from the cone map, seed 001's Alg. 1 read literally).
+    #[arg(long, value_name = "nee|cones", help_heading = HEADING)]
+    pub lookup_direct: Option<String>,
     /// Nested PCF at the camera vertices before the lookup: delta-lights (default: at glass
     /// and mirrors, the direct light of point, spot and directional lights from their
     /// length-1 cones, which path tracing cannot find), all (all direct light from length-1
@@ -90,6 +95,13 @@ impl PcfArgs {
         if let Some(r) = &self.cone_lookup {
             s.lookup = LookupRule::parse(r)?;
         }
+        if let Some(d) = &self.lookup_direct {
+            s.lookup_nee = match d.as_str() {
+                "nee" => true,
+                "cones" => false,
+                _ => anyhow::bail!("unknown --lookup-direct '{d}' (expected 'nee' or 'cones')"),
+            };
+        }
         if let Some(c) = &self.cone_surfaces {
             s.surfaces = ConeSurfaces::parse(c)?;
         }
@@ -115,6 +127,7 @@ impl PcfArgs {
             || self.importon_angle.is_some()
             || self.cone_lookup.is_some()
             || self.cone_surfaces.is_some()
+            || self.lookup_direct.is_some()
             || self.nested.is_some()
     }
 }

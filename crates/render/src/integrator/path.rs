@@ -30,9 +30,8 @@ use caustica_scene::phase::Phase;
 /// tracer is [`PathOnly`].
 pub trait CameraRule {
     /// At surface vertex `depth` (1 = the first hit), after the emission found there was
-    /// counted: `Some(L)` ends the path with `L` (W/m²/sr), the radiance the vertex scatters
-    /// toward the previous one.
-    fn lookup(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
+    /// counted: `Some` ends the path there with the [`Lookup`]'s radiance.
+    fn lookup(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Lookup> {
         let _ = (v, depth, stats);
         None
     }
@@ -41,6 +40,16 @@ pub trait CameraRule {
         let _ = (v, depth, stats);
         Direct::Nee
     }
+}
+
+/// What a camera path ends with at its lookup vertex.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lookup {
+    /// Radiance (W/m²/sr) the vertex scatters toward the previous one, from the rule.
+    pub radiance: Spectrum,
+    /// Add next-event estimation without MIS (all direct light, the bounce that would find
+    /// emission is not taken): the rule's radiance then excludes direct light.
+    pub nee: bool,
 }
 
 /// How a vertex before the lookup gets its direct light.
@@ -168,7 +177,10 @@ pub fn radiance_with(
         }
         let v = Vertex::new(scene, si, &ray);
         if let Some(lo) = rule.lookup(&v, depth, stats) {
-            l += beta * lo;
+            l += beta * lo.radiance;
+            if lo.nee {
+                l += beta * sample_direct(scene, &v, medium, sampler, stats, false);
+            }
             break;
         }
         let flags = v.bsdf.flags();

@@ -11,7 +11,7 @@
 //! Ctrl-C, checkpoints, `--resume`) and the pixel driver.
 
 use super::IntegratorKind;
-use super::path::{CameraRule, Direct, radiance_with};
+use super::path::{CameraRule, Direct, Lookup, radiance_with};
 use crate::control::Stage;
 use crate::driver::iteration_state::{IterationState, fingerprint};
 use crate::driver::iterations::run_iterations;
@@ -62,10 +62,12 @@ impl PcfCamera<'_> {
 }
 
 impl CameraRule for PcfCamera<'_> {
-    fn lookup(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Spectrum> {
-        self.split
-            .is_lookup(depth, v.bsdf.flags())
-            .then(|| self.estimate(v, ConeSet::All, stats))
+    fn lookup(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Option<Lookup> {
+        let flags = v.bsdf.flags();
+        self.split.is_lookup(depth, flags).then(|| Lookup {
+            radiance: self.estimate(v, self.split.lookup_set(flags), stats),
+            nee: self.split.nee_at_lookup(flags),
+        })
     }
     fn direct(&self, v: &Vertex, _depth: u32, stats: &mut RenderStats) -> Direct {
         match self.split.direct_at(v.bsdf.flags()) {
@@ -235,6 +237,7 @@ pub(crate) fn render(
     let split = PathSplit {
         rule: s.lookup,
         nested: s.nested,
+        lookup_nee: s.lookup_nee,
     };
     let run = run_iterations(film, &stage, first, max, None, &snapshot, |i, st, f| {
         let o = p.iteration_options(opts, i);
@@ -282,7 +285,7 @@ pub(crate) fn render(
         inside: stats.cones_inside,
     };
     notes.push(format!(
-        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {}, nested {}; cone surfaces {}",
+        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {} (direct light there from {}), nested {}; cone surfaces {}",
         plan.paths,
         opts.spp,
         k1.sigma,
@@ -295,6 +298,7 @@ pub(crate) fn render(
         s.techniques.names(),
         if s.mis { " (MIS, power heuristic)" } else { " (no MIS)" },
         s.lookup.name(),
+        if s.lookup_nee { "NEE" } else { "cones" },
         s.nested.name(),
         s.surfaces.name(),
     ));

@@ -246,6 +246,11 @@ pub struct PcfSettings {
     pub nested: Nesting,
     /// Which cones within σ count (`--cone-surfaces`, default `same`).
     pub surfaces: ConeSurfaces,
+    /// Direct light at a non-delta lookup vertex from next-event estimation and the rest from
+    /// cones of light-path length ≥ 2 (`--lookup-direct nee`, default, as photon mapping and
+    /// SPPM do: sharp shadows and no kernel blur of direct light), or all from cones
+    /// (`cones`: seed 001's Alg. 1 read literally).
+    pub lookup_nee: bool,
 }
 
 impl Default for PcfSettings {
@@ -266,6 +271,7 @@ impl Default for PcfSettings {
             lookup: LookupRule::NonDelta,
             nested: Nesting::DeltaLights,
             surfaces: ConeSurfaces::Same,
+            lookup_nee: true,
         }
     }
 }

@@ -34,16 +34,25 @@ pub enum ConeSet {
     Direct,
     /// Length 1 from delta lights: nested PCF's `delta-lights`.
     DirectFromDeltaLights,
+    /// Lengths ≥ 2: at a lookup whose direct light comes from next-event estimation.
+    Indirect,
 }
 
 impl ConeSet {
+    /// True if a cone of light-path `length` (from a delta light or not) is in the set.
     #[inline]
-    fn admits(self, c: &PhotonCone) -> bool {
+    pub fn admits_length(self, length: u32, delta_light: bool) -> bool {
         match self {
             ConeSet::All => true,
-            ConeSet::Direct => c.length == 1,
-            ConeSet::DirectFromDeltaLights => c.length == 1 && c.delta_light,
+            ConeSet::Direct => length == 1,
+            ConeSet::DirectFromDeltaLights => length == 1 && delta_light,
+            ConeSet::Indirect => length >= 2,
         }
+    }
+
+    #[inline]
+    fn admits(self, c: &PhotonCone) -> bool {
+        self.admits_length(c.length as u32, c.delta_light)
     }
 }
 

@@ -18,6 +18,7 @@
 
 use crate::integrator::path::Direct;
 use crate::options::{LookupRule, Nesting};
+use crate::pcf::cone_map::ConeSet;
 use caustica_core::Spectrum;
 use caustica_scene::bsdf::BsdfFlags;
 
@@ -26,6 +27,8 @@ use caustica_scene::bsdf::BsdfFlags;
 pub struct PathSplit {
     pub rule: LookupRule,
     pub nested: Nesting,
+    /// Next-event estimation for the direct light at non-delta lookup vertices.
+    pub lookup_nee: bool,
 }
 
 impl PathSplit {
@@ -37,6 +40,22 @@ impl PathSplit {
             LookupRule::NonDelta => flags.is_smooth(),
             LookupRule::Diffuse => flags.contains(BsdfFlags::DIFFUSE),
             LookupRule::Bounce(n) => depth == n,
+        }
+    }
+
+    /// Whether a lookup vertex with BSDF `flags` takes its direct light from NEE (then the cone
+    /// estimate there sums lengths ≥ 2 only) or from length-1 cones (all lengths). NEE finds
+    /// nothing at a delta vertex, which therefore always uses cones.
+    pub fn nee_at_lookup(&self, flags: BsdfFlags) -> bool {
+        self.lookup_nee && flags.is_smooth()
+    }
+
+    /// The cones the lookup at a vertex with BSDF `flags` sums.
+    pub fn lookup_set(&self, flags: BsdfFlags) -> ConeSet {
+        if self.nee_at_lookup(flags) {
+            ConeSet::Indirect
+        } else {
+            ConeSet::All
         }
     }
 
@@ -73,7 +92,18 @@ mod tests {
         if let Some(k) = k
             && m >= k
         {
-            return 1.0; // the cone estimate at x_k (all lengths, all lights)
+            // At x_k: NEE without MIS counts the paths whose last scattering is x_k (m = k,
+            // a length-1 cone), the cones the set admits the others.
+            let nee = split.nee_at_lookup(prefix[k - 1]);
+            let set = split.lookup_set(prefix[k - 1]);
+            let length = (m - k + 1) as u32;
+            let by_nee = if nee && m == k { 1.0 } else { 0.0 };
+            let by_cones = if set.admits_length(length, delta_light) {
+                1.0
+            } else {
+                0.0
+            };
+            return by_nee + by_cones;
         }
         // Last scattering at x_m, m < k: what x_m's direct term and the emission hit found by
         // its bounce count.
@@ -94,12 +124,15 @@ mod tests {
             }
             Direct::Add(_) => {
                 // Delta lights' length-1 cones at a delta vertex.
-                if delta_light {
+                if ConeSet::DirectFromDeltaLights.admits_length(1, delta_light) {
                     total += 1.0;
                 }
             }
             Direct::Replace(_) => {
-                total += 1.0; // every light's length-1 cones; the next emission hit weighs 0
+                // Every light's length-1 cones; the next emission hit weighs 0.
+                if ConeSet::Direct.admits_length(1, delta_light) {
+                    total += 1.0;
+                }
                 emission_counted = false;
             }
         }
@@ -136,8 +169,17 @@ mod tests {
                     .map(|j| kinds[(code / 3usize.pow(j as u32)) % 3])
                     .collect();
                 for rule in rules {
-                    for nested in [Nesting::Off, Nesting::DeltaLights, Nesting::All] {
-                        let split = PathSplit { rule, nested };
+                    for (nested, lookup_nee) in [
+                        (Nesting::Off, false),
+                        (Nesting::DeltaLights, true),
+                        (Nesting::DeltaLights, false),
+                        (Nesting::All, true),
+                    ] {
+                        let split = PathSplit {
+                            rule,
+                            nested,
+                            lookup_nee,
+                        };
                         for m in 0..=len {
                             for delta_light in [false, true] {
                                 if m == 0 && delta_light {
@@ -173,6 +215,7 @@ mod tests {
         let s = |rule| PathSplit {
             rule,
             nested: Nesting::Off,
+            lookup_nee: true,
         };
         assert!(s(LookupRule::First).is_lookup(1, delta));
         assert!(!s(LookupRule::NonDelta).is_lookup(1, delta));
