@@ -215,6 +215,29 @@ mod tests {
         }
     }
 
+    /// Importance mode (light paths and photon cones, which sample the cone direction given
+    /// the incident one): the sampler matches its density there too.
+    #[test]
+    fn chi2_importance_mode() {
+        let level = sidak(4);
+        let mut seed = 500;
+        for eta in [1.5f32, 1.0 / 1.5] {
+            let b = RoughDielectric::new(0.2, eta);
+            for (deg, up) in [(30.0f32, false), (60.0, true)] {
+                seed += 1;
+                let wo = dir(deg, up);
+                let etap = if up { eta } else { 1.0 / eta };
+                let zb = (-wo.z / etap) as f64;
+                let mut dom = lobe_domain(false);
+                if zb.abs() < 1.0 {
+                    dom = dom.split_at(zb.acos());
+                }
+                let r = chi2_bsdf(&b, wo, TransportMode::Importance, &dom, seed, 150_000);
+                assert!(r.passed_at(level), "η={eta} θ={deg} up={up}: {r}");
+            }
+        }
+    }
+
     #[test]
     fn chi2_reflection_and_transmission_eta_1_5() {
         chi2_for_eta(1.5, 0);
