@@ -35,6 +35,12 @@ pub trait CameraRule {
         let _ = (v, depth, stats);
         None
     }
+    /// Sees every surface vertex the camera path reaches (`depth` from 1) with the path
+    /// throughput `beta` up to it, before anything else happens there (pcf's importons are
+    /// recorded here).
+    fn visit(&self, v: &Vertex, depth: u32, beta: Spectrum) {
+        let _ = (v, depth, beta);
+    }
     /// Direct light at a vertex that does not look up ([`Direct`]).
     fn direct(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Direct {
         let _ = (v, depth, stats);
@@ -176,6 +182,7 @@ pub fn radiance_with(
             break;
         }
         let v = Vertex::new(scene, si, &ray);
+        rule.visit(&v, depth, beta);
         if let Some(lo) = rule.lookup(&v, depth, stats) {
             l += beta * lo.radiance;
             if lo.nee {

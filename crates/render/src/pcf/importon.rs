@@ -13,16 +13,15 @@
 //! reproject (splat) the samples").
 
 use super::techniques::ImportonMixture;
+use crate::integrator::path::{CameraRule, Direct, radiance_with};
 use crate::options::RenderOptions;
 use crate::photon::plan::{PathStream, trace_path_range};
 use crate::stats::RenderStats;
-use crate::transport::limits::russian_roulette;
-use crate::transport::medium::{Segment, trace_segment};
 use crate::transport::vertex::Vertex;
-use caustica_core::{Vec2, Vec3};
+use caustica_core::{Spectrum, Vec2, Vec3};
 use caustica_density::{KdTree, Neighbor};
 use caustica_scene::Scene;
-use caustica_scene::bsdf::TransportMode;
+use std::cell::RefCell;
 
 /// The random-number stream of the importon paths.
 pub const IMPORTON_STREAM: u64 = 0x1A90;
@@ -43,6 +42,33 @@ pub struct ConicalImporton {
 pub struct ImportonRule {
     /// The first camera vertex that stores one (1 or 2).
     pub first_vertex: u32,
+}
+
+/// The camera-path rule that records importons: at each non-delta vertex from `first_vertex`
+/// on, the vertex, the direction back along the path and the luminance of the throughput; no
+/// direct light is computed (its sampler draws are kept, so the path is the camera pass's).
+struct Recorder {
+    first_vertex: u32,
+    out: RefCell<Vec<ConicalImporton>>,
+}
+
+impl CameraRule for Recorder {
+    fn visit(&self, v: &Vertex, depth: u32, beta: Spectrum) {
+        if depth < self.first_vertex || !v.bsdf.flags().is_smooth() {
+            return;
+        }
+        let importance = beta.luminance();
+        if importance > 0.0 && importance.is_finite() {
+            self.out.borrow_mut().push(ConicalImporton {
+                p: v.si.p,
+                dir: v.frame.to_world(v.wo),
+                importance,
+            });
+        }
+    }
+    fn direct(&self, _: &Vertex, _: u32, _: &mut RenderStats) -> Direct {
+        Direct::Replace(Spectrum::ZERO)
+    }
 }
 
 /// The importons of a scene and how a light vertex queries them.
@@ -76,54 +102,20 @@ impl ImportonMap {
         let (w, h) = (cam.width as f32, cam.height as f32);
         let (importons, done, stats) =
             trace_path_range(0..paths, &stream, on_wave, |_, sampler, out, st| {
+                // The camera pass's own path (depth, roulette), recording instead of shading.
                 let u = sampler.next_2d();
                 let u_lens = sampler.next_2d();
                 let time = scene.sample_time(|| sampler.next_1d());
-                let mut ray = cam
+                let ray = cam
                     .generate_ray(Vec2::new(u.x * w, u.y * h), u_lens)
                     .ray
                     .at_time(time);
-                let mut medium = scene.camera_medium;
-                let mut beta = caustica_core::Spectrum::ONE;
-                let mut depth = 0u32;
-                while let Segment::Surface { si, .. } =
-                    trace_segment(scene, &ray, &mut medium, sampler, st)
-                {
-                    depth += 1;
-                    if depth >= opts.limits.max_depth {
-                        break;
-                    }
-                    let v = Vertex::new(scene, si, &ray);
-                    let flags = v.bsdf.flags();
-                    if depth >= rule.first_vertex && flags.is_smooth() {
-                        let importance = beta.luminance();
-                        if importance > 0.0 && importance.is_finite() {
-                            out.push(ConicalImporton {
-                                p: v.si.p,
-                                dir: -ray.d,
-                                importance,
-                            });
-                        }
-                    }
-                    let uc = sampler.next_1d();
-                    let u = sampler.next_2d();
-                    let u_rr = sampler.next_1d();
-                    let Some(bs) = v.bsdf.sample(v.wo, uc, u, TransportMode::Radiance) else {
-                        break;
-                    };
-                    let wi = v.frame.to_world(bs.wi);
-                    if !v.same_side_consistent(-ray.d, wi, bs.wi) {
-                        break;
-                    }
-                    beta *= bs.weight;
-                    if beta.is_black()
-                        || !russian_roulette(&mut beta, depth, opts.limits.rr_depth, u_rr)
-                    {
-                        break;
-                    }
-                    medium = v.si.medium_toward(wi, medium);
-                    ray = v.si.spawn_ray(wi);
-                }
+                let recorder = Recorder {
+                    first_vertex: rule.first_vertex,
+                    out: RefCell::new(std::mem::take(out)),
+                };
+                radiance_with(scene, ray, sampler, opts, st, &recorder);
+                *out = recorder.out.into_inner();
             });
         let points: Vec<Vec3> = importons.iter().map(|i| i.p).collect();
         (
