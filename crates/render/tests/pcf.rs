@@ -475,3 +475,78 @@ fn a_furnace_sphere_is_unbiased_at_any_sigma() {
         }
     }
 }
+
+/// T-8b as the spec notes state it: a uniform sky of radiance L over a thick glass slab
+/// (η = 1.5, absorbing inside so that no light returns from below): the radiance entering the
+/// glass in direction ω_t is (1 − F(θ_i)) η² L, averaged over the cap by quadrature. A cone
+/// value with an extra η² (or without the 1/cos θ_t) fails.
+#[test]
+fn refraction_under_a_uniform_sky_is_one_minus_f_eta_squared_l() {
+    use caustica_scene::light::EnvironmentLight;
+    let eta = 1.5f64;
+    let mut b = SceneBuilder::new("sky-slab");
+    let glass = b
+        .add_material(
+            "glass",
+            Material::Dielectric {
+                ior: eta as f32,
+                absorption: Spectrum::splat(60.0),
+            },
+        )
+        .unwrap();
+    b.add_shape(
+        ShapeGeometry::Mesh(TriangleMesh::cube(
+            &(Affine3A::from_translation(Vec3::new(0.0, -0.5, 0.0))
+                * Affine3A::from_scale(Vec3::new(2.0, 0.5, 2.0))),
+        )),
+        glass,
+        None,
+        false,
+    )
+    .unwrap();
+    b.add_light(Light::Environment(EnvironmentLight::constant(
+        Spectrum::ONE,
+    )));
+    b.set_camera(PerspectiveCamera::look_at(
+        Vec3::new(0.0, 2.0, 1.5),
+        Vec3::ZERO,
+        Vec3::Y,
+        50.0,
+        16,
+        16,
+    ));
+    let scene = b.build().unwrap();
+    let x = Vec3::new(0.2, 0.0, -0.1);
+    for deg in [0.0f64, 30.0] {
+        let t = deg.to_radians();
+        let w = Vec3::new(t.sin() as f32, -t.cos() as f32, 0.0);
+        let (mean, se, k) = estimate(&scene, settings("bsdf", 0.5, 15.0), 200_000, 10, x, w);
+        // (1/Ω) ∫_cap (1 − F(θ_i)) η² dω over the cap around ω (θ_t the angle to −y).
+        let frame = caustica_core::Frame::from_normal(w);
+        let (nt, np) = (100, 100);
+        let mut integral = 0.0;
+        for a in 0..nt {
+            let th = (a as f64 + 0.5) / nt as f64 * k.theta as f64;
+            for bb in 0..np {
+                let ph = (bb as f64 + 0.5) / np as f64 * 2.0 * PI;
+                let d = frame.to_world(Vec3::new(
+                    (th.sin() * ph.cos()) as f32,
+                    (th.sin() * ph.sin()) as f32,
+                    th.cos() as f32,
+                ));
+                let cos_t = (-d.y as f64).clamp(0.0, 1.0);
+                let sin_i = eta * (1.0 - cos_t * cos_t).sqrt();
+                let v = if sin_i < 1.0 {
+                    let cos_i = (1.0 - sin_i * sin_i).sqrt();
+                    (1.0 - fresnel_dielectric(cos_i as f32, eta as f32) as f64) * eta * eta
+                } else {
+                    0.0
+                };
+                integral += v * th.sin();
+            }
+        }
+        integral *= (k.theta as f64 / nt as f64) * (2.0 * PI / np as f64);
+        let want = integral / (2.0 * PI * (1.0 - (k.theta as f64).cos()));
+        assert_close(&format!("sky over glass, {deg}°"), mean, se, want, 0.03);
+    }
+}
