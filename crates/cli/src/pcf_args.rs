@@ -8,8 +8,8 @@ const HEADING: &str = "Photon cone focusing (pcf)";
 
 #[derive(Args, Debug, Clone, Default)]
 pub struct PcfArgs {
-    /// sigma_1, the first iteration's spatial bandwidth in metres (default 3 % of the scene's
-    /// bounding-box diagonal, about 0.1 m in the Cornell box; seed 001 sec. 4.1.2).
+    /// sigma_1, the first iteration's spatial bandwidth in metres (default 1.5 % of the scene's
+    /// bounding-box diagonal, about 0.05 m in the Cornell box).
     #[arg(long, value_name = "M", allow_negative_numbers = true, help_heading = HEADING)]
     pub cone_radius: Option<f32>,
     /// theta_1, the first iteration's angular bandwidth (cap half-angle, degrees; default 18,

@@ -208,8 +208,9 @@ impl ConeSurfaces {
 /// Settings of `pcf`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PcfSettings {
-    /// σ₁, the first iteration's spatial bandwidth in metres (`--cone-radius`); `None`: 3 % of
-    /// the scene's bounding-box diagonal (0.1 m in a 2 m box, seed 001 sec. 4.1.2's ≈ 0.1).
+    /// σ₁, the first iteration's spatial bandwidth in metres (`--cone-radius`); `None`: 1.5 % of
+    /// the scene's bounding-box diagonal (0.05 m in a 2 m box; seed 001 sec. 4.1.2 says ≈ 0.1 in
+    /// units it does not give; measured in docs/pcf.md).
     pub sigma1: Option<f32>,
     /// θ₁, the first iteration's angular bandwidth in degrees, a cap half-angle in (0, 180]
     /// (`--cone-angle`, default 18°, seed 001 sec. 4.1.2; above 60° "not recommended").
