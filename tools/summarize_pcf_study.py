@@ -233,11 +233,11 @@ csv_rows = {"probes": [["scene", "probe", "iteration", "seconds", "sigma", "t_de
             "sweep": [["config", "iteration", "seconds", "rmse", "rmse_region"]]}
 md.append(f"Scale {P['SCALE']}: {RES}x{RES} pixels, equal-time budget T = {T:g} s per render (the progressive "
           f"methods stop after the iteration that crosses it), {P['PATHS']} light paths per iteration "
-          f"(pcf: and 2 camera samples per pixel per iteration), pcf at its defaults otherwise (sigma_1 = 3 % of "
+          f"(pcf: and 2 camera samples per pixel per iteration), pcf at its defaults otherwise (sigma_1 = 1.5 % of "
           f"the scene diagonal, theta_1 = 18 deg, p = 1, alpha = 0.5, techniques bsdf,camera,importons with "
-          f"MIS, lookup non-delta, nested). References: sppm, two halves of {int(P['REFX']) * T:g} s "
-          f"(seeds 101, 102); binary at {P.get('commit', '?')} ({P.get('dirty_files', '?')} files under crates/ "
-          f"modified in the work tree at build time).\n")
+          f"MIS, lookup non-delta with NEE there, nesting delta-lights, cone surfaces same). References: sppm, "
+          f"two halves of {int(P['REFX']) * T:g} s (seeds 101, 102), rendered by the binary of the first run "
+          f"(commit {P.get('commit', '?')}); the pcf renders were redone later (README.md).\n")
 
 # ---- references
 refs, ref_noise, ref_halves = {}, {}, {}
