@@ -17,9 +17,9 @@ use std::hint::black_box;
 use caustica_core::{Vec2, Vec3};
 use caustica_loader::builtin_scene;
 use caustica_render::RenderOptions;
-use caustica_render::integrator::pcf::{PcfPlan, importon_map};
+use caustica_render::integrator::pcf::{PcfPlan, cone_rule, importon_map, iteration_map};
 use caustica_render::options::{ConeTechniques, PcfSettings};
-use caustica_render::pcf::{ConeRule, ConeSet, LookupStats, PhotonConeMap, trace_cones};
+use caustica_render::pcf::{ConeSet, LookupStats, PhotonConeMap, trace_cones};
 use caustica_render::stats::RenderStats;
 use caustica_render::transport::light_walk::walk_light_path;
 use caustica_scene::Scene;
@@ -70,17 +70,7 @@ fn bench(c: &mut Criterion) {
         let o = options(t);
         let plan = PcfPlan::new(&s, &o).expect("plan");
         let imp = pool.install(|| importon_map(&s, &o, &plan, &mut |_| true).map(|m| m.0));
-        let k = plan.schedule.kernel(1);
-        let rule = ConeRule {
-            techniques: o.photons.pcf.techniques,
-            mis: true,
-            camera: s.camera.position(),
-            camera_exponent: caustica_render::pcf::techniques::CameraLobe::exponent_for_cap(
-                k.theta,
-            ),
-            camera_mirror: true,
-            importons: imp.as_ref(),
-        };
+        let rule = cone_rule(&s, &plan, imp.as_ref(), &plan.schedule.kernel(1));
         let probe = pool.install(|| trace_cones(&s, &o, &rule, 0..n, &mut |_| true));
         println!(
             "{t}: {:.2} cones per light path",
@@ -96,9 +86,7 @@ fn bench(c: &mut Criterion) {
     let o = options("bsdf,camera,importons");
     let plan = PcfPlan::new(&s, &o).expect("plan");
     let imp = pool.install(|| importon_map(&s, &o, &plan, &mut |_| true).map(|m| m.0));
-    let (map, _) = pool.install(|| {
-        caustica_render::integrator::pcf::iteration_map(&s, &o, &plan, imp.as_ref(), 1)
-    });
+    let (map, _) = pool.install(|| iteration_map(&s, &o, &plan, imp.as_ref(), 1, &mut |_| true));
     println!(
         "cone map: {} cones from {} light paths, {:.1} B per cone with its tree",
         map.len(),

@@ -24,30 +24,66 @@ use caustica_scene::{Scene, SceneBuilder};
 use common::{quad, with_threads};
 use std::f64::consts::PI;
 
-/// A 4 m × 4 m plane at y = 0 facing up with material `m`, lit by `light`, seen from above.
-fn plane_scene(m: Material, light: Light) -> Scene {
-    let mut b = SceneBuilder::new("plane");
-    let mat = b.add_material("plane", m).unwrap();
-    b.add_shape(
-        quad(
-            Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
-                * Affine3A::from_scale(Vec3::splat(2.0)),
-        ),
-        mat,
-        None,
-        false,
-    )
-    .unwrap();
+/// A scene of one shape with material `m`, lit by `light`, seen from above the origin.
+fn one_shape_scene(shape: ShapeGeometry, m: Material, light: Light) -> Scene {
+    let mut b = SceneBuilder::new("pcf-test");
+    let mat = b.add_material("m", m).unwrap();
+    b.add_shape(shape, mat, None, false).unwrap();
     b.add_light(light);
     b.set_camera(PerspectiveCamera::look_at(
         Vec3::new(0.0, 2.0, 1.5),
         Vec3::ZERO,
         Vec3::Y,
         50.0,
-        32,
-        32,
+        16,
+        16,
     ));
     b.build().unwrap()
+}
+
+/// A 4 m × 4 m plane at y = 0 facing up with material `m`, lit by `light`.
+fn plane_scene(m: Material, light: Light) -> Scene {
+    let plane = quad(
+        Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
+            * Affine3A::from_scale(Vec3::splat(2.0)),
+    );
+    one_shape_scene(plane, m, light)
+}
+
+/// A 4 m × 4 m glass slab (η = 1.5, absorption σ_a in m⁻¹) of the given thickness whose top
+/// face is the plane y = 0.
+fn glass_slab_scene(thickness: f32, absorption: f32, light: Light) -> Scene {
+    let slab = ShapeGeometry::Mesh(TriangleMesh::cube(
+        &(Affine3A::from_translation(Vec3::new(0.0, -0.5 * thickness, 0.0))
+            * Affine3A::from_scale(Vec3::new(2.0, 0.5 * thickness, 2.0))),
+    ));
+    let glass = Material::Dielectric {
+        ior: 1.5,
+        absorption: Spectrum::splat(absorption),
+    };
+    one_shape_scene(slab, glass, light)
+}
+
+/// The average of `g` over the cap of half-angle `theta` (rad) around the unit direction `w`,
+/// by a midpoint rule in (θ, φ).
+fn cap_average(w: Vec3, theta: f64, g: impl Fn(Vec3) -> f64) -> f64 {
+    let frame = caustica_core::Frame::from_normal(w);
+    let (nt, np) = (200, 200);
+    let mut integral = 0.0f64;
+    for a in 0..nt {
+        let th = (a as f64 + 0.5) / nt as f64 * theta;
+        for b in 0..np {
+            let ph = (b as f64 + 0.5) / np as f64 * 2.0 * PI;
+            let d = frame.to_world(Vec3::new(
+                (th.sin() * ph.cos()) as f32,
+                (th.sin() * ph.sin()) as f32,
+                th.cos() as f32,
+            ));
+            integral += g(d) * th.sin();
+        }
+    }
+    integral *= (theta / nt as f64) * (2.0 * PI / np as f64);
+    integral / (2.0 * PI * (1.0 - theta.cos()))
 }
 
 fn options(settings: PcfSettings, paths: u64, seed: u64) -> RenderOptions {
@@ -76,7 +112,7 @@ fn estimate(
         let o = options(settings, paths, seed);
         let plan = PcfPlan::new(scene, &o).unwrap();
         let imp = importon_map(scene, &o, &plan, &mut |_| true).map(|m| m.0);
-        let (map, _) = iteration_map(scene, &o, &plan, imp.as_ref(), 1);
+        let (map, _) = iteration_map(scene, &o, &plan, imp.as_ref(), 1, &mut |_| true);
         let k = plan.schedule.kernel(1);
         let l = map.estimate(x, w, &k, ConeSet::All, None, &mut LookupStats::default());
         vals.push(l.c[1] as f64);
@@ -195,39 +231,11 @@ fn refraction_into_glass_carries_no_eta_squared() {
     let e_perp = 2.0f32;
     let theta_i = 40f32.to_radians();
     let dir = Vec3::new(theta_i.sin(), -theta_i.cos(), 0.0);
-    let mut b = SceneBuilder::new("slab");
-    let glass = b
-        .add_material(
-            "glass",
-            Material::Dielectric {
-                ior: 1.5,
-                absorption: Spectrum::ZERO,
-            },
-        )
-        .unwrap();
-    b.add_shape(
-        ShapeGeometry::Mesh(TriangleMesh::cube(
-            &(Affine3A::from_translation(Vec3::new(0.0, -0.1, 0.0))
-                * Affine3A::from_scale(Vec3::new(2.0, 0.1, 2.0))),
-        )),
-        glass,
-        None,
-        false,
-    )
-    .unwrap();
-    b.add_light(Light::Directional(DirectionalLight::new(
-        dir,
-        Spectrum::splat(e_perp),
-    )));
-    b.set_camera(PerspectiveCamera::look_at(
-        Vec3::new(0.0, 2.0, 1.5),
-        Vec3::ZERO,
-        Vec3::Y,
-        50.0,
-        32,
-        32,
-    ));
-    let scene = b.build().unwrap();
+    let scene = glass_slab_scene(
+        0.2,
+        0.0,
+        Light::Directional(DirectionalLight::new(dir, Spectrum::splat(e_perp))),
+    );
     let sin_t = theta_i.sin() / 1.5;
     let cos_t = (1.0 - sin_t * sin_t).sqrt();
     let wt = Vec3::new(sin_t, -cos_t, 0.0);
@@ -266,28 +274,12 @@ fn glossy_plane_under_a_directional_light_averages_f_over_the_cap() {
     for (label, w) in [("peak", peak), ("off-peak", off)] {
         for t in ["bsdf", "bsdf,camera,importons"] {
             let (mean, se, k) = estimate(&scene, settings(t, 0.4, 15.0), 200_000, 12, x, w);
-            // ∫_cap f dω′ in the plane's frame (x, z, y) → local (x, y, z) with z up.
+            // f averaged over the cap, in the plane's frame (x, z, y) → local (x, y, z), z up.
             let to_local = |v: Vec3| Vec3::new(v.x, v.z, v.y);
-            let wl = to_local(w);
-            let frame = caustica_core::Frame::from_normal(wl);
-            let (nt, np) = (200, 200);
-            let mut integral = 0.0f64;
-            for a in 0..nt {
-                let th = (a as f64 + 0.5) / nt as f64 * k.theta as f64;
-                for bb in 0..np {
-                    let ph = (bb as f64 + 0.5) / np as f64 * 2.0 * PI;
-                    let d = frame.to_world(Vec3::new(
-                        (th.sin() * ph.cos()) as f32,
-                        (th.sin() * ph.sin()) as f32,
-                        th.cos() as f32,
-                    ));
-                    let fv = bsdf.eval(d, wi_local, TransportMode::Radiance).c[1] as f64;
-                    integral += fv * th.sin();
-                }
-            }
-            integral *= (k.theta as f64 / nt as f64) * (2.0 * PI / np as f64);
-            let omega = 2.0 * PI * (1.0 - (k.theta as f64).cos());
-            let want = e_perp as f64 * theta_i.cos() as f64 * integral / omega;
+            let f_avg = cap_average(to_local(w), k.theta as f64, |d| {
+                bsdf.eval(d, wi_local, TransportMode::Radiance).c[1] as f64
+            });
+            let want = e_perp as f64 * theta_i.cos() as f64 * f_avg;
             assert_close(&format!("phong {label} {t}"), mean, se, want, 0.03);
         }
     }
@@ -301,7 +293,7 @@ fn lookups_evaluate_no_bsdf() {
     let scene = common::ball_on_floor(0.7, 5.0, 4.0, true, 16);
     let o = options(settings("bsdf,camera", 0.2, 20.0), 20_000, 1);
     let plan = PcfPlan::new(&scene, &o).unwrap();
-    let (map, _) = iteration_map(&scene, &o, &plan, None, 1);
+    let (map, _) = iteration_map(&scene, &o, &plan, None, 1, &mut |_| true);
     let k = plan.schedule.kernel(1);
     let mut st = LookupStats::default();
     let start = instrument::calls();
@@ -330,7 +322,7 @@ fn lookups_evaluate_no_bsdf() {
     let c0 = instrument::calls();
     let counted = with_threads(1, || {
         let c = instrument::calls();
-        let _ = iteration_map(&scene, &o, &plan, None, 1);
+        let _ = iteration_map(&scene, &o, &plan, None, 1, &mut |_| true);
         instrument::calls() - c
     });
     assert!(counted > 0 && instrument::calls() == c0);
@@ -444,30 +436,12 @@ fn a_furnace_sphere_is_unbiased_at_any_sigma() {
             0.8,
         ),
     ] {
-        let mut b = SceneBuilder::new("furnace");
-        let mat = b.add_material("ball", m).unwrap();
-        b.add_shape(
-            ShapeGeometry::Sphere(Sphere {
-                center: Vec3::ZERO,
-                radius: 1.0,
-            }),
-            mat,
-            None,
-            false,
-        )
-        .unwrap();
-        b.add_light(Light::Environment(EnvironmentLight::constant(
-            Spectrum::ONE,
-        )));
-        b.set_camera(PerspectiveCamera::look_at(
-            Vec3::new(0.0, 0.0, 4.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            35.0,
-            16,
-            16,
-        ));
-        let scene = b.build().unwrap();
+        let ball = ShapeGeometry::Sphere(Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        });
+        let sky = Light::Environment(EnvironmentLight::constant(Spectrum::ONE));
+        let scene = one_shape_scene(ball, m, sky);
         let n = Vec3::new(0.3, 0.5, 0.8).normalize();
         for sigma in [0.3f32, 0.6] {
             let (mean, se, _) = estimate(&scene, settings("bsdf", sigma, 20.0), 200_000, 10, n, n);
@@ -484,69 +458,24 @@ fn a_furnace_sphere_is_unbiased_at_any_sigma() {
 fn refraction_under_a_uniform_sky_is_one_minus_f_eta_squared_l() {
     use caustica_scene::light::EnvironmentLight;
     let eta = 1.5f64;
-    let mut b = SceneBuilder::new("sky-slab");
-    let glass = b
-        .add_material(
-            "glass",
-            Material::Dielectric {
-                ior: eta as f32,
-                absorption: Spectrum::splat(60.0),
-            },
-        )
-        .unwrap();
-    b.add_shape(
-        ShapeGeometry::Mesh(TriangleMesh::cube(
-            &(Affine3A::from_translation(Vec3::new(0.0, -0.5, 0.0))
-                * Affine3A::from_scale(Vec3::new(2.0, 0.5, 2.0))),
-        )),
-        glass,
-        None,
-        false,
-    )
-    .unwrap();
-    b.add_light(Light::Environment(EnvironmentLight::constant(
-        Spectrum::ONE,
-    )));
-    b.set_camera(PerspectiveCamera::look_at(
-        Vec3::new(0.0, 2.0, 1.5),
-        Vec3::ZERO,
-        Vec3::Y,
-        50.0,
-        16,
-        16,
-    ));
-    let scene = b.build().unwrap();
+    let sky = Light::Environment(EnvironmentLight::constant(Spectrum::ONE));
+    let scene = glass_slab_scene(1.0, 60.0, sky);
     let x = Vec3::new(0.2, 0.0, -0.1);
     for deg in [0.0f64, 30.0] {
         let t = deg.to_radians();
         let w = Vec3::new(t.sin() as f32, -t.cos() as f32, 0.0);
         let (mean, se, k) = estimate(&scene, settings("bsdf", 0.5, 15.0), 200_000, 10, x, w);
         // (1/Ω) ∫_cap (1 − F(θ_i)) η² dω over the cap around ω (θ_t the angle to −y).
-        let frame = caustica_core::Frame::from_normal(w);
-        let (nt, np) = (100, 100);
-        let mut integral = 0.0;
-        for a in 0..nt {
-            let th = (a as f64 + 0.5) / nt as f64 * k.theta as f64;
-            for bb in 0..np {
-                let ph = (bb as f64 + 0.5) / np as f64 * 2.0 * PI;
-                let d = frame.to_world(Vec3::new(
-                    (th.sin() * ph.cos()) as f32,
-                    (th.sin() * ph.sin()) as f32,
-                    th.cos() as f32,
-                ));
-                let cos_t = (-d.y as f64).clamp(0.0, 1.0);
-                let sin_i = eta * (1.0 - cos_t * cos_t).sqrt();
-                let v = if sin_i < 1.0 {
-                    let cos_i = (1.0 - sin_i * sin_i).sqrt();
-                    (1.0 - fresnel_dielectric(cos_i as f32, eta as f32) as f64) * eta * eta
-                } else {
-                    0.0
-                };
-                integral += v * th.sin();
+        let want = cap_average(w, k.theta as f64, |d| {
+            let cos_t = (-d.y as f64).clamp(0.0, 1.0);
+            let sin_i = eta * (1.0 - cos_t * cos_t).sqrt();
+            if sin_i < 1.0 {
+                let cos_i = (1.0 - sin_i * sin_i).sqrt();
+                (1.0 - fresnel_dielectric(cos_i as f32, eta as f32) as f64) * eta * eta
+            } else {
+                0.0
             }
-        }
-        integral *= (k.theta as f64 / nt as f64) * (2.0 * PI / np as f64);
-        let want = integral / (2.0 * PI * (1.0 - (k.theta as f64).cos()));
+        });
         assert_close(&format!("sky over glass, {deg}°"), mean, se, want, 0.03);
     }
 }

@@ -195,17 +195,10 @@ pub fn radiance_with(
         // media), 3 for the BSDF, 1 for roulette.
         let by_rule = rule.direct(&v, depth, stats);
         prev_direct_by_rule = matches!(by_rule, Direct::Replace(_));
-        if let Direct::Add(ld) = by_rule {
+        if let Direct::Add(ld) | Direct::Replace(ld) = by_rule {
             l += beta * ld;
         }
-        if let Direct::Replace(ld) = by_rule {
-            l += beta * ld;
-            sampler.next_1d();
-            sampler.next_2d();
-            if scene.has_media {
-                sampler.next_2d();
-            }
-        } else if flags.is_smooth() {
+        if flags.is_smooth() && !prev_direct_by_rule {
             l += beta * sample_direct(scene, &v, medium, sampler, stats, true);
         } else {
             sampler.next_1d();

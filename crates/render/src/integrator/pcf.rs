@@ -89,6 +89,11 @@ pub struct PcfPlan {
 }
 
 impl PcfPlan {
+    /// Camera paths traced for the importon map.
+    pub fn importon_paths(&self) -> u64 {
+        self.settings.importon_paths.unwrap_or(self.paths)
+    }
+
     pub fn new(scene: &Scene, opts: &RenderOptions) -> Result<Self, OptionError> {
         let settings = opts.photons.pcf;
         settings.validate()?;
@@ -115,29 +120,32 @@ impl PcfPlan {
     }
 }
 
-/// The cones and lookups of one iteration (for tests and benchmarks): iteration `i`'s cone
-/// map of `plan`.
+/// Iteration `i`'s cone map of `plan`: light paths `(i − 1) N_L … i N_L − 1` of the cone
+/// stream with the cones [`cone_rule`] makes; `on_wave(paths done)` after each wave returns
+/// false to stop there.
 pub fn iteration_map(
     scene: &Scene,
     opts: &RenderOptions,
     plan: &PcfPlan,
     importons: Option<&ImportonMap>,
     i: u64,
+    on_wave: &mut dyn FnMut(u64) -> bool,
 ) -> (PhotonConeMap, RenderStats) {
-    let kernel = plan.schedule.kernel(i);
-    let rule = cone_rule(scene, plan, importons, &kernel);
+    let rule = cone_rule(scene, plan, importons, &plan.schedule.kernel(i));
     let first = (i.max(1) - 1).saturating_mul(plan.paths);
     let (cones, n, st) = trace_cones(
         scene,
         opts,
         &rule,
         first..first.saturating_add(plan.paths),
-        &mut |_| true,
+        on_wave,
     );
     (PhotonConeMap::build(cones, n), st)
 }
 
-fn cone_rule<'a>(
+/// How cones are made in an iteration whose kernel is `kernel` (the camera-NEE exponent
+/// follows its cap unless given).
+pub fn cone_rule<'a>(
     scene: &Scene,
     plan: &PcfPlan,
     importons: Option<&'a ImportonMap>,
@@ -171,11 +179,10 @@ pub fn importon_map(
     if !s.techniques.importons {
         return None;
     }
-    let paths = s.importon_paths.unwrap_or(plan.paths);
     Some(ImportonMap::trace(
         scene,
         opts,
-        paths,
+        plan.importon_paths(),
         ImportonRule {
             first_vertex: if s.techniques.camera { 2 } else { 1 },
         },
@@ -204,7 +211,10 @@ pub(crate) fn render(
     // The importon map, before the loop (a small share of the bar).
     let pre = stage.part(0.0, 0.02).labelled("tracing importons");
     let mut stats = RenderStats::default();
-    let importons = importon_map(scene, opts, &plan, &mut |_| pre.report_and_go_on(1.0));
+    let importon_paths = plan.importon_paths().max(1) as f64;
+    let importons = importon_map(scene, opts, &plan, &mut |done| {
+        pre.report_and_go_on(done as f64 / importon_paths)
+    });
     let importons = match importons {
         Some((map, st)) => {
             stats += st;
@@ -243,18 +253,12 @@ pub(crate) fn render(
     let run = run_iterations(film, &stage, first, max, None, &snapshot, |i, st, f| {
         let o = p.iteration_options(opts, i);
         let kernel = plan.schedule.kernel(i);
-        let rule = cone_rule(scene, &plan, importons.as_ref(), &kernel);
         let trace = st.part(0.0, 0.5).labelled("tracing cones");
-        let first_path = o.photons.first_path;
-        let (cones, n, mut stats) = trace_cones(
-            scene,
-            &o,
-            &rule,
-            first_path..first_path.saturating_add(plan.paths),
-            &mut |done| trace.report_and_go_on(done as f64 / plan.paths.max(1) as f64),
-        );
-        cones_total += cones.len() as u64;
-        let map = PhotonConeMap::build(cones, n);
+        let (map, mut stats) =
+            iteration_map(scene, &o, &plan, importons.as_ref(), i, &mut |done| {
+                trace.report_and_go_on(done as f64 / plan.paths.max(1) as f64)
+            });
+        cones_total += map.len() as u64;
         cone_bytes = cone_bytes.max(map.memory_bytes());
         let camera = PcfCamera {
             map: &map,
@@ -313,9 +317,10 @@ pub(crate) fn render(
         l.scanned as f64 / l.lookups.max(1) as f64,
         l.inside as f64 / l.lookups.max(1) as f64,
         importons.as_ref().map_or(String::new(), |m| format!(
-            "; {} importons from {} camera paths",
+            "; {} importons from {} camera paths ({:.1} MB)",
             m.len(),
-            m.paths
+            m.paths,
+            m.memory_bytes() as f64 / 1e6
         )),
     ));
     if let Some(why) = run.stopped {

@@ -66,14 +66,6 @@ pub struct LookupStats {
     pub inside: u64,
 }
 
-impl std::ops::AddAssign for LookupStats {
-    fn add_assign(&mut self, o: Self) {
-        self.lookups += o.lookups;
-        self.scanned += o.scanned;
-        self.inside += o.inside;
-    }
-}
-
 impl PhotonConeMap {
     /// The map of `cones` traced from `light_paths` light paths. The cones are stored in the
     /// k-d tree's order, so a range query reads them from contiguous memory (1.6× faster
@@ -127,14 +119,14 @@ impl PhotonConeMap {
     ) -> Spectrum {
         let mut sum = Spectrum::ZERO;
         let (mut scanned, mut inside) = (0u64, 0u64);
-        self.tree.range(x, k.sigma * k.sigma, |i, _| {
+        self.tree.range(x, k.sigma * k.sigma, |i, d2| {
             let c = &self.cones[i as usize];
             scanned += 1;
             let on_surface = match surface {
                 None => true,
                 Some((shape, n)) => c.shape == shape && c.ng.dot(n) > 0.0,
             };
-            if c.dir.dot(w) > k.cos_theta && set.admits(c) && on_surface {
+            if k.contains(d2, c.dir.dot(w)) && set.admits(c) && on_surface {
                 inside += 1;
                 sum += c.value;
             }

@@ -145,18 +145,20 @@ impl ImportonMap {
         self.tree.memory_bytes() + self.importons.len() * std::mem::size_of::<ConicalImporton>()
     }
 
-    /// The mixture a light vertex at `x` draws from (empty when no importon is near): the
-    /// `k` nearest importons within the radius, in a fixed order, so its density can be
-    /// evaluated again for MIS.
-    pub fn mixture_at(&self, x: Vec3, scratch: &mut Vec<Neighbor>) -> ImportonMixture {
-        self.tree.knn(x, self.k, self.radius2, scratch);
-        let lobes = scratch
-            .iter()
-            .map(|n| {
-                let i = &self.importons[n.index as usize];
-                (i.dir, i.importance)
-            })
-            .collect();
-        ImportonMixture::new(lobes, self.cos_cap)
+    /// Fills `mixture` with the one a light vertex at `x` draws from (empty when no importon
+    /// is near): the `k` nearest importons within the radius, in a fixed order, so its density
+    /// can be evaluated again for MIS. `neighbours` is scratch space.
+    pub fn mixture_at(
+        &self,
+        x: Vec3,
+        neighbours: &mut Vec<Neighbor>,
+        mixture: &mut ImportonMixture,
+    ) {
+        self.tree.knn(x, self.k, self.radius2, neighbours);
+        let lobes = neighbours.iter().map(|n| {
+            let i = &self.importons[n.index as usize];
+            (i.dir, i.importance)
+        });
+        mixture.refill(lobes, self.cos_cap);
     }
 }

@@ -83,11 +83,18 @@ impl DiskCapKernel {
         1.0 / self.inv_volume as f64
     }
 
+    /// True if a cone at squared distance `d2` whose direction has cosine `cos` with the query
+    /// direction lies inside the kernel's support (eq. 3.3–3.4).
+    #[inline]
+    pub fn contains(&self, d2: f32, cos: f32) -> bool {
+        d2 < self.sigma * self.sigma && cos > self.cos_theta
+    }
+
     /// The kernel's value (m⁻² sr⁻¹) for a squared distance `d2` and the cosine `cos` between
     /// the two directions.
     #[inline]
     pub fn eval(&self, d2: f32, cos: f32) -> f32 {
-        if d2 < self.sigma * self.sigma && cos > self.cos_theta {
+        if self.contains(d2, cos) {
             self.inv_volume
         } else {
             0.0
@@ -118,19 +125,10 @@ impl ConeSchedule {
         Ok(Self { map, schedule })
     }
 
-    pub fn angular_map(&self) -> AngularMap {
-        self.map
-    }
-
     /// Iteration `i`'s kernel (i ≥ 1).
     pub fn kernel(&self, i: u64) -> DiskCapKernel {
         let sigma = self.schedule.bandwidth(i);
         DiskCapKernel::new(sigma, self.map.t(sigma))
-    }
-
-    /// C_{σ_i}/C_{σ_1} = Γ(i + α)/(Γ(1 + α) Γ(i + 1)).
-    pub fn volume_ratio(&self, i: u64) -> f64 {
-        self.schedule.volume_ratio(i)
     }
 }
 

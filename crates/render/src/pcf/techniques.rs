@@ -123,6 +123,15 @@ impl ImportonMixture {
         }
     }
 
+    /// Replaces the lobes with `lobes` and the caps with `cos_cap`, reusing the allocation (one
+    /// mixture per light vertex in the cone tracer's hot loop).
+    pub fn refill(&mut self, lobes: impl Iterator<Item = (Vec3, f32)>, cos_cap: f32) {
+        self.lobes.clear();
+        self.lobes.extend(lobes);
+        self.cos_cap = cos_cap;
+        self.total = self.lobes.iter().map(|l| l.1).sum();
+    }
+
     /// True if the mixture can draw a direction.
     pub fn is_empty(&self) -> bool {
         self.total.is_nan() || self.total <= 0.0

@@ -26,7 +26,7 @@ use caustica_core::sampling::{Sampler, warp};
 use caustica_core::{Spectrum, Vec3};
 use caustica_density::Neighbor;
 use caustica_scene::Scene;
-use caustica_scene::bsdf::TransportMode;
+use caustica_scene::bsdf::{BsdfFlags, TransportMode};
 use std::ops::Range;
 
 /// The random-number stream of the cone light paths.
@@ -46,6 +46,14 @@ pub struct ConeRule<'a> {
     pub importons: Option<&'a ImportonMap>,
 }
 
+/// Buffers reused from light vertex to light vertex (the importon query's neighbours and
+/// mixture).
+#[derive(Default)]
+pub struct ConeScratch {
+    neighbours: Vec<Neighbor>,
+    mixture: ImportonMixture,
+}
+
 /// Index of each technique in the density arrays.
 const BSDF: usize = 0;
 const CAMERA: usize = 1;
@@ -61,7 +69,7 @@ impl ConeRule<'_> {
         lv: &LightVertex,
         delta_light: bool,
         sampler: &mut Sampler,
-        scratch: &mut Vec<Neighbor>,
+        scratch: &mut ConeScratch,
         out: &mut Vec<PhotonCone>,
     ) {
         let v = lv.v;
@@ -123,17 +131,18 @@ impl ConeRule<'_> {
             (len > 0.0).then(|| CameraLobe {
                 axis: to / len,
                 exponent: self.camera_exponent,
-                fold: (self.camera_mirror
-                    && !flags.contains(caustica_scene::bsdf::BsdfFlags::TRANSMISSION))
-                .then(|| v.si.ng_toward(wi)),
+                fold: (self.camera_mirror && !flags.contains(BsdfFlags::TRANSMISSION))
+                    .then(|| v.si.ng_toward(wi)),
             })
         } else {
             None
         };
-        let mixture = match (t.importons, self.importons) {
-            (true, Some(map)) => map.mixture_at(p, scratch),
-            _ => ImportonMixture::default(),
-        };
+        let mixture = &mut scratch.mixture;
+        match (t.importons, self.importons) {
+            (true, Some(map)) => map.mixture_at(p, &mut scratch.neighbours, mixture),
+            _ => mixture.refill(std::iter::empty(), 1.0),
+        }
+        let mixture = &*mixture;
         let pdfs = |w: Vec3| -> [f32; 4] {
             [
                 if t.bsdf {
@@ -226,7 +235,7 @@ pub fn trace_cones(
 ) -> (Vec<PhotonCone>, u64, RenderStats) {
     let stream = PathStream::new(opts, CONE_STREAM);
     trace_path_range(paths, &stream, on_wave, |_, sampler, out, st| {
-        let mut scratch = Vec::new();
+        let mut scratch = ConeScratch::default();
         let mut delta_light = false;
         walk_light_path(scene, sampler, &opts.limits, st, |ev, s, _| match ev {
             LightEvent::Start(start) => delta_light = scene.lights[start.light].is_delta(),
