@@ -15,7 +15,6 @@ Theory (Knaus and Zwicker 2011, in time proportional to iterations N): variance 
 squared bias ~ r^4 ~ N^-2(1-alpha), so RMSE ~ N^-min(alpha, 2(1-alpha))/2: -1/3 at alpha = 2/3.
 """
 import csv
-import html
 import math
 import os
 import re
@@ -125,55 +124,9 @@ def fmt(v, d=4):
     return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.{d}f}"
 
 
-def log_ticks(l0, l1):
-    """Tick values 1, 2, 5 x 10^k between 10^l0 and 10^l1."""
-    return [m * 10 ** k for k in range(math.floor(l0), math.ceil(l1) + 1) for m in (1, 2, 5)
-            if l0 <= math.log10(m * 10 ** k) <= l1]
-
-
-# Log-log plot, hand-written SVG (no plotting dependency).
 def loglog(path, title, xlabel, ylabel, series, guides=()):
-    W, H, L, R, T, B = 620, 380, 70, 190, 30, 50
-    xs = [x for _, pts, _ in series for x, _ in pts]
-    ys = [y for _, pts, _ in series for _, y in pts]
-    if not xs:
-        return
-    lx0, lx1 = math.log10(min(xs)), math.log10(max(xs))
-    ly0, ly1 = math.log10(min(ys)), math.log10(max(ys))
-    lx1 = lx1 if lx1 > lx0 else lx0 + 1
-    ly0, ly1 = ly0 - 0.05, (ly1 if ly1 > ly0 else ly0 + 1) + 0.05
-
-    def sx(v):
-        return L + (math.log10(v) - lx0) / (lx1 - lx0) * (W - L - R)
-
-    def sy(v):
-        return H - B - (math.log10(v) - ly0) / (ly1 - ly0) * (H - T - B)
-
-    o = svg_plot.frame(W, H, L, R, T, B, title, xlabel, ylabel)
-    for v in log_ticks(lx0, lx1):
-        o.append(f'<line x1="{sx(v):.1f}" y1="{H-B}" x2="{sx(v):.1f}" y2="{H-B+4}" stroke="black"/>')
-        o.append(f'<text x="{sx(v):.1f}" y="{H-B+15}" text-anchor="middle">{v:g}</text>')
-    for v in log_ticks(ly0, ly1):
-        o.append(f'<line x1="{L-4}" y1="{sy(v):.1f}" x2="{L}" y2="{sy(v):.1f}" stroke="black"/>')
-        o.append(f'<text x="{L-6}" y="{sy(v)+4:.1f}" text-anchor="end">{v:g}</text>')
-    k = 0
-    for name, pts, colour in series:
-        d = " ".join(f"{'M' if i == 0 else 'L'}{sx(x):.1f},{sy(y):.1f}" for i, (x, y) in enumerate(pts))
-        o.append(f'<path d="{d}" fill="none" stroke="{colour}" stroke-width="1.5"/>')
-        for x, y in pts:
-            o.append(f'<circle cx="{sx(x):.1f}" cy="{sy(y):.1f}" r="2.2" fill="{colour}"/>')
-        o.append(f'<text x="{W-R+8}" y="{T+14*k+10}" fill="{colour}">{html.escape(name)}</text>')
-        k += 1
-    for name, (x0, y0), s, colour in guides:
-        # a line of slope s through (x0, y0), over one decade to its left
-        x1 = x0 / 10
-        y1 = y0 * 10 ** (-s)
-        if min(xs) <= x1:
-            o.append(f'<line x1="{sx(x1):.1f}" y1="{sy(y1):.1f}" x2="{sx(x0):.1f}" y2="{sy(y0):.1f}" stroke="{colour}" stroke-dasharray="5,3"/>')
-        o.append(f'<text x="{W-R+8}" y="{T+14*k+10}" fill="{colour}">{html.escape(name)}</text>')
-        k += 1
-    o.append("</svg>")
-    open(path, "w").write("\n".join(o))
+    """The shared log-log plot (tools/svg_plot.py) at this study's size."""
+    svg_plot.loglog(path, title, xlabel, ylabel, series, guides, width=620, legend=190)
 
 
 md = []
