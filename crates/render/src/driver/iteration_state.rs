@@ -84,6 +84,29 @@ pub fn fingerprint(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions) ->
     )
 }
 
+/// Where a render whose state is its pooled film alone (pppm, ppds, ppdm, pdpm, pcf) starts:
+/// after the iterations of `opts.resume`, their film restored into `film` and a note added, or
+/// at iteration 1. Returns that iteration and the render's fingerprint (for
+/// [`IterationState::pooled`]).
+pub fn resume_pooled(
+    scene: &Scene,
+    kind: IntegratorKind,
+    opts: &RenderOptions,
+    film: &mut Film,
+    notes: &mut Vec<String>,
+) -> Result<(u64, String), crate::error::OptionError> {
+    let fp = fingerprint(scene, kind, opts);
+    let first = match &opts.resume {
+        Some(state) => {
+            let next = state.restore_into(film, &fp, 0)?;
+            notes.push(format!("resumed after iteration {}", state.iterations));
+            next
+        }
+        None => 1,
+    };
+    Ok((first, fp))
+}
+
 fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for &b in bytes {
@@ -94,6 +117,17 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 }
 
 impl IterationState {
+    /// The state of a render (fingerprint `fingerprint`) whose pooled film `film` holds
+    /// iterations 1 … `iterations` and which keeps no other statistics.
+    pub fn pooled(fingerprint: &str, iterations: u64, film: &Film) -> Self {
+        Self {
+            fingerprint: fingerprint.to_string(),
+            iterations,
+            film: film.clone(),
+            extra: Vec::new(),
+        }
+    }
+
     /// Restores this state into `film` for a render whose fingerprint is `fingerprint` and
     /// whose method keeps `extra_len` statistics: checks that they match (the CLI checks the
     /// file first and names what differs; this guards library callers), copies the pooled film

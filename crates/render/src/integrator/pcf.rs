@@ -13,7 +13,7 @@
 use super::IntegratorKind;
 use super::path::{CameraRule, Direct, Lookup, radiance_with};
 use crate::control::Stage;
-use crate::driver::iteration_state::{IterationState, fingerprint};
+use crate::driver::iteration_state::{IterationState, resume_pooled};
 use crate::driver::iterations::run_iterations;
 use crate::driver::pixels::render_pixels;
 use crate::error::OptionError;
@@ -228,21 +228,8 @@ pub(crate) fn render(
         None => None,
     };
     let stage = stage.part(0.02, 1.0);
-    let first = match &opts.resume {
-        Some(state) => {
-            let next = state.restore_into(film, &fingerprint(scene, kind, opts), 0)?;
-            notes.push(format!("resumed after iteration {}", state.iterations));
-            next
-        }
-        None => 1,
-    };
-    let fp = fingerprint(scene, kind, opts);
-    let snapshot = |f: &Film, i: u64| IterationState {
-        fingerprint: fp.clone(),
-        iterations: i,
-        film: f.clone(),
-        extra: Vec::new(),
-    };
+    let (first, fp) = resume_pooled(scene, kind, opts, film, notes)?;
+    let snapshot = |f: &Film, i: u64| IterationState::pooled(&fp, i, f);
     let mut cones_total = 0u64;
     let mut cone_bytes = 0usize;
     let split = PathSplit {

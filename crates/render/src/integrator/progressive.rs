@@ -29,7 +29,7 @@ use super::IntegratorKind;
 use super::photon_mapping::{self, PhotonMaps};
 use super::photon_splatting;
 use crate::control::Stage;
-use crate::driver::iteration_state::{IterationState, fingerprint};
+use crate::driver::iteration_state::{IterationState, resume_pooled};
 use crate::driver::iterations::run_iterations;
 use crate::error::OptionError;
 use crate::film::Film;
@@ -195,22 +195,9 @@ pub(crate) fn render(
     let schedules = Schedules::new(scene, kind, opts, notes)?;
     let max = p.max_iterations(opts);
     // Resuming: the pooled film of the iterations done, then on from the next one.
-    let first = match &opts.resume {
-        Some(state) => {
-            let next = state.restore_into(film, &fingerprint(scene, kind, opts), 0)?;
-            notes.push(format!("resumed after iteration {}", state.iterations));
-            next
-        }
-        None => 1,
-    };
+    let (first, fp) = resume_pooled(scene, kind, opts, film, notes)?;
     let mut first_notes = Vec::new();
-    let fp = fingerprint(scene, kind, opts);
-    let snapshot = |f: &Film, i: u64| IterationState {
-        fingerprint: fp.clone(),
-        iterations: i,
-        film: f.clone(),
-        extra: Vec::new(),
-    };
+    let snapshot = |f: &Film, i: u64| IterationState::pooled(&fp, i, f);
     let run = run_iterations(film, stage, first, max, None, &snapshot, |i, st, f| {
         let o = schedules.options(kind, opts, i);
         let mut n = Vec::new();
