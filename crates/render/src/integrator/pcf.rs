@@ -19,7 +19,7 @@ use crate::driver::pixels::render_pixels;
 use crate::error::OptionError;
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::options::{ConeSurfaces, PcfSettings, RenderOptions};
+use crate::options::{ConeSurfaces, Nesting, PcfSettings, RenderOptions};
 use crate::pcf::importon::ImportonRule;
 use crate::pcf::techniques::CameraLobe;
 use crate::pcf::{
@@ -232,9 +232,15 @@ pub(crate) fn render(
     let snapshot = |f: &Film, i: u64| IterationState::pooled(&fp, i, f);
     let mut cones_total = 0u64;
     let mut cone_bytes = 0usize;
+    // Delta-light nesting looks the map up at every delta camera vertex; without delta
+    // lights it can find nothing there (the same image, without the lookups).
+    let nested = match s.nested {
+        Nesting::DeltaLights if !scene.lights.iter().any(|l| l.is_delta()) => Nesting::Off,
+        n => n,
+    };
     let split = PathSplit {
         rule: s.lookup,
-        nested: s.nested,
+        nested,
         lookup_nee: s.lookup_nee,
     };
     let run = run_iterations(film, &stage, first, max, None, &snapshot, |i, st, f| {

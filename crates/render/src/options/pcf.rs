@@ -95,7 +95,7 @@ pub enum LookupRule {
     /// The first vertex with a diffuse lobe: path tracing through delta and glossy surfaces
     /// (sec. 4.2.3's shiny surfaces).
     Diffuse,
-    /// Vertex `n` (1 = the first hit), or an earlier one where the path ends.
+    /// Vertex `n` (1 = the first hit); a path that ends before it is path-traced only.
     Bounce(u32),
 }
 
