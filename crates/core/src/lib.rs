@@ -15,6 +15,7 @@ pub mod frame;
 pub mod image_io;
 pub mod ray;
 pub mod sampling;
+pub mod spectral;
 pub mod spectrum;
 
 pub use frame::Frame;
