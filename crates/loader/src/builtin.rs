@@ -20,6 +20,7 @@ use caustica_scene::shape::{
 use caustica_scene::texture::Texture;
 
 pub mod pcf_scenes;
+pub mod seed002_scenes;
 
 /// The scene `caustica render` uses without an argument: the Cornell box with a glass and a
 /// gold ball (`caustic-box`), rendered with `pds` in about 10 s on two cores.
@@ -46,6 +47,9 @@ const NAMES: &[&str] = &[
     "torus-glass",
     "mirror-caustic-box",
     "shiny-pyramids",
+    "cognac-glass",
+    "swimming-pool",
+    "embedded-torus",
 ];
 
 /// Names accepted by [`builtin_scene`].
@@ -78,6 +82,9 @@ pub fn builtin_scene(name: &str) -> Option<SceneBuilder> {
         "torus-glass" => pcf_scenes::torus_glass().ok(),
         "mirror-caustic-box" => pcf_scenes::mirror_caustic_box().ok(),
         "shiny-pyramids" => pcf_scenes::shiny_pyramids().ok(),
+        "cognac-glass" => seed002_scenes::cognac_glass().ok(),
+        "swimming-pool" => seed002_scenes::swimming_pool().ok(),
+        "embedded-torus" => seed002_scenes::embedded_torus().ok(),
         _ => None,
     }
 }

@@ -1,9 +1,12 @@
 //! Shapes: triangle meshes and analytic spheres and disks. Rectangles and cubes are built as
 //! meshes ([`TriangleMesh::rectangle`], [`TriangleMesh::cube`]); the case-study scenes' water
-//! wave and ring are generated in [`procedural`], the torus of `torus-glass` in [`torus`].
+//! wave and ring are generated in [`procedural`], the torus of `torus-glass` in [`torus`],
+//! surfaces of revolution in [`lathe`] and height fields in [`height_field`].
 
 pub mod aabb;
 pub mod disk;
+pub mod height_field;
+pub mod lathe;
 pub mod mesh;
 pub mod motion;
 pub mod procedural;
@@ -12,6 +15,8 @@ pub mod torus;
 
 pub use aabb::Aabb;
 pub use disk::Disk;
+pub use height_field::height_field_mesh;
+pub use lathe::{circle_arc, lathe_mesh};
 pub use mesh::{SanitizeReport, TriangleMesh};
 pub use motion::MeshMotion;
 pub use procedural::{
