@@ -14,8 +14,10 @@
 //! *Physically Based Rendering*, 4th ed., sec. 4.6.5): p(λ) ∝ 1 / cosh²(0.0072 (λ − 538)),
 //! normalised on [360, 830] nm, with the closed-form inverse CDF
 //! λ = 538 + atanh(t₀ + u (t₁ − t₀)) / 0.0072, t_{0,1} = tanh(0.0072 (360|830 − 538)).
-//! It follows the sum of the matching functions closely and never vanishes, so the estimator
-//! stays bounded everywhere the tables are non-zero.
+//! It is concentrated where the matching functions are large and never vanishes on
+//! [360, 830] nm, so the estimator stays bounded wherever the tables are non-zero. Measured
+//! against uniform sampling by `measure_sampling_variance` (see the tests): the visible density
+//! has the lower variance of the film's linear sRGB estimate for every spectrum tried.
 
 use super::cie::{CIE_Y_INTEGRAL, LAMBDA_MAX, LAMBDA_MIN, cie_xyz, xyz_to_linear_srgb};
 use crate::Spectrum;
@@ -51,8 +53,16 @@ pub fn visible_pdf(lambda_nm: f32) -> f32 {
 /// The inverse CDF of [`visible_pdf`]: u ∈ [0, 1) ↦ λ ∈ [360, 830] nm.
 #[inline]
 pub fn sample_visible_wavelength(u: f32) -> f32 {
-    let l = VIS_CENTRE + (VIS_T0 + u * VIS_DT).atanh() / VIS_A;
-    l.clamp(LAMBDA_MIN, LAMBDA_MAX)
+    inverse_cdf(u).0
+}
+
+/// λ = F⁻¹(u) and v = t₀ + u (t₁ − t₀), so that p(λ) = VIS_NORM (1 − v²).
+#[inline]
+fn inverse_cdf(u: f32) -> (f32, f32) {
+    let v = VIS_T0 + u * VIS_DT;
+    // atanh(v) = ½ ln((1 + v)/(1 − v)); |v| ≤ 0.971, so no overflow.
+    let l = VIS_CENTRE + 0.5 * ((1.0 + v) / (1.0 - v)).ln() / VIS_A;
+    (l.clamp(LAMBDA_MIN, LAMBDA_MAX), v)
 }
 
 /// The CDF of [`visible_pdf`] (for tests and stratification checks).
@@ -83,14 +93,19 @@ pub struct SampledWavelengths {
 impl SampledWavelengths {
     /// Hero wavelength sampling from the visible density: λ_j = F⁻¹((u + j/3) mod 1), each with
     /// pdf [`visible_pdf`]`(λ_j)`. `u` ∈ [0, 1).
+    ///
+    /// The density comes without a transcendental function: with v = t₀ + u (t₁ − t₀),
+    /// λ = 538 + atanh(v)/a and cosh²(atanh v) = 1/(1 − v²), so p(λ) = (a/(t₁ − t₀)) (1 − v²)
+    /// (equal to `visible_pdf(λ)` up to rounding).
     #[inline]
     pub fn sample_visible(u: f32) -> Self {
         let u = u.clamp(0.0, ONE_MINUS_EPSILON);
         let mut lambda = [0.0; 3];
         let mut pdf = [0.0; 3];
         for j in 0..N_WAVELENGTHS {
-            lambda[j] = sample_visible_wavelength(rotate(u, j));
-            pdf[j] = visible_pdf(lambda[j]);
+            let (l, v) = inverse_cdf(rotate(u, j));
+            lambda[j] = l;
+            pdf[j] = VIS_NORM * (1.0 - v * v);
         }
         Self { lambda, pdf }
     }
@@ -238,7 +253,8 @@ mod tests {
             let r = chi2_of(&lam, pdf_cdf);
             assert!(r.passed_at(0.01 / 3.0), "lane {j}: {r}");
             for w in &wls {
-                assert_eq!(w.pdf[j], visible_pdf(w.lambda[j]));
+                let p = visible_pdf(w.lambda[j]);
+                assert!((w.pdf[j] / p - 1.0).abs() < 1e-5, "{w:?}: {p}");
             }
         }
         // The test can fail: uniform wavelengths are not visible_pdf-distributed.
@@ -427,6 +443,52 @@ mod tests {
         }
         // E (correlated colour temperature ~5450 K) is warmer than D65: R > G > B.
         assert!(want[0] > want[1] && want[1] > want[2], "{want:?}");
+    }
+
+    /// Per-sample variance of the film's estimate (linear sRGB, summed over channels) for a few
+    /// spectra, visible density against uniform (run with `--ignored --nocapture`).
+    #[test]
+    #[ignore]
+    fn measure_sampling_variance() {
+        use crate::spectral::upsample::RgbReflectance;
+        let red = RgbReflectance::new([0.8, 0.1, 0.05]);
+        let blue = RgbReflectance::new([0.05, 0.1, 0.8]);
+        let d65n = crate::spectral::cie::d65_n;
+        let spectra: [(&str, &dyn Fn(f32) -> f32); 4] = [
+            ("E (constant 1)", &|_| 1.0),
+            ("D65_n", &d65n),
+            ("red reflectance x D65_n", &|l| red.eval(l) * d65n(l)),
+            ("blue reflectance x D65_n", &|l| blue.eval(l) * d65n(l)),
+        ];
+        let n = 400_000;
+        for (name, f) in spectra {
+            let mut out = vec![];
+            for sampler in [
+                SampledWavelengths::sample_visible as fn(f32) -> SampledWavelengths,
+                SampledWavelengths::sample_uniform,
+            ] {
+                let mut rng = Pcg32::new(22, 5);
+                let (mut s, mut s2) = ([0.0f64; 3], [0.0f64; 3]);
+                for _ in 0..n {
+                    let w = sampler(rng.next_f32());
+                    let v = w.to_linear_srgb(Spectrum::from_rgb(w.lambda.map(f)));
+                    for k in 0..3 {
+                        s[k] += v[k] as f64;
+                        s2[k] += (v[k] as f64).powi(2);
+                    }
+                }
+                let var: f64 = (0..3)
+                    .map(|k| s2[k] / n as f64 - (s[k] / n as f64).powi(2))
+                    .sum();
+                out.push(var);
+            }
+            eprintln!(
+                "{name}: variance per sample, visible {:.4}, uniform {:.4} (ratio {:.2})",
+                out[0],
+                out[1],
+                out[1] / out[0]
+            );
+        }
     }
 
     #[test]
