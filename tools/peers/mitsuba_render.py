@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""Render a scene with Mitsuba 3 (variant scalar_rgb) for comparison with caustica.
+"""Render a scene with Mitsuba 3 (variant scalar_rgb, or --variant scalar_spectral) for
+comparison with caustica.
 
   mitsuba_render.py cornell-box --spp 64 --out mitsuba.exr [--integrator path|ptracer]
+  mitsuba_render.py cornell-box --variant scalar_spectral ...   (against caustica --spectral)
   mitsuba_render.py scene.xml --spp 64 --out mitsuba.exr [--box]
   mitsuba_render.py scene.xml ... [-D name=value ...]    (XML <default>s, e.g. -D res=64)
 
@@ -13,13 +15,27 @@ import argparse
 import os
 import time
 
+import sys
+
 import mitsuba as mi
 
-mi.set_variant("scalar_rgb")
+
+def variant_from_argv():
+    """The variant must be set before the scene is built; read it ahead of argparse."""
+    for i, a in enumerate(sys.argv):
+        if a == "--variant" and i + 1 < len(sys.argv):
+            return sys.argv[i + 1]
+        if a.startswith("--variant="):
+            return a.split("=", 1)[1]
+    return "scalar_rgb"
+
+
+mi.set_variant(variant_from_argv())
 
 
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--variant", default="scalar_rgb", help="scalar_rgb or scalar_spectral")
     ap.add_argument("scene")
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--seed", type=int, default=0)
@@ -62,7 +78,7 @@ def main():
     img = mi.render(scene, integrator=integrator, spp=a.spp, seed=a.seed)
     t2 = time.perf_counter()
     mi.Bitmap(img).write(a.out)
-    print(f"mitsuba scalar_rgb: load {t1 - t0:.3f} s, render {t2 - t1:.3f} s, spp {a.spp} -> {a.out}")
+    print(f"mitsuba {mi.variant()}: load {t1 - t0:.3f} s, render {t2 - t1:.3f} s, spp {a.spp} -> {a.out}")
 
 
 if __name__ == "__main__":

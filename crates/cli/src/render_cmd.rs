@@ -67,6 +67,13 @@ pub struct RenderSettings {
     /// methods in media scenes).
     #[arg(long)]
     pub volume_only: bool,
+    /// Spectral mode: every path samples three wavelengths (hero wavelength sampling), RGB
+    /// inputs are upsampled to spectra (Jakob & Hanika 2019), named illuminants and blackbodies
+    /// keep their spectra, dispersive glasses refract by wavelength, and the film integrates
+    /// the CIE 1931 matching functions into linear sRGB. The photon methods trace their photons
+    /// spectrally and store them in RGB (their camera side is RGB; docs/spectral.md).
+    #[arg(long)]
+    pub spectral: bool,
     /// Image width in pixels, overriding the scene's (any scene kind). Alone, the height
     /// follows to keep the aspect ratio; the field of view is kept along the scene's fov axis.
     #[arg(long, allow_negative_numbers = true)]
@@ -186,7 +193,8 @@ impl RenderSettings {
             frame: self.frame,
             length: self.shutter,
         };
-        let scene = load_at(self.scene.as_deref(), &defines, size, shutter)?;
+        let mut scene = load_at(self.scene.as_deref(), &defines, size, shutter)?;
+        scene.set_spectral(self.spectral).context("--spectral")?;
         for w in &scene.warnings {
             eprintln!("warning: {w}");
         }

@@ -1,6 +1,7 @@
 //! Foundation of caustica: the types every other crate speaks.
 //!
-//! * [`Spectrum`] — the one colour type (RGB today, spectral later).
+//! * [`Spectrum`] — the one colour type: RGB, or three sampled wavelengths in spectral mode
+//!   ([`Channels`] says which; [`spectral`] holds the colour science).
 //! * [`Ray`], [`RayDifferential`] — rays and their per-pixel differentials (Igehy 1999).
 //! * [`Frame`] — orthonormal shading frames.
 //! * [`sampling`] — random number generators, the Sobol/independent samplers and warps.
@@ -10,6 +11,7 @@
 #![forbid(unsafe_code)]
 
 pub mod apng;
+pub mod channels;
 pub mod chi2;
 pub mod frame;
 pub mod image_io;
@@ -18,6 +20,7 @@ pub mod sampling;
 pub mod spectral;
 pub mod spectrum;
 
+pub use channels::Channels;
 pub use frame::Frame;
 pub use glam::{Affine3A, Mat3, Mat4, Vec2, Vec3, Vec3A};
 pub use ray::{Ray, RayDifferential};

@@ -136,7 +136,7 @@ fn bench(c: &mut Criterion) {
             );
             let ray = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
             if let Some(si) = s.intersect(&ray) {
-                vertices.push(Vertex::new(&s, si, &ray));
+                vertices.push(Vertex::rgb(&s, si, &ray));
             }
         }
     }

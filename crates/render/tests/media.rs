@@ -110,6 +110,7 @@ fn murky_water_in_a_white_furnace_is_one_everywhere() {
             Material::Dielectric {
                 ior: 1.33,
                 absorption: Spectrum::ZERO,
+                dispersion: None,
             },
         );
         let img = common::render_image_depth(&scene, IntegratorKind::Path, 256, 5, 1000);
@@ -127,6 +128,7 @@ fn murky_water_in_a_white_furnace_is_one_everywhere() {
         Material::Dielectric {
             ior: 1.33,
             absorption: Spectrum::ZERO,
+            dispersion: None,
         },
     );
     let img = common::render_image_depth(&scene, IntegratorKind::Path, 64, 5, 1000);

@@ -60,6 +60,7 @@ fn glass_slab_scene(thickness: f32, absorption: f32, light: Light) -> Scene {
     let glass = Material::Dielectric {
         ior: 1.5,
         absorption: Spectrum::splat(absorption),
+        dispersion: None,
     };
     one_shape_scene(slab, glass, light)
 }

@@ -29,7 +29,7 @@ fn floor_scene(with_glass: bool) -> Scene {
 fn floor_vertex(scene: &Scene, x: f32, z: f32) -> Vertex {
     let ray = Ray::new(Vec3::new(x, 0.5, z), Vec3::NEG_Y);
     let si = scene.intersect(&ray).expect("floor hit");
-    Vertex::new(scene, si, &ray)
+    Vertex::rgb(scene, si, &ray)
 }
 
 #[test]

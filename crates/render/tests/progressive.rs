@@ -764,7 +764,7 @@ fn caustics_only_sppm_does_not_look_through_glass() {
                 let ray = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
                 s.intersect(&ray).is_some_and(|si| {
                     !s.materials[si.material as usize]
-                        .bsdf(&si)
+                        .bsdf(&si, &mut caustica_core::Channels::Rgb)
                         .flags()
                         .is_smooth()
                 })

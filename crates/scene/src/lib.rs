@@ -32,6 +32,7 @@
 
 pub mod bsdf;
 pub mod camera;
+pub mod dispersion;
 pub mod error;
 pub mod geometry;
 pub mod intersection;

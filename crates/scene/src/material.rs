@@ -4,9 +4,10 @@
 use crate::bsdf::{
     Bsdf, Conductor, Dielectric, Lambertian, Mirror, Phong, RoughConductor, RoughDielectric,
 };
+use crate::dispersion::Dispersion;
 use crate::intersection::SurfaceInteraction;
 use crate::texture::Texture;
-use caustica_core::Spectrum;
+use caustica_core::{Channels, Spectrum};
 
 /// A material as described in the scene.
 #[derive(Clone, Debug)]
@@ -16,8 +17,13 @@ pub enum Material {
     /// Perfect specular reflector.
     Mirror { reflectance: Spectrum },
     /// Smooth dielectric interface; `ior` = η_inside/η_outside; `absorption` σa (m⁻¹) of the
-    /// interior (Beer–Lambert), zero for clear glass.
-    Dielectric { ior: f32, absorption: Spectrum },
+    /// interior (Beer–Lambert), zero for clear glass. With `dispersion` the IOR varies with
+    /// wavelength in spectral mode (`ior` is then its value at the d line, what RGB mode uses).
+    Dielectric {
+        ior: f32,
+        absorption: Spectrum,
+        dispersion: Option<Dispersion>,
+    },
     /// Smooth conductor with complex IOR η + iκ per channel (relative to the outside medium).
     Conductor {
         eta: Spectrum,
@@ -31,11 +37,12 @@ pub enum Material {
         alpha: f32,
         specular: Spectrum,
     },
-    /// GGX rough dielectric.
+    /// GGX rough dielectric (`dispersion` as for [`Material::Dielectric`]).
     RoughDielectric {
         ior: f32,
         alpha: f32,
         absorption: Spectrum,
+        dispersion: Option<Dispersion>,
     },
     /// An index-matched boundary (Mitsuba's `null`): rays pass through unchanged, only the
     /// medium changes (a fog volume's box). The walkers skip these surfaces
@@ -55,43 +62,96 @@ pub enum Material {
 pub const SMOOTH_ALPHA: f32 = 1e-3;
 
 impl Material {
-    /// The BSDF at `si`. Textures are evaluated at `si.uv`. Rough materials with
+    /// The BSDF at `si` for a path whose lanes mean `ch` (RGB values are converted to the path's
+    /// wavelengths in spectral mode). Textures are evaluated at `si.uv`. Rough materials with
     /// α < [`SMOOTH_ALPHA`] and rough dielectrics with IOR 1 become their smooth counterparts.
-    pub fn bsdf(&self, si: &SurfaceInteraction) -> Bsdf {
+    /// A dispersive dielectric in spectral mode refracts with the IOR of the hero wavelength
+    /// and ends the path's secondary wavelengths ([`Channels::terminate_secondary`]: they would
+    /// refract elsewhere).
+    pub fn bsdf(&self, si: &SurfaceInteraction, ch: &mut Channels) -> Bsdf {
         match self {
             Material::Diffuse { reflectance } => {
-                Bsdf::Lambertian(Lambertian::new(reflectance.eval(si.uv)))
+                Bsdf::Lambertian(Lambertian::new(ch.reflectance(reflectance.eval(si.uv))))
             }
-            Material::Mirror { reflectance } => Bsdf::Mirror(Mirror::new(*reflectance)),
-            Material::Dielectric { ior, .. } => Bsdf::Dielectric(Dielectric::new(*ior)),
+            Material::Mirror { reflectance } => {
+                Bsdf::Mirror(Mirror::new(ch.reflectance(*reflectance)))
+            }
+            Material::Dielectric {
+                ior, dispersion, ..
+            } => Bsdf::Dielectric(Dielectric::new(ior_for(*ior, dispersion, ch))),
             Material::Null => Bsdf::Dielectric(Dielectric::new(1.0)),
-            Material::Conductor { eta, k, specular } => {
-                Bsdf::Conductor(Conductor::new(*eta, *k, *specular))
-            }
+            Material::Conductor { eta, k, specular } => Bsdf::Conductor(Conductor::new(
+                ch.unbounded(*eta),
+                ch.unbounded(*k),
+                ch.reflectance(*specular),
+            )),
             Material::RoughConductor {
                 eta,
                 k,
                 alpha,
                 specular,
             } => {
+                let (eta, k, specular) = (
+                    ch.unbounded(*eta),
+                    ch.unbounded(*k),
+                    ch.reflectance(*specular),
+                );
                 if *alpha < SMOOTH_ALPHA {
-                    Bsdf::Conductor(Conductor::new(*eta, *k, *specular))
+                    Bsdf::Conductor(Conductor::new(eta, k, specular))
                 } else {
-                    Bsdf::RoughConductor(RoughConductor::new(*alpha, *eta, *k, *specular))
+                    Bsdf::RoughConductor(RoughConductor::new(*alpha, eta, k, specular))
                 }
             }
-            Material::RoughDielectric { ior, alpha, .. } => {
-                if *alpha < SMOOTH_ALPHA || *ior == 1.0 {
-                    Bsdf::Dielectric(Dielectric::new(*ior))
+            Material::RoughDielectric {
+                ior,
+                alpha,
+                dispersion,
+                ..
+            } => {
+                let ior = ior_for(*ior, dispersion, ch);
+                if *alpha < SMOOTH_ALPHA || ior == 1.0 {
+                    Bsdf::Dielectric(Dielectric::new(ior))
                 } else {
-                    Bsdf::RoughDielectric(RoughDielectric::new(*alpha, *ior))
+                    Bsdf::RoughDielectric(RoughDielectric::new(*alpha, ior))
                 }
             }
             Material::Phong {
                 diffuse,
                 specular,
                 exponent,
-            } => Bsdf::Phong(Phong::new(diffuse.eval(si.uv), *specular, *exponent)),
+            } => Bsdf::Phong(Phong::new(
+                ch.reflectance(diffuse.eval(si.uv)),
+                ch.reflectance(*specular),
+                *exponent,
+            )),
+        }
+    }
+
+    /// How many texels of the material's reflectance textures (diffuse albedos) have a
+    /// component outside [0, 1]: spectral mode clamps them.
+    pub fn reflectance_values_outside_unit_range(&self) -> usize {
+        let count = |t: &Texture| match t {
+            Texture::Image(img) => img
+                .image
+                .data
+                .iter()
+                .filter(|p| p.iter().any(|v| !(0.0..=1.0).contains(v)))
+                .count(),
+            _ => 0,
+        };
+        match self {
+            Material::Diffuse { reflectance } => count(reflectance),
+            Material::Phong { diffuse, .. } => count(diffuse),
+            _ => 0,
+        }
+    }
+
+    /// The material's dispersion law, if it has one.
+    pub fn dispersion(&self) -> Option<&Dispersion> {
+        match self {
+            Material::Dielectric { dispersion, .. }
+            | Material::RoughDielectric { dispersion, .. } => dispersion.as_ref(),
+            _ => None,
         }
     }
 
@@ -101,7 +161,8 @@ impl Material {
         matches!(self, Material::Null)
     }
 
-    /// Interior absorption coefficient σa (m⁻¹) for dielectrics with Beer–Lambert absorption.
+    /// Interior absorption coefficient σa (m⁻¹) for dielectrics with Beer–Lambert absorption,
+    /// in RGB (convert with [`Channels::unbounded`]).
     pub fn interior_absorption(&self) -> Option<Spectrum> {
         match self {
             Material::Dielectric { absorption, .. }
@@ -121,8 +182,13 @@ impl Material {
             Material::Diffuse { reflectance } => check_texture("diffuse reflectance", reflectance),
             Material::Mirror { reflectance } => check_albedo("mirror reflectance", *reflectance),
             Material::Null => Ok(()),
-            Material::Dielectric { ior, absorption } => {
+            Material::Dielectric {
+                ior,
+                absorption,
+                dispersion,
+            } => {
                 check_ior("dielectric ior", *ior)?;
+                check_dispersion("dielectric", dispersion)?;
                 check_colour("dielectric absorption", *absorption)
             }
             Material::Conductor { eta, k, specular } => {
@@ -143,8 +209,10 @@ impl Material {
                 ior,
                 alpha,
                 absorption,
+                dispersion,
             } => {
                 check_ior("rough dielectric ior", *ior)?;
+                check_dispersion("rough dielectric", dispersion)?;
                 check_alpha("rough dielectric alpha", *alpha)?;
                 check_colour("rough dielectric absorption", *absorption)
             }
@@ -184,6 +252,26 @@ fn check_ior(name: &str, ior: f32) -> Result<(), String> {
         Ok(())
     } else {
         Err(format!("{name} must be finite and > 0, got {ior}"))
+    }
+}
+
+fn check_dispersion(name: &str, d: &Option<Dispersion>) -> Result<(), String> {
+    match d {
+        Some(d) => d.validate().map_err(|e| format!("{name}: {e}")),
+        None => Ok(()),
+    }
+}
+
+/// The relative IOR a dielectric refracts with on a path with lanes `ch`: the dispersion law at
+/// the hero wavelength in spectral mode (ending the secondary wavelengths), else `ior`.
+#[inline]
+fn ior_for(ior: f32, dispersion: &Option<Dispersion>, ch: &mut Channels) -> f32 {
+    match (dispersion, ch.hero()) {
+        (Some(d), Some(hero)) => {
+            ch.terminate_secondary();
+            d.ior(hero)
+        }
+        _ => ior,
     }
 }
 
@@ -289,6 +377,25 @@ mod tests {
         Texture::Constant(Spectrum::ONE)
     }
 
+    /// Spectral mode counts the reflectance texels it must clamp (values outside [0, 1]).
+    #[test]
+    fn reflectance_texels_outside_the_unit_range_are_counted() {
+        let image = caustica_core::image_io::Image {
+            width: 3,
+            height: 1,
+            data: vec![[0.5, 0.5, 0.5], [1.5, 0.2, 0.1], [0.1, -0.01, 0.3]],
+        };
+        let tex = Texture::Image(std::sync::Arc::new(crate::texture::ImageTexture::new(
+            image,
+        )));
+        let m = Material::Diffuse { reflectance: tex };
+        assert_eq!(m.reflectance_values_outside_unit_range(), 2);
+        let c = Material::Diffuse {
+            reflectance: Texture::Constant(Spectrum::splat(0.5)),
+        };
+        assert_eq!(c.reflectance_values_outside_unit_range(), 0);
+    }
+
     #[test]
     fn validate_rejects_bad_parameters_with_named_messages() {
         let s = Spectrum::splat(0.5);
@@ -297,6 +404,7 @@ mod tests {
                 Material::Dielectric {
                     ior: 0.0,
                     absorption: Spectrum::ZERO,
+                    dispersion: None,
                 },
                 "ior",
             ),
@@ -304,6 +412,7 @@ mod tests {
                 Material::Dielectric {
                     ior: f32::NAN,
                     absorption: Spectrum::ZERO,
+                    dispersion: None,
                 },
                 "ior",
             ),
@@ -311,14 +420,28 @@ mod tests {
                 Material::Dielectric {
                     ior: 1.5,
                     absorption: Spectrum::splat(-1.0),
+                    dispersion: None,
                 },
                 "absorption",
+            ),
+            (
+                Material::Dielectric {
+                    ior: 1.5,
+                    absorption: Spectrum::ZERO,
+                    dispersion: Some(Dispersion::Cauchy {
+                        a: 0.8,
+                        b: 0.0,
+                        c: 0.0,
+                    }),
+                },
+                "dispersion gives IOR",
             ),
             (
                 Material::RoughDielectric {
                     ior: -1.5,
                     alpha: 0.1,
                     absorption: Spectrum::ZERO,
+                    dispersion: None,
                 },
                 "ior",
             ),
@@ -327,6 +450,7 @@ mod tests {
                     ior: 1.5,
                     alpha: 0.0,
                     absorption: Spectrum::ZERO,
+                    dispersion: None,
                 },
                 "alpha",
             ),
@@ -420,11 +544,13 @@ mod tests {
             Material::Dielectric {
                 ior: 1.5,
                 absorption: Spectrum::new(0.1, 0.0, 2.0),
+                dispersion: None,
             },
             Material::RoughDielectric {
                 ior: 1.0 / 1.5,
                 alpha: 0.2,
                 absorption: Spectrum::ZERO,
+                dispersion: None,
             },
             Material::Phong {
                 diffuse: Texture::Constant(s),
@@ -486,12 +612,12 @@ mod tests {
         let m = Material::Diffuse {
             reflectance: Texture::Checkerboard { a, b, scale: 2.0 },
         };
-        match m.bsdf(&si) {
+        match m.bsdf(&si, &mut Channels::Rgb) {
             Bsdf::Lambertian(l) => assert_eq!(l.albedo, a),
             other => panic!("{other:?}"),
         }
         si.uv = Vec2::new(0.6, 0.1);
-        match m.bsdf(&si) {
+        match m.bsdf(&si, &mut Channels::Rgb) {
             Bsdf::Lambertian(l) => assert_eq!(l.albedo, b),
             other => panic!("{other:?}"),
         }
@@ -499,14 +625,19 @@ mod tests {
             ior: 1.5,
             alpha: 0.3,
             absorption: Spectrum::ZERO,
+            dispersion: None,
         };
-        assert!(matches!(rd.bsdf(&si), Bsdf::RoughDielectric(_)));
+        assert!(matches!(
+            rd.bsdf(&si, &mut Channels::Rgb),
+            Bsdf::RoughDielectric(_)
+        ));
         let rd0 = Material::RoughDielectric {
             ior: 1.5,
             alpha: 1e-5,
             absorption: Spectrum::ZERO,
+            dispersion: None,
         };
-        assert!(rd0.bsdf(&si).flags().is_delta());
+        assert!(rd0.bsdf(&si, &mut Channels::Rgb).flags().is_delta());
         let (eta, k) = conductor_preset("Ag").unwrap();
         let rc = Material::RoughConductor {
             eta,
@@ -514,6 +645,10 @@ mod tests {
             alpha: 0.2,
             specular: Spectrum::ONE,
         };
-        assert!(rc.bsdf(&si).flags().contains(BsdfFlags::GLOSSY));
+        assert!(
+            rc.bsdf(&si, &mut Channels::Rgb)
+                .flags()
+                .contains(BsdfFlags::GLOSSY)
+        );
     }
 }

@@ -5,12 +5,12 @@ use crate::error::SceneError;
 use crate::geometry::Geometry;
 use crate::intersection::NONE;
 use crate::intersection::SurfaceInteraction;
-use crate::light::{AreaLight, AreaShape, Light};
+use crate::light::{AreaLight, AreaShape, EmissionSpectrum, Light};
 use crate::material::Material;
 use crate::medium::{Medium, MediumInterface};
 use crate::shape::{Aabb, Shape, ShapeGeometry};
 use caustica_core::sampling::Distribution1D;
-use caustica_core::{Ray, Spectrum};
+use caustica_core::{Channels, Ray, Spectrum};
 
 /// Largest coordinate (m) a shape may reach. Beyond it the BVH builder's surface-area costs
 /// overflow `f32` (a box 10¹⁹ wide already has an infinite area) and it builds a broken tree;
@@ -80,9 +80,62 @@ pub struct Scene {
     pub has_media: bool,
     /// The camera's shutter (frames); only moving meshes depend on it.
     pub shutter: Shutter,
+    /// Spectral mode: paths sample wavelengths and the scene's RGB values are upsampled to
+    /// spectra (`Channels`); false (RGB mode) by default. Set with [`Scene::set_spectral`].
+    pub spectral: bool,
+    /// How each light's RGB values become spectra (parallel to `lights`).
+    pub light_spectra: Vec<EmissionSpectrum>,
 }
 
 impl Scene {
+    /// Switches spectral mode on or off. Participating media are not spectral yet: a scene
+    /// with media is refused in spectral mode. Reflectance texels outside [0, 1] (image
+    /// textures may hold any value), which the upsampling clamps, are counted in a warning
+    /// added to `warnings`.
+    pub fn set_spectral(&mut self, on: bool) -> Result<(), SceneError> {
+        if on && !self.media.is_empty() {
+            return Err(SceneError::Invalid(
+                "spectral mode does not support participating media yet; render this scene \
+                 without --spectral"
+                    .into(),
+            ));
+        }
+        self.spectral = on;
+        if on {
+            let outside: usize = self
+                .materials
+                .iter()
+                .map(Material::reflectance_values_outside_unit_range)
+                .sum();
+            if outside > 0 {
+                self.warnings.push(format!(
+                    "{outside} reflectance texel value(s) outside [0, 1] clamped for spectral \
+                     upsampling (Jakob–Hanika spectra are reflectances in [0, 1])"
+                ));
+            }
+            for (e, l) in self.light_spectra.iter_mut().zip(&self.lights) {
+                *e = e.prepared(l.power());
+            }
+        }
+        Ok(())
+    }
+
+    /// The lanes a new path carries: RGB, or in spectral mode three wavelengths drawn from
+    /// `u` (called only then, so RGB renders draw no extra number).
+    #[inline]
+    pub fn sample_channels(&self, u: impl FnOnce() -> f32) -> Channels {
+        Channels::sample(self.spectral, u)
+    }
+
+    /// A value `rgb` light `li` returned (proportional to its colour) in the lanes `ch`.
+    #[inline]
+    pub fn light_emission(&self, li: usize, rgb: Spectrum, ch: &Channels) -> Spectrum {
+        match ch {
+            Channels::Rgb => rgb,
+            _ => self.light_spectra[li].convert(rgb, ch),
+        }
+    }
+
     /// True if some mesh moves while the shutter is open (then rays carry a time).
     #[inline]
     pub fn has_motion(&self) -> bool {
@@ -172,6 +225,8 @@ pub struct SceneBuilder {
     camera_medium: Option<u32>,
     /// Explicit media of lights (light index, medium).
     light_media: Vec<(usize, u32)>,
+    /// Named emission spectra of lights (light index, spectrum); the others are RGB.
+    light_spectra: Vec<(usize, EmissionSpectrum)>,
     shutter: Shutter,
 }
 
@@ -505,6 +560,13 @@ impl SceneBuilder {
         self.lights.push(light);
     }
 
+    /// Gives light `light` (its index in the order added) a named emission spectrum; its RGB
+    /// values must be the spectrum's colour ([`crate::light::NamedSpectrum::rgb`]) times its
+    /// scale.
+    pub fn set_light_spectrum(&mut self, light: usize, spectrum: EmissionSpectrum) {
+        self.light_spectra.push((light, spectrum));
+    }
+
     pub fn set_camera(&mut self, camera: PerspectiveCamera) {
         self.camera = Some(camera);
     }
@@ -612,6 +674,12 @@ impl SceneBuilder {
             .filter(|(_, l)| l.is_infinite())
             .map(|(i, _)| i as u32)
             .collect();
+        let mut light_spectra = vec![EmissionSpectrum::Rgb; lights.len()];
+        for &(l, e) in &self.light_spectra {
+            if let Some(slot) = light_spectra.get_mut(l) {
+                *slot = e;
+            }
+        }
         let powers: Vec<f32> = lights.iter().map(|l| l.power().average()).collect();
         let light_distribution = Distribution1D::new(&powers);
         if light_distribution.is_none() {
@@ -635,6 +703,8 @@ impl SceneBuilder {
             light_media,
             has_media,
             shutter,
+            spectral: false,
+            light_spectra,
         })
     }
 }

@@ -62,7 +62,7 @@ fn constant(d: &Doc, p: &mut Props, name: &str) -> Result<Option<(Spectrum, usiz
     };
     let s = match prop.val {
         Val::Rgb(s) => s,
-        Val::Float(x) => Spectrum::splat(x),
+        Val::Float(x) | Val::Flat(x) => Spectrum::splat(x),
         Val::Int(i) => Spectrum::splat(i as f32),
         _ => {
             return Err(d.err_at(

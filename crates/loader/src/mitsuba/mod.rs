@@ -188,6 +188,10 @@ pub(crate) enum Val {
     Bool(bool),
     Str(String),
     Rgb(Spectrum),
+    /// A `<spectrum value="x">` constant (or a tabulated one's mean): grey in RGB mode, a flat
+    /// spectrum in spectral mode (Mitsuba's `scalar_spectral` convention; an emitter's flat
+    /// spectrum is illuminant E, not D65).
+    Flat(f32),
     Vector(Vec3),
     Transform(Mat4),
 }
@@ -513,10 +517,10 @@ impl Loader {
                             c,
                             format!("tabulated spectrum replaced by its mean {mean}"),
                         );
-                        Some((Val::Rgb(Spectrum::splat(mean)), pos))
+                        Some((Val::Flat(mean), pos))
                     } else {
                         let x = d.number(&v, pos)?;
-                        Some((Val::Rgb(Spectrum::splat(x)), pos))
+                        Some((Val::Flat(x), pos))
                     }
                 }
                 "point" | "vector" => {
@@ -612,6 +616,16 @@ impl Props<'_, '_> {
             Some(p) => Err(d.err_at(p.pos, format!("parameter '{name}' must be a string"))),
         }
     }
+    /// True if parameter `name` is a `<spectrum value="x">` constant (before it is taken).
+    fn is_flat_spectrum(&self, name: &str) -> bool {
+        matches!(
+            self.map.get(name),
+            Some(Prop {
+                val: Val::Flat(_),
+                ..
+            })
+        )
+    }
     /// An `rgb`, `spectrum` or `float` (grey) value.
     fn spectrum(&mut self, d: &Doc, name: &str) -> Result<Option<Spectrum>, LoadError> {
         match self.take(name) {
@@ -620,7 +634,8 @@ impl Props<'_, '_> {
                 val: Val::Rgb(s), ..
             }) => Ok(Some(s)),
             Some(Prop {
-                val: Val::Float(x), ..
+                val: Val::Float(x) | Val::Flat(x),
+                ..
             }) => Ok(Some(Spectrum::splat(x))),
             Some(Prop {
                 val: Val::Int(i), ..

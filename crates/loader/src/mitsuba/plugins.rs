@@ -9,7 +9,7 @@ use crate::{load_obj, load_ply};
 use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
 use caustica_scene::camera::{FovAxis, PerspectiveCamera};
 use caustica_scene::light::{
-    BeamLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight,
+    BeamLight, DirectionalLight, EmissionSpectrum, EnvironmentLight, Light, PointLight, SpotLight,
 };
 use caustica_scene::material::{Material, conductor_preset};
 use caustica_scene::medium::MediumInterface;
@@ -253,11 +253,13 @@ pub(super) fn bsdf(lo: &mut Loader, d: &Doc, n: Node, depth: usize) -> Result<Ma
                 "dielectric" => Material::Dielectric {
                     ior,
                     absorption: Spectrum::ZERO,
+                    dispersion: None,
                 },
                 "roughdielectric" => Material::RoughDielectric {
                     ior,
                     alpha: roughness(lo, d, &mut p)?,
                     absorption: Spectrum::ZERO,
+                    dispersion: None,
                 },
                 _ => {
                     lo.approximated(
@@ -268,6 +270,7 @@ pub(super) fn bsdf(lo: &mut Loader, d: &Doc, n: Node, depth: usize) -> Result<Ma
                     Material::Dielectric {
                         ior: 1.0,
                         absorption: Spectrum::ZERO,
+                        dispersion: None,
                     }
                 }
             }
@@ -739,6 +742,10 @@ pub(super) fn emitter(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError
         }
         Ok(s)
     };
+    // Mitsuba's scalar_spectral reads `<spectrum value="x">` on an emitter as a flat spectrum.
+    let flat = ["intensity", "irradiance", "radiance"]
+        .iter()
+        .any(|k| p.is_flat_spectrum(k));
     let light = match t.as_str() {
         "point" => {
             let i = check(
@@ -828,6 +835,9 @@ pub(super) fn emitter(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError
     }
     lo.leftovers(d, p);
     lo.b.add_light(light);
+    if flat {
+        lo.b.set_light_spectrum(lo.b.lights().len() - 1, EmissionSpectrum::Flat);
+    }
     if let Some(m) = medium {
         lo.b.set_light_medium(lo.b.lights().len() - 1, m);
     }

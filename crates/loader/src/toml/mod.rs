@@ -158,8 +158,11 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
     }
     // The shapes' area lights come first in the builder's list.
     let first_light = b.lights().len();
-    for l in lights {
+    for (i, (l, spectrum)) in lights.into_iter().enumerate() {
         b.add_light(l);
+        if let Some(s) = spectrum {
+            b.set_light_spectrum(first_light + i, s);
+        }
     }
     if let Some(m) = camera_medium {
         b.set_camera_medium(m);

@@ -312,7 +312,7 @@ fn feature_tour_parses_every_key() {
     ));
     assert!(matches!(
         &b.materials()[idx("tinted-glass")],
-        Material::Dielectric { ior, absorption } if *ior == 1.5 && absorption.c == [0.0, 0.2, 0.4]
+        Material::Dielectric { ior, absorption, .. } if *ior == 1.5 && absorption.c == [0.0, 0.2, 0.4]
     ));
     assert!(
         matches!(&b.materials()[idx("frosted")], Material::RoughDielectric { alpha, .. } if *alpha == 0.3)

@@ -55,7 +55,11 @@ pub fn trace_light_path(
                         && let Some(cs) = camera.sample_wi(es.ray.o, u_lens)
                         && out.reaches(filter, cs.raster)
                     {
-                        let le = scene.lights[start.light].le(n, cs.wi);
+                        let le = scene.light_emission(
+                            start.light,
+                            scene.lights[start.light].le(n, cs.wi),
+                            &start.channels,
+                        );
                         if !le.is_black() {
                             let o = offset_origin(es.ray.o, n, cs.wi);
                             let shadow =
@@ -65,7 +69,8 @@ pub fn trace_light_path(
                                 shadow_transmittance(scene, &shadow, start.medium, sampler, stats);
                             if !tr.is_black() {
                                 let w = n.dot(cs.wi).abs() / (es.pdf_pos * start.pmf);
-                                splat(out, cs.raster, le * w * cs.weight * tr, stats);
+                                let c = start.channels.to_rgb(le * w * cs.weight * tr);
+                                splat(out, cs.raster, c, stats);
                             }
                         }
                     }
@@ -96,7 +101,8 @@ pub fn trace_light_path(
                                     cs.wi,
                                     TransportMode::Importance,
                                 );
-                                let c = lv.beta * f * (wi_local.z.abs() * corr) * cs.weight * tr;
+                                let c = lv.v.channels.to_rgb(lv.beta * f * tr)
+                                    * (wi_local.z.abs() * corr * cs.weight);
                                 splat(out, cs.raster, c, stats);
                             }
                         }

@@ -18,7 +18,7 @@ use crate::transport::medium::{Segment, trace_segment};
 use crate::transport::vertex::{MediumVertex, Scatterer, Vertex};
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
-use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_core::{Channels, Ray, Spectrum, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 use caustica_scene::intersection::NONE;
@@ -77,7 +77,8 @@ pub struct PathOnly;
 
 impl CameraRule for PathOnly {}
 
-/// Radiance arriving at the camera along `ray`.
+/// Radiance arriving at the camera along `ray`, in linear sRGB (W/m²/sr). In spectral mode the
+/// path samples its wavelengths first (one more sampler dimension).
 pub fn radiance(
     scene: &Scene,
     ray: Ray,
@@ -85,10 +86,13 @@ pub fn radiance(
     opts: &RenderOptions,
     stats: &mut RenderStats,
 ) -> Spectrum {
-    radiance_with(scene, ray, sampler, opts, stats, &PathOnly)
+    let ch = scene.sample_channels(|| sampler.next_1d());
+    radiance_with(scene, ray, sampler, opts, stats, &PathOnly, ch)
 }
 
-/// [`radiance`] under a [`CameraRule`]. Same sampler use whatever the rule does.
+/// [`radiance`] under a [`CameraRule`], for a path with lanes `ch` (the rules of the photon
+/// family run in RGB, their estimates being RGB); the result is in linear sRGB. Same sampler
+/// use whatever the rule does.
 pub fn radiance_with(
     scene: &Scene,
     mut ray: Ray,
@@ -96,6 +100,7 @@ pub fn radiance_with(
     opts: &RenderOptions,
     stats: &mut RenderStats,
     rule: &impl CameraRule,
+    mut ch: Channels,
 ) -> Spectrum {
     let mut l = Spectrum::ZERO;
     // The previous vertex's direct light came from the rule: emission found next is in it.
@@ -108,13 +113,14 @@ pub fn radiance_with(
     let mut prev_p = Vec3::ZERO;
     let mut depth = 0u32; // edges traced so far
     loop {
-        let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats) {
+        let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats, &ch)
+        {
             Segment::Surface { si, transmittance } => (si, transmittance),
             Segment::Escaped { transmittance } => {
                 beta *= transmittance;
                 for &li in &scene.infinite_lights {
                     let light = &scene.lights[li as usize];
-                    let le = light.le(Vec3::ZERO, -ray.d);
+                    let le = scene.light_emission(li as usize, light.le(Vec3::ZERO, -ray.d), &ch);
                     let w = if prev_direct_by_rule {
                         0.0
                     } else if prev_delta {
@@ -163,7 +169,7 @@ pub fn radiance_with(
         beta *= transmittance;
         if si.light != NONE {
             let light = &scene.lights[si.light as usize];
-            let le = light.le(si.ng, -ray.d);
+            let le = scene.light_emission(si.light as usize, light.le(si.ng, -ray.d), &ch);
             if !le.is_black() {
                 let w = if prev_direct_by_rule {
                     0.0
@@ -181,7 +187,7 @@ pub fn radiance_with(
         if depth >= opts.limits.max_depth {
             break;
         }
-        let v = Vertex::new(scene, si, &ray);
+        let v = Vertex::new(scene, si, &ray, &mut ch);
         rule.visit(&v, depth, beta);
         if let Some(lo) = rule.lookup(&v, depth, stats) {
             l += beta * lo.radiance;
@@ -230,5 +236,5 @@ pub fn radiance_with(
         medium = v.si.medium_toward(wi, medium);
         ray = v.si.spawn_ray(wi);
     }
-    l
+    ch.to_rgb(l)
 }

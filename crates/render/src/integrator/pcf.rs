@@ -28,7 +28,7 @@ use crate::pcf::{
 };
 use crate::stats::RenderStats;
 use crate::transport::vertex::Vertex;
-use caustica_core::Spectrum;
+use caustica_core::{Channels, Spectrum};
 use caustica_scene::Scene;
 
 /// σ₁ when not given: this fraction of the scene's bounding-box diagonal (0.05 m in the 2 m
@@ -264,7 +264,7 @@ pub(crate) fn render(
             let u_lens = sampler.next_2d();
             let time = scene.sample_time(|| sampler.next_1d());
             let ray = scene.camera.generate_ray(raster, u_lens).ray.at_time(time);
-            radiance_with(scene, ray, sampler, &o, sst, &camera)
+            radiance_with(scene, ray, sampler, &o, sst, &camera, Channels::Rgb)
         });
         stats
     });

@@ -18,7 +18,7 @@ use crate::options::RenderOptions;
 use crate::photon::plan::{PathStream, trace_path_range};
 use crate::stats::RenderStats;
 use crate::transport::vertex::Vertex;
-use caustica_core::{Spectrum, Vec2, Vec3};
+use caustica_core::{Channels, Spectrum, Vec2, Vec3};
 use caustica_density::{KdTree, Neighbor};
 use caustica_scene::Scene;
 use std::cell::RefCell;
@@ -114,7 +114,7 @@ impl ImportonMap {
                     first_vertex: rule.first_vertex,
                     out: RefCell::new(std::mem::take(out)),
                 };
-                radiance_with(scene, ray, sampler, opts, st, &recorder);
+                radiance_with(scene, ray, sampler, opts, st, &recorder, Channels::Rgb);
                 *out = recorder.out.into_inner();
             });
         let points: Vec<Vec3> = importons.iter().map(|i| i.p).collect();

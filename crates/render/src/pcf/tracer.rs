@@ -111,7 +111,7 @@ impl ConeRule<'_> {
             if cos_os <= 0.0 {
                 return;
             }
-            let value = lv.beta * bs.weight * (shade_in / cos_os);
+            let value = lv.v.channels.to_rgb(lv.beta * bs.weight) * (shade_in / cos_os);
             push(out, &site, wo, value);
             return;
         }
@@ -176,7 +176,7 @@ impl ConeRule<'_> {
             } else {
                 1.0
             };
-            let value = lv.beta * f * (weight * shade_in / pt);
+            let value = lv.v.channels.to_rgb(lv.beta * f) * (weight * shade_in / pt);
             push(out, &site, w, value);
         };
         if let Some((uc, u)) = u_bsdf {

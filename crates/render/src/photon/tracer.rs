@@ -195,7 +195,9 @@ pub(crate) fn trace_one(
             if !stored {
                 return;
             }
-            let flux = lv.beta;
+            // Stored in linear sRGB (the estimate is RGB; in spectral mode the photon's
+            // wavelengths become its tristimulus flux here).
+            let flux = lv.v.channels.to_rgb(lv.beta);
             if !flux.is_finite() {
                 stats.nonfinite += 1;
                 return;

@@ -75,5 +75,5 @@ pub fn sample_direct_at(
     } else {
         power_heuristic(pmf * ls.pdf, at.pdf(ls.wi, TransportMode::Radiance))
     };
-    f * tr * ls.weight * (mis / pmf)
+    f * tr * scene.light_emission(li, ls.weight, &at.channels()) * (mis / pmf)
 }

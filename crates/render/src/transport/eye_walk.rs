@@ -111,7 +111,7 @@ pub fn walk_eye(
         };
         depth += 1;
         beta *= transmittance;
-        let v = Vertex::new(scene, si, &ray);
+        let v = Vertex::rgb(scene, si, &ray);
         let flow = visit(
             EyeEvent::Vertex {
                 v: &v,

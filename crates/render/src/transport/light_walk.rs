@@ -11,7 +11,7 @@ use crate::transport::medium::{Segment, trace_segment};
 use crate::transport::time::PathTime;
 use crate::transport::vertex::{MediumVertex, Vertex, emission_ray};
 use caustica_core::sampling::Sampler;
-use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_core::{Channels, Ray, Spectrum, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::{BsdfSample, TransportMode};
 use caustica_scene::intersection::NONE;
@@ -29,6 +29,9 @@ pub struct LightStart<'a> {
     pub ray: Ray,
     /// The medium the light emits into (`Scene::light_media`), or `NONE`.
     pub medium: u32,
+    /// The lanes of the path: RGB, or the wavelengths it sampled (spectral mode). Values of
+    /// the path go to the film or a photon map through [`Channels::to_rgb`].
+    pub channels: Channels,
 }
 
 /// A surface vertex of a light path, as seen by the visitor.
@@ -134,7 +137,8 @@ impl<F: FnMut(LightEvent, &mut Sampler, &mut RenderStats)> LightVisitor for Even
 }
 
 /// Walks one light path, calling `visit` once with [`LightEvent::Start`] and then with
-/// [`LightEvent::Vertex`] at every surface hit. Sampler use: 5 dimensions to start, then
+/// [`LightEvent::Vertex`] at every surface hit. Sampler use: 5 dimensions to start (6 in
+/// spectral mode: the wavelengths), then
 /// whatever the visitor draws at each event, and 4 per vertex for scattering and roulette.
 pub fn walk_light_path(
     scene: &Scene,
@@ -176,12 +180,14 @@ pub fn walk_light_path_at(
     let Some(dist) = &scene.light_distribution else {
         return;
     };
+    let mut ch = scene.sample_channels(|| sampler.next_1d());
     let (li, pmf, _) = dist.sample(u_light);
     let light = &scene.lights[li];
-    let es = light.sample_emission(u_pos, u_dir);
+    let mut es = light.sample_emission(u_pos, u_dir);
     if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() {
         return;
     }
+    es.weight = scene.light_emission(li, es.weight, &ch);
     let mut ray = emission_ray(&es).at_time(time);
     let mut medium = scene.light_media.get(li).copied().unwrap_or(NONE);
     visitor.event(
@@ -191,6 +197,7 @@ pub fn walk_light_path_at(
             emission: &es,
             ray,
             medium,
+            channels: ch,
         }),
         sampler,
         stats,
@@ -199,7 +206,8 @@ pub fn walk_light_path_at(
     let mut depth = 1u32; // edges of the path including the one being traced
     let mut all_delta = true; // every scattering vertex so far was delta
     loop {
-        let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats) {
+        let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats, &ch)
+        {
             Segment::Surface { si, transmittance } => (si, transmittance),
             Segment::Escaped { .. } => break,
             Segment::Medium {
@@ -241,7 +249,7 @@ pub fn walk_light_path_at(
             }
         };
         beta *= transmittance;
-        let v = Vertex::new(scene, si, &ray);
+        let v = Vertex::new(scene, si, &ray, &mut ch);
         let wo = -ray.d;
         visitor.event(
             LightEvent::Vertex(&LightVertex {

@@ -19,7 +19,7 @@
 
 use crate::stats::RenderStats;
 use caustica_core::sampling::Sampler;
-use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_core::{Channels, Ray, Spectrum, Vec3};
 use caustica_scene::intersection::NONE;
 use caustica_scene::medium::{FreeFlight, TrackingSampler};
 use caustica_scene::{Scene, SurfaceInteraction};
@@ -57,7 +57,8 @@ pub struct MediumSpan<'a> {
 const MAX_NULL_CROSSINGS: u32 = 256;
 
 /// Traces `ray` (origin off any surface) from medium `*medium` to the next scattering event or
-/// non-null surface, crossing index-matched boundaries and updating `*medium` as it goes.
+/// non-null surface, crossing index-matched boundaries and updating `*medium` as it goes. `ch`:
+/// the lanes of the path (Beer–Lambert absorption inside dielectrics at its wavelengths).
 #[inline]
 pub fn trace_segment(
     scene: &Scene,
@@ -65,12 +66,13 @@ pub fn trace_segment(
     medium: &mut u32,
     sampler: &mut Sampler,
     stats: &mut RenderStats,
+    ch: &Channels,
 ) -> Segment {
     if !scene.has_media {
         stats.rays += 1;
         return match scene.intersect(ray) {
             Some(si) => Segment::Surface {
-                transmittance: interior_transmittance(scene, &si, ray),
+                transmittance: interior_transmittance(scene, &si, ray, ch),
                 si,
             },
             None => Segment::Escaped {
@@ -78,7 +80,7 @@ pub fn trace_segment(
             },
         };
     }
-    walk_spans(scene, ray, medium, stats, |span, _| {
+    walk_spans(scene, ray, medium, stats, ch, |span, _| {
         let m = &scene.media[span.medium as usize];
         let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
         match m.sample_free_flight(span.ray, span.t_max, &mut ts) {
@@ -104,9 +106,9 @@ pub fn trace_transmitted(
     mut span: impl FnMut(MediumSpan, &mut RenderStats),
 ) -> Segment {
     if !scene.has_media {
-        return trace_segment(scene, ray, medium, sampler, stats);
+        return trace_segment(scene, ray, medium, sampler, stats, &Channels::Rgb);
     }
-    walk_spans(scene, ray, medium, stats, |s, stats| {
+    walk_spans(scene, ray, medium, stats, &Channels::Rgb, |s, stats| {
         let m = &scene.media[s.medium as usize];
         let (r, t_max) = (*s.ray, s.t_max);
         span(s, stats);
@@ -124,6 +126,7 @@ fn walk_spans(
     ray: &Ray,
     medium: &mut u32,
     stats: &mut RenderStats,
+    ch: &Channels,
     mut in_medium: impl FnMut(MediumSpan, &mut RenderStats) -> Result<Spectrum, Segment>,
 ) -> Segment {
     let mut ray = *ray;
@@ -151,7 +154,7 @@ fn walk_spans(
         };
         if !scene.materials[si.material as usize].is_null() {
             return Segment::Surface {
-                transmittance: weight * interior_transmittance(scene, &si, &ray),
+                transmittance: weight * interior_transmittance(scene, &si, &ray, ch),
                 si,
             };
         }
@@ -222,11 +225,16 @@ pub fn shadow_transmittance(
 /// Beer–Lambert transmittance exp(−σa t) of the segment that ended at `si`, if that segment ran
 /// inside an absorbing dielectric, i.e. the ray hit the surface from its inside (−ng side).
 #[inline]
-fn interior_transmittance(scene: &Scene, si: &SurfaceInteraction, ray: &Ray) -> Spectrum {
+fn interior_transmittance(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    ray: &Ray,
+    ch: &Channels,
+) -> Spectrum {
     if ray.d.dot(si.ng) > 0.0
         && let Some(sigma) = scene.materials[si.material as usize].interior_absorption()
     {
-        return (sigma * -si.t).exp();
+        return (ch.unbounded(sigma) * -si.t).exp();
     }
     Spectrum::ONE
 }

@@ -2,7 +2,7 @@
 //! shared by every walker and integrator, both seen through [`Scatterer`] where the code is the
 //! same; and rays spawned off surfaces.
 
-use caustica_core::{Frame, Ray, Spectrum, Vec3};
+use caustica_core::{Channels, Frame, Ray, Spectrum, Vec3};
 use caustica_scene::bsdf::{Bsdf, TransportMode};
 use caustica_scene::light::EmissionSample;
 use caustica_scene::phase::{Phase, PhaseFunction};
@@ -16,13 +16,17 @@ pub struct Vertex {
     pub frame: Frame,
     /// Direction back along the incoming ray, local frame.
     pub wo: Vec3,
+    /// What the lanes of the BSDF's values (and the path's) mean here: RGB or the path's
+    /// wavelengths, after any dispersion at this vertex ended the secondary ones.
+    pub channels: Channels,
 }
 
 impl Vertex {
-    /// Sets up the BSDF and frame at a hit reached by `ray`.
+    /// Sets up the BSDF and frame at a hit reached by `ray`, for a path whose lanes mean `ch`
+    /// (updated: a dispersive interface ends the secondary wavelengths).
     #[inline]
-    pub fn new(scene: &Scene, si: SurfaceInteraction, ray: &Ray) -> Self {
-        let bsdf = scene.materials[si.material as usize].bsdf(&si);
+    pub fn new(scene: &Scene, si: SurfaceInteraction, ray: &Ray, ch: &mut Channels) -> Self {
+        let bsdf = scene.materials[si.material as usize].bsdf(&si, ch);
         let frame = si.shading_frame();
         let wo = frame.to_local(-ray.d);
         Self {
@@ -30,7 +34,14 @@ impl Vertex {
             bsdf,
             frame,
             wo,
+            channels: *ch,
         }
+    }
+
+    /// [`Vertex::new`] for a path in RGB (the camera side of the photon methods).
+    #[inline]
+    pub fn rgb(scene: &Scene, si: SurfaceInteraction, ray: &Ray) -> Self {
+        Self::new(scene, si, ray, &mut Channels::Rgb)
     }
 
     /// The geometric normal on the side the vertex is seen from (toward `wo`).
@@ -161,6 +172,14 @@ impl Scatterer<'_> {
                 f * (wi_local.z.abs() * v.shading_normal_correction(wo, wi, mode))
             }
             Scatterer::Medium(m) => Spectrum::splat(m.phase.eval(m.wo, wi)),
+        }
+    }
+    /// The lanes of the path at this vertex (media are RGB only).
+    #[inline]
+    pub fn channels(&self) -> Channels {
+        match self {
+            Scatterer::Surface { v, .. } => v.channels,
+            Scatterer::Medium(_) => Channels::Rgb,
         }
     }
     /// Solid-angle density (sr⁻¹) with which the vertex samples `wi` itself.

@@ -220,6 +220,7 @@ pub fn ball_on_floor(albedo: f32, intensity: f32, light_y: f32, glass: bool, siz
                 Material::Dielectric {
                     ior: 1.5,
                     absorption: Spectrum::ZERO,
+                    dispersion: None,
                 },
             )
             .unwrap();

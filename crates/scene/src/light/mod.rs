@@ -11,6 +11,7 @@
 pub mod area;
 pub mod beam;
 pub mod directional;
+pub mod emission_spectrum;
 pub mod environment;
 pub mod point;
 pub mod spot;
@@ -18,6 +19,7 @@ pub mod spot;
 pub use area::{AreaLight, AreaShape};
 pub use beam::BeamLight;
 pub use directional::DirectionalLight;
+pub use emission_spectrum::{EmissionSpectrum, NamedSpectrum};
 pub use environment::EnvironmentLight;
 pub use point::PointLight;
 pub use spot::SpotLight;

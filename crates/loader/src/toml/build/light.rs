@@ -6,12 +6,17 @@ use crate::toml::context::Ctx;
 use crate::toml::desc::light::{LightDesc, LightType};
 use crate::toml::value::Rgb;
 use ::toml::Spanned;
-use caustica_core::Vec3;
+use caustica_core::{Spectrum, Vec3};
 use caustica_scene::light::{
-    BeamLight, DirectionalLight, EnvironmentLight, Light, PointLight, SpotLight,
+    BeamLight, DirectionalLight, EmissionSpectrum, EnvironmentLight, Light, NamedSpectrum,
+    PointLight, SpotLight,
 };
 
-pub(crate) fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, LoadError> {
+/// A light and, when it names one, its emission spectrum.
+pub(crate) fn light(
+    cx: &Ctx,
+    l: &Spanned<LightDesc>,
+) -> Result<(Light, Option<EmissionSpectrum>), LoadError> {
     let span = l.span();
     let l = l.get_ref();
     let what = format!("a {:?} light", l.ty).to_lowercase();
@@ -27,6 +32,7 @@ pub(crate) fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, LoadError
         ("cutoff_angle", l.cutoff_angle.is_some()),
         ("beam_width", l.beam_width.is_some()),
         ("medium", l.medium.is_some()),
+        ("spectrum", l.spectrum.is_some()),
     ];
     let allowed: &[&str] = match l.ty {
         LightType::Point => &["position", "intensity", "medium"],
@@ -43,10 +49,33 @@ pub(crate) fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, LoadError
         LightType::Beam => &["center", "direction", "radius", "irradiance", "medium"],
         LightType::Environment => &["radiance"],
     };
-    check_fields(cx, &span, &what, &present, allowed)?;
-    let need = |v: Option<Rgb>, field: &str| {
-        v.map(|x| x.0)
-            .ok_or_else(|| cx.err(span.clone(), format!("{what} needs '{field}'")))
+    let allowed: Vec<&str> = allowed.iter().copied().chain(["spectrum"]).collect();
+    check_fields(cx, &span, &what, &present, &allowed)?;
+    let named = match &l.spectrum {
+        Some(s) => Some(
+            NamedSpectrum::parse(s.get_ref())
+                .map_err(|e| cx.err(s.span(), format!("{what}: field 'spectrum': {e}")))?,
+        ),
+        None => None,
+    };
+    // With a named spectrum the strength is one number (a grey value): the light's RGB values
+    // are the spectrum's colour times it.
+    let need = |v: Option<Rgb>, field: &str| -> Result<Spectrum, LoadError> {
+        let v = v
+            .map(|x| x.0)
+            .ok_or_else(|| cx.err(span.clone(), format!("{what} needs '{field}'")))?;
+        match named {
+            None => Ok(v),
+            Some(n) if v.c[0] == v.c[1] && v.c[1] == v.c[2] => Ok(n.rgb() * v.c[0]),
+            Some(_) => Err(cx.err(
+                span.clone(),
+                format!(
+                    "{what}: with 'spectrum', '{field}' must be one number (the light's \
+                     luminance), got {:?}",
+                    v.to_rgb()
+                ),
+            )),
+        }
     };
     let dir = |origin: Vec3| -> Result<Vec3, LoadError> {
         let d = match (l.direction, l.target) {
@@ -73,7 +102,7 @@ pub(crate) fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, LoadError
             )
         })
     };
-    Ok(match l.ty {
+    let light = match l.ty {
         LightType::Point => Light::Point(PointLight::new(
             l.position.map_or(Vec3::ZERO, |p| p.0),
             need(l.intensity, "intensity")?,
@@ -115,5 +144,6 @@ pub(crate) fn light(cx: &Ctx, l: &Spanned<LightDesc>) -> Result<Light, LoadError
         LightType::Environment => {
             Light::Environment(EnvironmentLight::constant(need(l.radiance, "radiance")?))
         }
-    })
+    };
+    Ok((light, named.map(EmissionSpectrum::named)))
 }

@@ -4,12 +4,72 @@ use super::fields::check_fields;
 use super::texture::texture;
 use crate::error::LoadError;
 use crate::toml::context::Ctx;
-use crate::toml::desc::material::{MaterialDesc, MaterialType};
+use crate::toml::desc::material::{DispersionDesc, DispersionLaw, MaterialDesc, MaterialType};
 use crate::toml::desc::texture::TexDesc;
 use ::toml::Spanned;
 use caustica_core::Spectrum;
+use caustica_scene::dispersion::Dispersion;
 use caustica_scene::material::{Material, conductor_preset};
 use caustica_scene::texture::Texture;
+
+/// The dispersion law a `dispersion` field describes, validated over the visible range.
+fn dispersion(d: &DispersionDesc) -> Result<Dispersion, String> {
+    let law = match d {
+        DispersionDesc::Named(name) => Dispersion::named(name).ok_or_else(|| {
+            format!(
+                "field 'dispersion': unknown glass '{name}' (expected one of {})",
+                caustica_scene::dispersion::NAMED.join(", ")
+            )
+        })?,
+        DispersionDesc::Law(DispersionLaw {
+            sellmeier: Some(terms),
+            cauchy: None,
+        }) => {
+            if terms.is_empty() || terms.len() > 4 {
+                return Err(format!(
+                    "field 'dispersion': 'sellmeier' takes 1 to 4 [B, C] terms, got {}",
+                    terms.len()
+                ));
+            }
+            let (mut b, mut c) = ([0.0; 4], [0.0; 4]);
+            for (i, t) in terms.iter().enumerate() {
+                (b[i], c[i]) = (t[0], t[1]);
+            }
+            Dispersion::Sellmeier { b, c }
+        }
+        DispersionDesc::Law(DispersionLaw {
+            sellmeier: None,
+            cauchy: Some(k),
+        }) => match k.as_slice() {
+            [a, b] => Dispersion::Cauchy {
+                a: *a,
+                b: *b,
+                c: 0.0,
+            },
+            [a, b, c] => Dispersion::Cauchy {
+                a: *a,
+                b: *b,
+                c: *c,
+            },
+            _ => {
+                return Err(format!(
+                    "field 'dispersion': 'cauchy' takes [A, B] or [A, B, C], got {} numbers",
+                    k.len()
+                ));
+            }
+        },
+        DispersionDesc::Law(_) => {
+            return Err(
+                "field 'dispersion': give a glass name, { sellmeier = [[B, C], …] } or \
+                 { cauchy = [A, B] }"
+                    .into(),
+            );
+        }
+    };
+    law.validate()
+        .map_err(|e| format!("field 'dispersion': {e}"))?;
+    Ok(law)
+}
 
 pub(crate) fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, LoadError> {
     let span = m.span();
@@ -26,14 +86,15 @@ pub(crate) fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, 
         ("alpha", m.alpha.is_some()),
         ("diffuse", m.diffuse.is_some()),
         ("exponent", m.exponent.is_some()),
+        ("dispersion", m.dispersion.is_some()),
     ];
     let allowed: &[&str] = match m.ty {
         MaterialType::Diffuse => &["reflectance"],
         MaterialType::Mirror => &["reflectance"],
-        MaterialType::Dielectric => &["ior", "absorption"],
+        MaterialType::Dielectric => &["ior", "absorption", "dispersion"],
         MaterialType::Conductor => &["eta", "k", "preset", "specular"],
         MaterialType::RoughConductor => &["eta", "k", "preset", "specular", "alpha"],
-        MaterialType::RoughDielectric => &["ior", "absorption", "alpha"],
+        MaterialType::RoughDielectric => &["ior", "absorption", "alpha", "dispersion"],
         MaterialType::Phong => &["diffuse", "specular", "exponent"],
         MaterialType::Null => &[],
     };
@@ -48,7 +109,22 @@ pub(crate) fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, 
         Ok(())
     };
     let grey = |x: f32| Spectrum::splat(x);
-    let ior = m.ior.map_or(1.5, |x| x.0);
+    let dispersion = match &m.dispersion {
+        None => None,
+        Some(d) => {
+            if m.ior.is_some() {
+                return Err(cx.err(
+                    d.span(),
+                    format!("{what}: give either 'ior' or 'dispersion', not both"),
+                ));
+            }
+            Some(dispersion(d.get_ref()).map_err(|e| cx.err(d.span(), format!("{what}: {e}")))?)
+        }
+    };
+    let ior = match (&dispersion, m.ior) {
+        (Some(d), _) => d.ior_d(),
+        (None, ior) => ior.map_or(1.5, |x| x.0),
+    };
     let absorption = m.absorption.map_or(Spectrum::ZERO, |x| x.0);
     let alpha = m.alpha.map_or(0.1, |x| x.0);
     let specular = m.specular.map(|x| x.0);
@@ -94,11 +170,16 @@ pub(crate) fn material(cx: &Ctx, m: &Spanned<MaterialDesc>) -> Result<Material, 
             Material::Mirror { reflectance: r }
         }
         MaterialType::Null => Material::Null,
-        MaterialType::Dielectric => Material::Dielectric { ior, absorption },
+        MaterialType::Dielectric => Material::Dielectric {
+            ior,
+            absorption,
+            dispersion,
+        },
         MaterialType::RoughDielectric => Material::RoughDielectric {
             ior,
             alpha,
             absorption,
+            dispersion,
         },
         MaterialType::Conductor => {
             let (eta, k) = eta_k()?;

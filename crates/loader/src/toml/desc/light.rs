@@ -28,6 +28,9 @@ pub(crate) struct LightDesc {
     pub(crate) radius: Option<Positive>,
     pub(crate) cutoff_angle: Option<Positive>,
     pub(crate) beam_width: Option<Positive>,
+    /// A named emission spectrum (`D65`, `blackbody:<kelvin>`); the light's strength is then
+    /// one number, its luminance.
+    pub(crate) spectrum: Option<::toml::Spanned<String>>,
     /// The medium the light emits into, by name (found from its position when absent).
     pub(crate) medium: Option<::toml::Spanned<String>>,
 }

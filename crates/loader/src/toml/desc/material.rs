@@ -34,4 +34,23 @@ pub(crate) struct MaterialDesc {
     pub(crate) alpha: Option<Positive>,
     pub(crate) diffuse: Option<TexDesc>,
     pub(crate) exponent: Option<NonNeg>,
+    /// A dielectric's IOR as a function of wavelength (in place of `ior`).
+    pub(crate) dispersion: Option<::toml::Spanned<DispersionDesc>>,
+}
+
+/// `dispersion = "BK7"` (a named glass or water), `dispersion = { sellmeier = [[B1, C1], …] }`
+/// (C in µm², up to 4 terms) or `dispersion = { cauchy = [A, B] }` / `[A, B, C]` (B in µm², C
+/// in µm⁴).
+#[derive(Deserialize)]
+#[serde(untagged)]
+pub(crate) enum DispersionDesc {
+    Named(String),
+    Law(DispersionLaw),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct DispersionLaw {
+    pub(crate) sellmeier: Option<Vec<[f64; 2]>>,
+    pub(crate) cauchy: Option<Vec<f64>>,
 }

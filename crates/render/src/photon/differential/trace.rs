@@ -341,7 +341,8 @@ impl<const N: usize> LightVisitor for DiffVisitor<'_, N> {
                     p: lv.v.si.p,
                     wi: lv.wo,
                     n: lv.v.si.ng_toward(lv.wo),
-                    beta: lv.beta,
+                    // Linear sRGB, as every stored photon (`Channels::to_rgb`).
+                    beta: lv.v.channels.to_rgb(lv.beta),
                     depth: lv.depth.min(u16::MAX as u32) as u16,
                     pmf: self.ray.pmf,
                     dp,
