@@ -966,9 +966,10 @@ fn render_one(
         .map(|c| format!(" (crop {c} of {}x{})", cam.width, cam.height))
         .unwrap_or_default();
     println!(
-        "{}: {} {}x{}{crop}, {what} in {secs:.2} s{stopped}: {:.2} M samples/s, {:.2} M rays/s, {} NaN/Inf samples discarded -> {}",
+        "{}: {}{} {}x{}{crop}, {what} in {secs:.2} s{stopped}: {:.2} M samples/s, {:.2} M rays/s, {} NaN/Inf samples discarded -> {}",
         scene.name,
         kind.name(),
+        if scene.spectral { " (spectral)" } else { "" },
         rendered.film.width,
         rendered.film.height,
         rendered.stats.samples as f64 / secs / 1e6,

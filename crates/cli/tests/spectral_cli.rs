@@ -1,0 +1,128 @@
+//! `--spectral` end to end: a spectral render says so in its summary and differs from the RGB
+//! one only through dispersion; bad spectral input (unknown glass or illuminant, a dispersion
+//! law below IOR 1, media) fails cleanly with the file and line.
+
+mod common;
+
+use common::{assert_clean_failure, caustica, stderr, stdout};
+use std::path::PathBuf;
+
+fn tmp(name: &str) -> PathBuf {
+    common::tmp_in("spectral-cli", name)
+}
+
+#[test]
+fn prism_renders_in_spectral_mode_and_says_so() {
+    let out = tmp("prism.exr");
+    let o = caustica(&[
+        "render",
+        "prism",
+        "--spectral",
+        "--integrator",
+        "lighttrace",
+        "--spp",
+        "1",
+        "--width",
+        "40",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("lighttrace (spectral)"),
+        "{}",
+        stdout(&o)
+    );
+}
+
+/// Writes a small scene whose glass has `dispersion_line` (or whose light has `light_line`).
+fn scene_with(name: &str, material_line: &str, light_line: &str) -> PathBuf {
+    let p = tmp(name);
+    std::fs::write(
+        &p,
+        format!(
+            r#"[camera]
+eye = [0, 1, 3]
+target = [0, 0, 0]
+fov = 40
+width = 16
+height = 16
+
+[[material]]
+name = "glass"
+type = "dielectric"
+{material_line}
+
+[[shape]]
+type = "sphere"
+material = "glass"
+center = [0, 0, 0]
+radius = 0.5
+
+[[light]]
+type = "point"
+position = [0, 2, 0]
+intensity = 1
+{light_line}
+"#
+        ),
+    )
+    .unwrap();
+    p
+}
+
+#[test]
+fn bad_spectral_input_fails_with_file_and_line() {
+    let out = tmp("bad.exr");
+    let render = |scene: &PathBuf| {
+        caustica(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--spectral",
+            "--spp",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+    };
+    let s = scene_with("glass.toml", r#"dispersion = "unobtanium""#, "");
+    assert_clean_failure(
+        &render(&s),
+        &["glass.toml:11:", "unknown glass 'unobtanium'"],
+    );
+    let s = scene_with("below1.toml", "dispersion = { cauchy = [0.9, 0.001] }", "");
+    assert_clean_failure(&render(&s), &["below1.toml:11:", "must be finite and > 1"]);
+    let s = scene_with("both.toml", "ior = 1.5\ndispersion = \"BK7\"", "");
+    assert_clean_failure(&render(&s), &["both.toml", "either 'ior' or 'dispersion'"]);
+    let s = scene_with("light.toml", r#"dispersion = "BK7""#, r#"spectrum = "D50""#);
+    assert_clean_failure(&render(&s), &["light.toml", "unknown illuminant `D50`"]);
+    let s = scene_with(
+        "kelvin.toml",
+        r#"dispersion = "BK7""#,
+        r#"spectrum = "blackbody:-3""#,
+    );
+    assert_clean_failure(&render(&s), &["kelvin.toml", "blackbody temperature"]);
+    // A good one renders.
+    let s = scene_with(
+        "good.toml",
+        r#"dispersion = "water""#,
+        r#"spectrum = "blackbody:3000""#,
+    );
+    let o = render(&s);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn spectral_mode_refuses_media() {
+    let out = tmp("fog.exr");
+    let o = caustica(&[
+        "render",
+        "fog-box",
+        "--spectral",
+        "--spp",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, &["--spectral", "participating media"]);
+}
