@@ -267,52 +267,79 @@ fn snell_path(o: Vec3, d: Vec3, n: f32, screen_p: Vec3, screen_n: Vec3) -> Optio
     Some((hit(b, d2, screen_p, screen_n), d2))
 }
 
-/// The prism with a level beam: every light path's first landing on the screen, by its hero
-/// wavelength, lies where Snell's law with F2's Sellmeier IOR at that wavelength sends the
-/// same emitted ray — within a tenth of a millimetre, far below a pixel of the camera there
-/// (about 1 mm) — and the colours fan out in order (blue deviated most).
-#[test]
-fn prism_colours_land_where_snell_puts_them() {
+/// Where a light path of the levelled prism first meets the screen (after the two faces).
+struct ScreenLanding {
+    /// Emitted ray.
+    origin: Vec3,
+    dir: Vec3,
+    /// Landing point, screen normal, direction the light arrived in, hero wavelength (nm).
+    p: Vec3,
+    ng: Vec3,
+    arrival: Vec3,
+    hero: f32,
+}
+
+/// The landings of `paths` light paths (seed 11) of the prism with its beam levelled onto the
+/// screen, in spectral mode.
+fn screen_landings(paths: u32) -> Vec<ScreenLanding> {
     let mut scene = prism::prism_with_slope(0.0).unwrap().build().unwrap();
     scene.set_spectral(true).unwrap();
-    let law = prism::prism_dispersion();
     let screen_mat = scene
         .material_names
         .iter()
         .position(|n| n == "screen")
         .unwrap() as u32;
-    let limits = PathLimits::default();
     let mut stats = RenderStats::default();
     let mut sampler = Sampler::new(SamplerKind::Independent, 11);
-    let (mut checked, mut worst) = (0u32, 0.0f32);
-    let mut by_colour: Vec<(f32, Vec3)> = Vec::new();
-    for i in 0..4000u32 {
+    let mut out = Vec::new();
+    for i in 0..paths {
         sampler.start_pixel_sample(0, 0, i);
         let mut origin = None;
         let mut landed = None;
         walk_light_path(
             &scene,
             &mut sampler,
-            &limits,
+            &PathLimits::default(),
             &mut stats,
             |event, _, _| match event {
                 LightEvent::Start(s) => origin = Some((s.emission.ray.o, s.emission.ray.d)),
                 LightEvent::Vertex(v) => {
                     if landed.is_none() && v.v.si.material == screen_mat && v.depth == 3 {
-                        landed = Some((v.v.si.p, v.v.si.ng, v.v.channels.hero()));
+                        landed = Some((v.v.si.p, v.v.si.ng, -v.wo, v.v.channels.hero()));
                     }
                 }
                 LightEvent::Medium(_) => {}
             },
         );
-        let (Some((o, d)), Some((p, ng, Some(hero)))) = (origin, landed) else {
-            continue;
-        };
-        let want = snell_landing(o, d, law.ior(hero), p, ng).unwrap();
-        worst = worst.max((want - p).length());
-        checked += 1;
-        by_colour.push((hero, p));
+        if let (Some((origin, dir)), Some((p, ng, arrival, Some(hero)))) = (origin, landed) {
+            out.push(ScreenLanding {
+                origin,
+                dir,
+                p,
+                ng,
+                arrival,
+                hero,
+            });
+        }
     }
+    out
+}
+
+/// The prism with a level beam: every light path's first landing on the screen, by its hero
+/// wavelength, lies where Snell's law with F2's Sellmeier IOR at that wavelength sends the
+/// same emitted ray — within a tenth of a millimetre, far below a pixel of the camera there
+/// (about 1 mm) — and the colours fan out in order (blue deviated most).
+#[test]
+fn prism_colours_land_where_snell_puts_them() {
+    let law = prism::prism_dispersion();
+    let landings = screen_landings(4000);
+    let checked = landings.len();
+    let mut worst = 0.0f32;
+    for l in &landings {
+        let want = snell_landing(l.origin, l.dir, law.ior(l.hero), l.p, l.ng).unwrap();
+        worst = worst.max((want - l.p).length());
+    }
+    let by_colour: Vec<(f32, Vec3)> = landings.iter().map(|l| (l.hero, l.p)).collect();
     assert!(checked > 3000, "only {checked} paths reached the screen");
     assert!(worst < 1e-4, "worst landing error {worst} m");
     // Blue lands farther along the deviation than red: project on the screen's horizontal.
@@ -425,50 +452,21 @@ fn prism_table_caustic_light_tracer_and_pds_agree() {
 #[test]
 #[ignore]
 fn prism_deviation_report() {
-    let mut scene = prism::prism_with_slope(0.0).unwrap().build().unwrap();
-    scene.set_spectral(true).unwrap();
     let law = prism::prism_dispersion();
-    let screen_mat = scene
-        .material_names
-        .iter()
-        .position(|n| n == "screen")
-        .unwrap() as u32;
-    let mut stats = RenderStats::default();
-    let mut sampler = Sampler::new(SamplerKind::Independent, 11);
     let d0 = prism::prism_beam_direction(0.0);
     let az = prism::prism_incident_azimuth_deg().to_radians();
     let across = Vec3::new(az.sin(), 0.0, az.cos());
     let mut bins = vec![(0u32, 0.0f64, 0.0f64, 0.0f64); 16];
-    for i in 0..200_000u32 {
-        sampler.start_pixel_sample(0, 0, i);
-        let mut hit = None;
-        walk_light_path(
-            &scene,
-            &mut sampler,
-            &PathLimits::default(),
-            &mut stats,
-            |event, _, _| {
-                if let LightEvent::Vertex(v) = event
-                    && hit.is_none()
-                    && v.v.si.material == screen_mat
-                    && v.depth == 3
-                {
-                    hit = Some((v.v.si.p, -v.wo, v.v.channels.hero()));
-                }
-            },
-        );
-        let Some((p, dir, Some(l))) = hit else {
-            continue;
-        };
-        let k = ((l - 400.0) / 20.0).floor();
+    for l in screen_landings(200_000) {
+        let k = ((l.hero - 400.0) / 20.0).floor();
         if !(0.0..16.0).contains(&k) {
             continue;
         }
         let b = &mut bins[k as usize];
         b.0 += 1;
-        b.1 += l as f64;
-        b.2 += dir.dot(d0).clamp(-1.0, 1.0).acos().to_degrees() as f64;
-        b.3 += p.dot(across) as f64;
+        b.1 += l.hero as f64;
+        b.2 += l.arrival.dot(d0).clamp(-1.0, 1.0).acos().to_degrees() as f64;
+        b.3 += l.p.dot(across) as f64;
     }
     let target = prism::prism_beam_target();
     println!(
