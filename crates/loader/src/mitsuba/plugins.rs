@@ -534,6 +534,9 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
     // Nested BSDF / emitter.
     let mut material = None;
     let mut emission = None;
+    // `<spectrum value="x">` radiance: a flat spectrum in spectral mode (Mitsuba's
+    // scalar_spectral convention), as for the point-like emitters.
+    let mut flat_emission = false;
     let mut beam = None;
     let mut media = MediumInterface::default();
     for c in std::mem::take(&mut p.children) {
@@ -581,6 +584,7 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
                     ));
                 }
                 let mut ep = lo.props(d, c)?;
+                flat_emission = ep.is_flat_spectrum("radiance");
                 let radiance = ep.spectrum(d, "radiance")?.unwrap_or(Spectrum::ONE);
                 for cc in std::mem::take(&mut ep.children) {
                     lo.unsupported(
@@ -656,8 +660,15 @@ pub(super) fn shape(lo: &mut Loader, d: &Doc, n: Node) -> Result<(), LoadError> 
             open_boundary_warning(&shape, &reason)
         ));
     }
+    let lights_before = lo.b.lights().len();
     lo.b.add_shape_with_media(geometry, material, emission, flip, media)
-        .map_err(|e| d.err_at(d.pos(n), e.to_string()))
+        .map_err(|e| d.err_at(d.pos(n), e.to_string()))?;
+    if flat_emission {
+        for l in lights_before..lo.b.lights().len() {
+            lo.b.set_light_spectrum(l, EmissionSpectrum::Flat);
+        }
+    }
+    Ok(())
 }
 
 /// A `directionalarea` emitter nested in a shape: its `radiance`, the position of its `type`

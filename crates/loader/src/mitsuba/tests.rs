@@ -1416,3 +1416,33 @@ fn open_medium_boundaries_are_warned_about() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Mitsuba's scalar_spectral reads `<spectrum value="x">` on an emitter as a flat spectrum
+/// (illuminant E) and `<rgb>` as an upsampled illuminant: caustica's spectral mode does the same,
+/// for point-like and area emitters alike (RGB mode sees grey x either way).
+#[test]
+fn spectrum_valued_emitters_are_flat_in_spectral_mode() {
+    let body = r#"<sensor type="perspective"><float name="fov" value="40"/><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+<emitter type="point"><spectrum name="intensity" value="2"/></emitter>
+<emitter type="point"><rgb name="intensity" value="2 2 2"/></emitter>
+<shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="3"/></emitter></shape>
+<shape type="rectangle"><emitter type="area"><rgb name="radiance" value="3 3 3"/></emitter></shape>"#;
+    let scene = parse(body).unwrap().build().unwrap();
+    let kinds: Vec<bool> = scene
+        .light_spectra
+        .iter()
+        .map(|e| matches!(e, caustica_scene::light::EmissionSpectrum::Flat))
+        .collect();
+    // Two flat (one point, one area), two upsampled; the order of lights is the loader's.
+    assert_eq!(kinds.iter().filter(|&&f| f).count(), 2, "{kinds:?}");
+    assert_eq!(scene.lights.len(), 4);
+    for (l, flat) in scene.lights.iter().zip(&kinds) {
+        let grey = match l {
+            Light::Point(p) => p.intensity,
+            Light::Area(a) => a.radiance,
+            other => panic!("{other:?}"),
+        };
+        // Both conventions are grey in RGB mode.
+        assert_eq!(grey.c[0], grey.c[2], "{flat}");
+    }
+}
