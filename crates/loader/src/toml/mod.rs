@@ -153,7 +153,15 @@ pub fn parse_toml_scene(text: &str, path: &Path) -> Result<SceneBuilder, LoadErr
             (ShapeGeometry::Mesh(mesh), Some(motion)) => b
                 .add_moving_mesh_with_media(mesh, motion, e.material, e.flip, e.media)
                 .map_err(|err| cx.err(s.span(), err.to_string()))?,
-            (g, _) => b.add_shape_with_media(g, e.material, e.emission, e.flip, e.media)?,
+            (g, _) => {
+                let before = b.lights().len();
+                b.add_shape_with_media(g, e.material, e.emission, e.flip, e.media)?;
+                if let Some(spectrum) = e.emission_spectrum {
+                    for l in before..b.lights().len() {
+                        b.set_light_spectrum(l, spectrum);
+                    }
+                }
+            }
         }
     }
     // The shapes' area lights come first in the builder's list.

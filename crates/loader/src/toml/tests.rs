@@ -841,3 +841,61 @@ fn open_medium_boundaries_are_warned_about_with_their_line() {
         "{w:?}"
     );
 }
+
+/// Named emission spectra: an area light's `emission_spectrum` and a point light's `spectrum`
+/// give their lights the spectrum and, in RGB, its colour times the one number given; a
+/// coloured `emission` with a spectrum, or an unknown name, is an error at its line.
+#[test]
+fn named_emission_spectra() {
+    let text = format!(
+        "{CAMERA}
+[[material]]
+name = \"white\"
+type = \"diffuse\"
+
+[[shape]]
+type = \"rectangle\"
+material = \"white\"
+emission = 5
+emission_spectrum = \"blackbody:3000\"
+
+[[light]]
+type = \"point\"
+intensity = 2
+spectrum = \"D65\"
+"
+    );
+    let b = parse(&text).unwrap();
+    let scene = b.build().unwrap();
+    use caustica_scene::light::{EmissionSpectrum, NamedSpectrum};
+    assert_eq!(scene.lights.len(), 2);
+    assert_eq!(
+        scene.light_spectra[0],
+        EmissionSpectrum::named(NamedSpectrum::Blackbody(3000.0))
+    );
+    assert_eq!(
+        scene.light_spectra[1],
+        EmissionSpectrum::named(NamedSpectrum::D65)
+    );
+    let Light::Area(a) = &scene.lights[0] else {
+        panic!("{:?}", scene.lights[0])
+    };
+    let want = NamedSpectrum::Blackbody(3000.0).rgb() * 5.0;
+    for k in 0..3 {
+        assert!(
+            (a.radiance.c[k] - want.c[k]).abs() < 1e-5,
+            "{:?}",
+            a.radiance
+        );
+    }
+    expect_parse_error(
+        &text.replace("emission = 5", "emission = [1, 2, 3]"),
+        16,
+        &["emission_spectrum", "one number"],
+    );
+    expect_parse_error(
+        &text.replace("blackbody:3000", "tungsten"),
+        16,
+        &["unknown illuminant"],
+    );
+}

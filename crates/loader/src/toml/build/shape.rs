@@ -9,6 +9,7 @@ use crate::toml::context::Ctx;
 use crate::toml::desc::shape::{ShapeDesc, ShapeType};
 use ::toml::Spanned;
 use caustica_core::{Spectrum, Vec2, Vec3};
+use caustica_scene::light::{EmissionSpectrum, NamedSpectrum};
 use caustica_scene::medium::MediumInterface;
 use caustica_scene::shape::{Disk, MeshMotion, ShapeGeometry, Sphere, TriangleMesh};
 
@@ -18,6 +19,8 @@ pub(crate) struct ShapeEntry {
     pub(crate) geometry: ShapeGeometry,
     pub(crate) material: u32,
     pub(crate) emission: Option<Spectrum>,
+    /// The named spectrum of the emission, if any.
+    pub(crate) emission_spectrum: Option<EmissionSpectrum>,
     pub(crate) flip: bool,
     pub(crate) media: MediumInterface,
     pub(crate) motion: Option<MeshMotion>,
@@ -188,7 +191,33 @@ pub(crate) fn shape(
     if let (Some(keys), ShapeGeometry::Mesh(m)) = (&s.keyframe, &geometry) {
         motion = Some(keyframed_motion(cx, &span, m, keys)?);
     }
-    if motion.is_some() && s.emission.is_some() {
+    let (emission, emission_spectrum) = match (&s.emission_spectrum, s.emission) {
+        (None, e) => (e.map(|e| e.0), None),
+        (Some(name), e) => {
+            let named = NamedSpectrum::parse(name.get_ref()).map_err(|e| {
+                cx.err(
+                    name.span(),
+                    format!("{what}: field 'emission_spectrum': {e}"),
+                )
+            })?;
+            let v = e.map_or(Spectrum::ONE, |e| e.0);
+            if !(v.c[0] == v.c[1] && v.c[1] == v.c[2]) {
+                return Err(cx.err(
+                    name.span(),
+                    format!(
+                        "{what}: with 'emission_spectrum', 'emission' must be one number (the \
+                         radiance's luminance), got {:?}",
+                        v.to_rgb()
+                    ),
+                ));
+            }
+            (
+                Some(named.rgb() * v.c[0]),
+                Some(EmissionSpectrum::named(named)),
+            )
+        }
+    };
+    if motion.is_some() && emission.is_some() {
         return Err(cx.err(
             span,
             "a moving shape cannot emit light (give 'emission' to a static shape)",
@@ -197,7 +226,8 @@ pub(crate) fn shape(
     Ok(ShapeEntry {
         geometry,
         material,
-        emission: s.emission.map(|e| e.0),
+        emission,
+        emission_spectrum,
         flip: s.flip_normals.unwrap_or(false),
         media,
         motion,

@@ -27,6 +27,9 @@ pub(crate) struct ShapeDesc {
     pub(crate) interior: Option<::toml::Spanned<String>>,
     pub(crate) exterior: Option<::toml::Spanned<String>>,
     pub(crate) emission: Option<Rgb>,
+    /// A named spectrum for `emission` (`D65`, `blackbody:<kelvin>`); `emission` is then one
+    /// number, the radiance's luminance.
+    pub(crate) emission_spectrum: Option<::toml::Spanned<String>>,
     pub(crate) flip_normals: Option<bool>,
     pub(crate) filename: Option<String>,
     pub(crate) center: Option<V3>,
