@@ -101,8 +101,11 @@ pub fn trace_light_path(
                                     cs.wi,
                                     TransportMode::Importance,
                                 );
-                                let c = lv.v.channels.to_rgb(lv.beta * f * tr)
-                                    * (wi_local.z.abs() * corr * cs.weight);
+                                // The RGB mode's operation order (same bytes as before
+                                // spectral mode); the conversion is linear.
+                                let c = lv.v.channels.to_rgb(
+                                    lv.beta * f * (wi_local.z.abs() * corr) * cs.weight * tr,
+                                );
                                 splat(out, cs.raster, c, stats);
                             }
                         }
