@@ -10,7 +10,7 @@
 #        the glass seen directly, are left out: --mask-black). swimming-pool: the floor and walls
 #        are seen only through the water, which the light tracer cannot render, so, as the seed
 #        did, the reference is pm with REF_PM photons (k = REF_K), and every render has indirect
-#        light off (--global-photons 0; with --final-gather 0 too, pm renders black): direct light
+#        light off (--global-photons 0; with --final-gather 0 too, pm is refused: it would show the empty global map): direct light
 #        plus the caustics.
 #  (a) bandwidths at N0 photons: pm over k, pdm and pds over s; the RMSE-optimal value is kept.
 #  (b) photon ladder at that bandwidth: pm, pdm, pds at COUNTS photons; times are whole renders.

@@ -185,3 +185,26 @@ fn pm_renders_a_mitsuba_xml_scene() {
     let img = caustica_core::image_io::Image::read(&tmp("xml.exr")).unwrap();
     assert_eq!((img.width, img.height), (16, 12));
 }
+
+/// pm without global photons and without final gathering would show an empty global map (a
+/// black image): refused with what to give instead; with --caustics-only it is fine.
+#[test]
+fn pm_showing_an_empty_global_map_is_an_error() {
+    let scene = ball_scene("empty-global.toml", DIFFUSE, true);
+    let args = [
+        "--global-photons",
+        "0",
+        "--final-gather",
+        "0",
+        "--photons",
+        "1000",
+    ];
+    assert_clean_failure(
+        &pm(&scene, "empty-global.exr", &args),
+        &["--global-photons 0", "black image"],
+    );
+    let mut with_caustics = args.to_vec();
+    with_caustics.push("--caustics-only");
+    let o = pm(&scene, "caustics-only.exr", &with_caustics);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+}

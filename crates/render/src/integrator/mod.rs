@@ -260,6 +260,25 @@ impl IntegratorKind {
                 "--volume-only and --caustics-only select disjoint paths (... M E and L S+ D E); give one".into(),
             ));
         }
+        // pm, dpm and pdm show the global map directly when they do not gather: without global
+        // photons that image would be black but for nothing, silently.
+        if matches!(
+            self,
+            IntegratorKind::PhotonMapping
+                | IntegratorKind::DiffusionPhotonMapping
+                | IntegratorKind::PhotonDifferentialMapping
+        ) && opts.photons.final_gather == 0
+            && opts.photons.global_photons == 0
+            && !opts.caustics_only
+            && !opts.volume_only
+        {
+            return Err(OptionError::Conflict(format!(
+                "--integrator {} with --final-gather 0 shows the global photon map directly, and \
+                 --global-photons 0 leaves it empty (a black image): give global photons, or \
+                 final-gather rays, or --caustics-only",
+                self.name()
+            )));
+        }
         match (self, opts.photons.caustic_estimator) {
             (
                 IntegratorKind::DiffusionPhotonMapping | IntegratorKind::ProgressiveDiffusion,
