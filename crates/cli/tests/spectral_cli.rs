@@ -4,6 +4,7 @@
 
 mod common;
 
+use caustica_render::IntegratorKind;
 use common::{assert_clean_failure, caustica, stderr, stdout};
 use std::path::PathBuf;
 
@@ -132,24 +133,7 @@ fn spectral_mode_refuses_media() {
 #[test]
 fn every_integrator_runs_in_spectral_mode() {
     let out = tmp("every.exr");
-    for kind in [
-        "path",
-        "lighttrace",
-        "pm",
-        "dpm",
-        "pdm",
-        "pds",
-        "vpm",
-        "beam",
-        "vpd",
-        "pppm",
-        "ppds",
-        "ppdm",
-        "pdpm",
-        "sppm",
-        "ppm",
-        "pcf",
-    ] {
+    for &kind in IntegratorKind::NAMES {
         let mut args = vec![
             "render",
             "prism",
@@ -165,10 +149,8 @@ fn every_integrator_runs_in_spectral_mode() {
             "-o",
             out.to_str().unwrap(),
         ];
-        if matches!(
-            kind,
-            "pppm" | "ppds" | "ppdm" | "pdpm" | "sppm" | "ppm" | "pcf"
-        ) {
+        let k: IntegratorKind = kind.parse().unwrap();
+        if k.is_progressive() {
             args.extend(["--iterations", "2"]);
         }
         let o = caustica(&args);

@@ -3,39 +3,19 @@
 
 mod common;
 
-use caustica_core::{Spectrum, Vec3};
+use caustica_core::Spectrum;
 use caustica_render::IntegratorKind;
-use caustica_scene::SceneBuilder;
-use caustica_scene::camera::PerspectiveCamera;
-use caustica_scene::light::{EnvironmentLight, Light};
-use caustica_scene::shape::{ShapeGeometry, Sphere};
+use caustica_scene::material::Material;
+use caustica_scene::texture::Texture;
 
 #[test]
 fn white_furnace_path_tracer() {
-    let mut b = SceneBuilder::new("furnace");
-    let white = common::diffuse(&mut b, "white", 1.0);
-    b.add_shape(
-        ShapeGeometry::Sphere(Sphere {
-            center: Vec3::ZERO,
-            radius: 1.0,
-        }),
-        white,
-        None,
-        false,
-    )
-    .unwrap();
-    b.add_light(Light::Environment(EnvironmentLight::constant(
-        Spectrum::ONE,
-    )));
-    b.set_camera(PerspectiveCamera::look_at(
-        Vec3::new(0.0, 0.0, 4.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        35.0,
+    let scene = common::furnace(
+        Material::Diffuse {
+            reflectance: Texture::Constant(Spectrum::ONE),
+        },
         24,
-        24,
-    ));
-    let scene = b.build().unwrap();
+    );
     let img = common::render_image(&scene, IntegratorKind::Path, 2048, 1);
     let mut worst = 0.0f32;
     for p in &img.data {

@@ -14,40 +14,13 @@ use caustica_render::transport::light_walk::{LightEvent, walk_light_path};
 use caustica_render::{
     IntegratorKind, PathLimits, RenderControl, RenderOptions, RenderStats, Smoothing, render,
 };
-use caustica_scene::camera::PerspectiveCamera;
 use caustica_scene::dispersion::Dispersion;
-use caustica_scene::light::{EnvironmentLight, Light};
 use caustica_scene::material::Material;
-use caustica_scene::shape::{ShapeGeometry, Sphere};
-use caustica_scene::{Scene, SceneBuilder};
+use caustica_scene::Scene;
 
-/// A unit sphere of `material` inside a constant environment of RGB radiance (1, 1, 1), i.e.
-/// D65_n in spectral mode, seen from 4 m.
+/// The white furnace (`common::furnace`, 16 × 16) in spectral mode.
 fn furnace(material: Material) -> Scene {
-    let mut b = SceneBuilder::new("furnace");
-    let m = b.add_material("ball", material).unwrap();
-    b.add_shape(
-        ShapeGeometry::Sphere(Sphere {
-            center: Vec3::ZERO,
-            radius: 1.0,
-        }),
-        m,
-        None,
-        false,
-    )
-    .unwrap();
-    b.add_light(Light::Environment(EnvironmentLight::constant(
-        Spectrum::ONE,
-    )));
-    b.set_camera(PerspectiveCamera::look_at(
-        Vec3::new(0.0, 0.0, 4.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        35.0,
-        16,
-        16,
-    ));
-    let mut scene = b.build().unwrap();
+    let mut scene = common::furnace(material, 16);
     scene.set_spectral(true).unwrap();
     scene
 }

@@ -258,3 +258,32 @@ pub fn with_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T 
         .expect("a thread pool")
         .install(f)
 }
+
+/// The white furnace: a unit sphere of `material` at the origin inside a constant environment of
+/// radiance 1 (RGB (1, 1, 1); D65_n in spectral mode), seen from 4 m at `size`×`size` pixels.
+pub fn furnace(material: Material, size: u32) -> Scene {
+    let mut b = SceneBuilder::new("furnace");
+    let m = b.add_material("ball", material).unwrap();
+    b.add_shape(
+        ShapeGeometry::Sphere(Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        }),
+        m,
+        None,
+        false,
+    )
+    .unwrap();
+    b.add_light(Light::Environment(
+        caustica_scene::light::EnvironmentLight::constant(Spectrum::ONE),
+    ));
+    b.set_camera(PerspectiveCamera::look_at(
+        Vec3::new(0.0, 0.0, 4.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        35.0,
+        size,
+        size,
+    ));
+    b.build().unwrap()
+}

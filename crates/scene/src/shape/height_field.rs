@@ -33,10 +33,11 @@ pub fn height_field_mesh(
             let (h, [hx, hz]) = surface(x, z);
             m.positions.push(Vec3::new(x as f32, h as f32, z as f32));
             let l = (1.0 + hx * hx + hz * hz).sqrt();
+            // `0.0 - h` rather than `-h`: a zero slope gives a +0 component, not −0.
             normals.push(Vec3::new(
-                (-hx / l) as f32,
+                ((0.0 - hx) / l) as f32,
                 (1.0 / l) as f32,
-                (-hz / l) as f32,
+                ((0.0 - hz) / l) as f32,
             ));
         }
     }

@@ -43,37 +43,17 @@ impl WaveParams {
     }
 }
 
-/// The height field of `p` as an open triangle mesh: a `(cells_x + 1) × (cells_z + 1)` vertex
+/// The height field of `p` as an open triangle mesh ([`super::height_field_mesh`]): a
+/// `(cells_x + 1) × (cells_z + 1)` vertex
 /// grid with the analytic unit normals of [`WaveParams::normal`] at the vertices (shading normals
 /// are their Phong interpolation), triangles wound counter-clockwise seen from above so that the
 /// geometric normals point up (+y, the air side of a water surface). The boundary is the
 /// square's perimeter.
 pub fn water_wave_mesh(p: &WaveParams) -> TriangleMesh {
-    let (nx, nz) = (p.cells_x.max(1), p.cells_z.max(1));
     let w = p.half_width as f64;
-    let mut m = TriangleMesh::default();
-    let mut normals = Vec::new();
-    for j in 0..=nz {
-        let z = -w + 2.0 * w * j as f64 / nz as f64;
-        for i in 0..=nx {
-            let x = -w + 2.0 * w * i as f64 / nx as f64;
-            m.positions
-                .push(Vec3::new(x as f32, p.height(x) as f32, z as f32));
-            let n = p.normal(x);
-            normals.push(Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32));
-        }
-    }
-    let row = nx + 1;
-    for j in 0..nz {
-        for i in 0..nx {
-            let v00 = j * row + i;
-            let (v10, v01, v11) = (v00 + 1, v00 + row, v00 + row + 1);
-            m.indices.push([v00, v01, v10]);
-            m.indices.push([v10, v01, v11]);
-        }
-    }
-    m.normals = Some(normals);
-    m
+    super::height_field_mesh((-w, w), (-w, w), (p.cells_x, p.cells_z), |x, _| {
+        (p.height(x), [p.slope(x), 0.0])
+    })
 }
 
 /// The water wave of `p` travelling toward +x by `phase_step` m per frame (the crests move
