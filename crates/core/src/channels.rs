@@ -37,11 +37,6 @@ impl Channels {
         }
     }
 
-    #[inline]
-    pub fn is_spectral(&self) -> bool {
-        matches!(self, Channels::Spectral(_))
-    }
-
     /// The hero wavelength (nm) in spectral mode.
     #[inline]
     pub fn hero(&self) -> Option<f32> {

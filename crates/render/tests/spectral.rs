@@ -14,9 +14,9 @@ use caustica_render::transport::light_walk::{LightEvent, walk_light_path};
 use caustica_render::{
     IntegratorKind, PathLimits, RenderControl, RenderOptions, RenderStats, Smoothing, render,
 };
+use caustica_scene::Scene;
 use caustica_scene::dispersion::Dispersion;
 use caustica_scene::material::Material;
-use caustica_scene::Scene;
 
 /// The white furnace (`common::furnace`, 16 × 16) in spectral mode.
 fn furnace(material: Material) -> Scene {

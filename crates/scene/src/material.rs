@@ -146,15 +146,6 @@ impl Material {
         }
     }
 
-    /// The material's dispersion law, if it has one.
-    pub fn dispersion(&self) -> Option<&Dispersion> {
-        match self {
-            Material::Dielectric { dispersion, .. }
-            | Material::RoughDielectric { dispersion, .. } => dispersion.as_ref(),
-            _ => None,
-        }
-    }
-
     /// True for the index-matched [`Material::Null`].
     #[inline]
     pub fn is_null(&self) -> bool {

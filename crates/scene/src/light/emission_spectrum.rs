@@ -61,11 +61,6 @@ impl NamedSpectrum {
         spectrum_to_xyz(|l| self.shape(l))[1]
     }
 
-    /// The luminance-normalised spectrum at `lambda_nm` (nm).
-    pub fn eval(&self, lambda_nm: f32) -> f32 {
-        self.shape(lambda_nm) / self.shape_luminance()
-    }
-
     /// Linear sRGB of the normalised spectrum: the colour of a light of scale 1 in RGB mode.
     pub fn rgb(&self) -> Spectrum {
         let y = self.shape_luminance();
