@@ -4,8 +4,8 @@ use anyhow::Result;
 use caustica_density::beam::BeamKernel;
 use caustica_density::kernel::Kernel;
 use caustica_render::{
-    AutoBandwidth, Bandwidth, CausticEstimator, Diffusivity, NoiseScale, NormalDistance,
-    PhotonOptions, Smoothing, Steepness,
+    AutoBandwidth, Bandwidth, CausticEstimator, Diffusivity, EmissionStrategy, NoiseScale,
+    NormalDistance, PhotonOptions, Smoothing, Steepness,
 };
 use clap::Args;
 
@@ -267,6 +267,12 @@ pub struct PhotonArgs {
     /// For comparisons with the paper.
     #[arg(long, help_heading = "Motion")]
     pub paper_area: bool,
+    /// How caustic light paths are emitted (every photon method's caustic pass, and lighttrace
+    /// --caustics-only): uniform (by power, over all directions), projection (projection maps:
+    /// mostly toward mirrors, glass and smooth metal, unbiased) or adaptive (Markov chains toward
+    /// paths that reach visible points). Global and volume photons are always uniform.
+    #[arg(long, value_name = "RULE", help_heading = "Photon mapping", value_parser = EmissionStrategy::NAMES)]
+    pub emission: Option<String>,
     #[command(flatten)]
     pub pcf: crate::pcf_args::PcfArgs,
 }
@@ -279,6 +285,9 @@ impl PhotonArgs {
             o.caustic_photons = n;
         }
         o.light_paths = self.light_paths;
+        if let Some(e) = self.emission.as_deref().and_then(EmissionStrategy::parse) {
+            o.emission = e;
+        }
         if let Some(n) = self.global_photons {
             o.global_photons = n;
         }

@@ -36,9 +36,9 @@ pub use error::{OptionError, RenderError};
 pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};
 pub use options::{
-    AutoBandwidth, Bandwidth, CausticEstimator, DiffusionSettings, Diffusivity, FootprintSettings,
-    NoiseScale, NormalDistance, PhotonOptions, ProgressiveSettings, Radius, RenderOptions,
-    ShutterAlign, Smoothing, Steepness, SweepRule,
+    AutoBandwidth, Bandwidth, CausticEstimator, DiffusionSettings, Diffusivity, EmissionStrategy,
+    FootprintSettings, NoiseScale, NormalDistance, PhotonOptions, ProgressiveSettings, Radius,
+    RenderOptions, ShutterAlign, Smoothing, Steepness, SweepRule,
 };
 pub use photon::plan::PhotonBudget;
 pub use stats::RenderStats;

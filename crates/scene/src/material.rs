@@ -152,6 +152,20 @@ impl Material {
         matches!(self, Material::Null)
     }
 
+    /// True if the material's BSDF has a delta lobe (mirror, smooth glass and metal, rough ones
+    /// below [`SMOOTH_ALPHA`]): the surfaces a caustic light path L S+ D scatters at first.
+    /// Projection maps mark the emission cells that reach such surfaces.
+    pub fn can_be_delta(&self) -> bool {
+        match self {
+            Material::Mirror { .. } | Material::Dielectric { .. } | Material::Conductor { .. } => {
+                true
+            }
+            Material::RoughConductor { alpha, .. } => *alpha < SMOOTH_ALPHA,
+            Material::RoughDielectric { alpha, ior, .. } => *alpha < SMOOTH_ALPHA || *ior == 1.0,
+            Material::Diffuse { .. } | Material::Phong { .. } | Material::Null => false,
+        }
+    }
+
     /// Interior absorption coefficient σa (m⁻¹) for dielectrics with Beer–Lambert absorption,
     /// in RGB (convert with [`Channels::unbounded`]).
     pub fn interior_absorption(&self) -> Option<Spectrum> {

@@ -5,7 +5,7 @@ use crate::error::SceneError;
 use crate::geometry::Geometry;
 use crate::intersection::NONE;
 use crate::intersection::SurfaceInteraction;
-use crate::light::{AreaLight, AreaShape, EmissionSpectrum, Light};
+use crate::light::{AreaLight, AreaShape, EmissionSpectrum, Light, ProjectionMap};
 use crate::material::Material;
 use crate::medium::{Medium, MediumInterface};
 use crate::shape::{Aabb, Shape, ShapeGeometry};
@@ -85,6 +85,8 @@ pub struct Scene {
     pub spectral: bool,
     /// How each light's RGB values become spectra (parallel to `lights`).
     pub light_spectra: Vec<EmissionSpectrum>,
+    /// The lights' projection maps, built on first use ([`Scene::projection_map`]).
+    projection: std::sync::OnceLock<ProjectionMap>,
 }
 
 impl Scene {
@@ -176,6 +178,12 @@ impl Scene {
         self.light_distribution
             .as_ref()
             .map_or(0.0, |d| d.pmf(i as usize))
+    }
+
+    /// The projection maps of the lights (which emission cells reach mirrors, glass or smooth
+    /// metal), built from the BVH on the first call and kept: guided caustic emission.
+    pub fn projection_map(&self) -> &ProjectionMap {
+        self.projection.get_or_init(|| ProjectionMap::build(self))
     }
 
     /// The medium containing the point `p`, or [`NONE`] (vacuum): a ray from `p` in a fixed
@@ -705,6 +713,7 @@ impl SceneBuilder {
             shutter,
             spectral: false,
             light_spectra,
+            projection: std::sync::OnceLock::new(),
         })
     }
 }

@@ -8,8 +8,10 @@ use crate::film::SplatBuffer;
 use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
-use crate::transport::light_walk::{LightEvent, walk_light_path};
+use crate::transport::Emission;
+use crate::transport::light_walk::{EventsOnly, LightEvent, walk_light_path_at};
 use crate::transport::medium::shadow_transmittance;
+use crate::transport::time::PathTime;
 use crate::transport::vertex::offset_origin;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Ray, Spectrum};
@@ -35,100 +37,121 @@ pub fn trace_light_path(
             stats.nonfinite += 1;
         }
     };
-    walk_light_path(
+    // Guided emission aims at caustics: only the caustics-only image may use it.
+    let emission = if opts.caustics_only {
+        opts.photons.emission.caustic_rule()
+    } else {
+        Emission::Uniform
+    };
+    walk_light_path_at(
         scene,
         sampler,
         &opts.limits,
         stats,
-        |event, sampler, stats| {
-            let u_lens = sampler.next_2d();
-            match event {
-                // Path of one edge: the light seen directly (area lights only; delta positions
-                // cannot be hit).
-                LightEvent::Start(start) => {
-                    let es = start.emission;
-                    if !es.delta_pos
-                        && !opts.caustics_only
-                        && !opts.volume_only
-                        && opts.limits.max_depth >= 1
-                        && let Some(n) = es.normal
-                        && let Some(cs) = camera.sample_wi(es.ray.o, u_lens)
-                        && out.reaches(filter, cs.raster)
-                    {
-                        let le = scene.light_emission(
-                            start.light,
-                            scene.lights[start.light].le(n, cs.wi),
-                            &start.channels,
-                        );
-                        if !le.is_black() {
-                            let o = offset_origin(es.ray.o, n, cs.wi);
-                            let shadow =
-                                Ray::with_t_max(o, cs.wi, (cs.lens_p - o).length() * (1.0 - 1e-4))
-                                    .at_time(start.ray.time);
-                            let tr =
-                                shadow_transmittance(scene, &shadow, start.medium, sampler, stats);
-                            if !tr.is_black() {
-                                let w = n.dot(cs.wi).abs() / (es.pdf_pos * start.pmf);
-                                let c = start.channels.to_rgb(le * w * cs.weight * tr);
-                                splat(out, cs.raster, c, stats);
-                            }
-                        }
-                    }
-                }
-                // Connect to the camera: the full path then has depth + 1 edges.
-                LightEvent::Vertex(lv) => {
-                    let v = lv.v;
-                    let wanted = if opts.caustics_only {
-                        lv.is_caustic()
-                    } else {
-                        v.bsdf.flags().is_smooth()
-                    };
-                    if wanted
-                        && !opts.volume_only
-                        && lv.depth < opts.limits.max_depth
-                        && let Some(cs) = camera.sample_wi(v.si.p, u_lens)
-                        && out.reaches(filter, cs.raster)
-                    {
-                        let wi_local = v.frame.to_local(cs.wi);
-                        let f = v.bsdf.eval(v.wo, wi_local, TransportMode::Importance);
-                        if !f.is_black() && v.same_side_consistent(lv.wo, cs.wi, wi_local) {
-                            let shadow = v.si.spawn_ray_to(cs.lens_p);
-                            let medium = v.si.medium_toward(shadow.d, lv.medium);
-                            let tr = shadow_transmittance(scene, &shadow, medium, sampler, stats);
-                            if !tr.is_black() {
-                                let corr = v.shading_normal_correction(
-                                    lv.wo,
+        &mut EventsOnly(
+            |event: LightEvent, sampler: &mut Sampler, stats: &mut RenderStats| {
+                let u_lens = sampler.next_2d();
+                match event {
+                    // Path of one edge: the light seen directly (area lights only; delta positions
+                    // cannot be hit).
+                    LightEvent::Start(start) => {
+                        let es = start.emission;
+                        if !es.delta_pos
+                            && !opts.caustics_only
+                            && !opts.volume_only
+                            && opts.limits.max_depth >= 1
+                            && let Some(n) = es.normal
+                            && let Some(cs) = camera.sample_wi(es.ray.o, u_lens)
+                            && out.reaches(filter, cs.raster)
+                        {
+                            let le = scene.light_emission(
+                                start.light,
+                                scene.lights[start.light].le(n, cs.wi),
+                                &start.channels,
+                            );
+                            if !le.is_black() {
+                                let o = offset_origin(es.ray.o, n, cs.wi);
+                                let shadow = Ray::with_t_max(
+                                    o,
                                     cs.wi,
-                                    TransportMode::Importance,
+                                    (cs.lens_p - o).length() * (1.0 - 1e-4),
+                                )
+                                .at_time(start.ray.time);
+                                let tr = shadow_transmittance(
+                                    scene,
+                                    &shadow,
+                                    start.medium,
+                                    sampler,
+                                    stats,
                                 );
-                                // The RGB mode's operation order (same bytes as before
-                                // spectral mode); the conversion is linear.
-                                let c = lv.v.channels.to_rgb(
-                                    lv.beta * f * (wi_local.z.abs() * corr) * cs.weight * tr,
-                                );
+                                if !tr.is_black() {
+                                    let w = n.dot(cs.wi).abs()
+                                        / (es.pdf_pos * start.pmf * start.density.total());
+                                    let c = start.channels.to_rgb(le * w * cs.weight * tr);
+                                    splat(out, cs.raster, c, stats);
+                                }
+                            }
+                        }
+                    }
+                    // Connect to the camera: the full path then has depth + 1 edges.
+                    LightEvent::Vertex(lv) => {
+                        let v = lv.v;
+                        let wanted = if opts.caustics_only {
+                            lv.is_caustic()
+                        } else {
+                            v.bsdf.flags().is_smooth()
+                        };
+                        if wanted
+                            && !opts.volume_only
+                            && lv.depth < opts.limits.max_depth
+                            && let Some(cs) = camera.sample_wi(v.si.p, u_lens)
+                            && out.reaches(filter, cs.raster)
+                        {
+                            let wi_local = v.frame.to_local(cs.wi);
+                            let f = v.bsdf.eval(v.wo, wi_local, TransportMode::Importance);
+                            if !f.is_black() && v.same_side_consistent(lv.wo, cs.wi, wi_local) {
+                                let shadow = v.si.spawn_ray_to(cs.lens_p);
+                                let medium = v.si.medium_toward(shadow.d, lv.medium);
+                                let tr =
+                                    shadow_transmittance(scene, &shadow, medium, sampler, stats);
+                                if !tr.is_black() {
+                                    let corr = v.shading_normal_correction(
+                                        lv.wo,
+                                        cs.wi,
+                                        TransportMode::Importance,
+                                    );
+                                    // The RGB mode's operation order (same bytes as before
+                                    // spectral mode); the conversion is linear.
+                                    let c = lv.v.channels.to_rgb(
+                                        lv.beta * f * (wi_local.z.abs() * corr) * cs.weight * tr,
+                                    );
+                                    splat(out, cs.raster, c, stats);
+                                }
+                            }
+                        }
+                    }
+                    // A scattering in a medium seen by the camera (paths … M E, the volume
+                    // caustics L S+ M E among them): β p(wo, ω_cam) T W.
+                    LightEvent::Medium(lm) => {
+                        let mv = lm.v;
+                        if !opts.caustics_only
+                            && lm.depth < opts.limits.max_depth
+                            && let Some(cs) = camera.sample_wi(mv.p, u_lens)
+                            && out.reaches(filter, cs.raster)
+                        {
+                            let shadow = mv.ray_to(cs.lens_p);
+                            let tr =
+                                shadow_transmittance(scene, &shadow, mv.medium, sampler, stats);
+                            if !tr.is_black() {
+                                let c = lm.beta * mv.phase.eval(mv.wo, cs.wi) * cs.weight * tr;
                                 splat(out, cs.raster, c, stats);
                             }
                         }
                     }
                 }
-                // A scattering in a medium seen by the camera (paths … M E, the volume
-                // caustics L S+ M E among them): β p(wo, ω_cam) T W.
-                LightEvent::Medium(lm) => {
-                    let mv = lm.v;
-                    if !opts.caustics_only
-                        && lm.depth < opts.limits.max_depth
-                        && let Some(cs) = camera.sample_wi(mv.p, u_lens)
-                        && out.reaches(filter, cs.raster)
-                    {
-                        let shadow = mv.ray_to(cs.lens_p);
-                        let tr = shadow_transmittance(scene, &shadow, mv.medium, sampler, stats);
-                        if !tr.is_black() {
-                            let c = lm.beta * mv.phase.eval(mv.wo, cs.wi) * cs.weight * tr;
-                            splat(out, cs.raster, c, stats);
-                        }
-                    }
-                }
-            }
-        },
+            },
+        ),
+        PathTime::Shutter,
+        emission,
     );
 }

@@ -170,6 +170,9 @@ pub fn render_report(
     };
     let t = Instant::now();
     let stream = PathStream::new(opts, CAUSTIC_STREAM);
+    let tracer = LandingTracer::new(scene, &unit_budget(opts.photons.footprints.smoothing))
+        .with_time(&opts.photons.footprints, scene)
+        .with_emission(opts.photons.emission.caustic_rule());
     let counted;
     let work = match opts.photons.caustic_budget() {
         PhotonBudget::Paths(n) => {
@@ -184,11 +187,10 @@ pub fn render_report(
                 .part(count_start, count_end)
                 .labelled("counting light paths");
             counted = count_caustic_paths(
-                scene,
+                &tracer,
                 target,
                 &stream,
                 &opts.limits,
-                opts.photons.footprints.path_time(),
                 target <= RECORD_LANDING_PATHS,
                 &mut |f| count_stage.report_and_go_on(f),
             );
@@ -231,8 +233,7 @@ pub fn render_report(
         stream,
         work,
         filter: FootprintFilter::new(&opts.photons.footprints),
-        tracer: LandingTracer::new(scene, &unit_budget(opts.photons.footprints.smoothing))
-            .with_time(&opts.photons.footprints, scene),
+        tracer,
     };
     let done = splat_batches(
         film,

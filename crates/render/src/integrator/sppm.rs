@@ -92,8 +92,11 @@ impl SplatRule for SppmSplat<'_> {
         let hi = (lo + CHUNK).min(self.first + self.paths);
         let limits = self.opts.limits;
         let time = self.opts.photons.photon_time();
+        let emission = self.kind.emission(self.opts);
         let run = run_chunk(lo..hi, &self.stream, &|_, sampler, out, st| {
-            trace_one(self.scene, sampler, &limits, time, self.kind, out, st)
+            trace_one(
+                self.scene, sampler, &limits, time, self.kind, emission, out, st,
+            )
         });
         *stats += run.stats;
         let inv = 1.0 / self.paths.max(1) as f32;
@@ -186,6 +189,7 @@ pub(crate) fn render(
                     &opts.limits,
                     opts.photons.photon_time(),
                     kind,
+                    kind.emission(opts),
                     out,
                     st,
                 )

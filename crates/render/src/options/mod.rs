@@ -8,8 +8,8 @@ pub mod value;
 
 pub use pcf::{ConeSurfaces, ConeTechniques, LookupRule, Nesting, PcfSettings};
 pub use photon::{
-    AutoBandwidth, CausticEstimator, DiffusionSettings, FootprintSettings, PhotonOptions,
-    ShutterAlign, SweepRule,
+    AutoBandwidth, CausticEstimator, DiffusionSettings, EmissionStrategy, FootprintSettings,
+    PhotonOptions, ShutterAlign, SweepRule,
 };
 pub use progressive::ProgressiveSettings;
 pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Radius, Smoothing, Steepness};

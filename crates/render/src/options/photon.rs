@@ -70,6 +70,55 @@ pub struct PhotonOptions {
     pub progressive: super::ProgressiveSettings,
     /// Photon cone focusing's own settings (`pcf`; its iterations are `progressive`'s).
     pub pcf: super::PcfSettings,
+    /// How the caustic passes (and the light tracer's `--caustics-only` mode) emit their light
+    /// paths (`--emission`); global and volume photons are always emitted uniformly.
+    pub emission: EmissionStrategy,
+}
+
+/// How caustic light paths are emitted (`--emission`; docs/emission.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EmissionStrategy {
+    /// Light by power, uniform over its directions and area.
+    #[default]
+    Uniform,
+    /// Projection maps (Jensen 1996): mostly into the emission cells that reach mirrors, glass
+    /// and smooth metal, with a defensive uniform share (unbiased).
+    Projection,
+    /// Visibility-driven adaptive photon tracing (Hachisuka and Jensen 2011) over projection
+    /// emission: Markov chains in primary sample space toward paths that reach visible points.
+    Adaptive,
+}
+
+impl EmissionStrategy {
+    /// The names `--emission` accepts, in order.
+    pub const NAMES: [&'static str; 3] = ["uniform", "projection", "adaptive"];
+
+    /// Parses a name of [`Self::NAMES`].
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "uniform" => Some(Self::Uniform),
+            "projection" => Some(Self::Projection),
+            "adaptive" => Some(Self::Adaptive),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Uniform => "uniform",
+            Self::Projection => "projection",
+            Self::Adaptive => "adaptive",
+        }
+    }
+
+    /// The walker's emission rule for caustic light paths (the adaptive sampler's chains run
+    /// over projection emission).
+    pub fn caustic_rule(self) -> crate::transport::Emission {
+        match self {
+            Self::Uniform => crate::transport::Emission::Uniform,
+            Self::Projection | Self::Adaptive => crate::transport::Emission::Projection,
+        }
+    }
 }
 
 impl PhotonOptions {
@@ -133,6 +182,7 @@ impl Default for PhotonOptions {
             in_between_frames: None,
             progressive: Default::default(),
             pcf: Default::default(),
+            emission: EmissionStrategy::default(),
         }
     }
 }

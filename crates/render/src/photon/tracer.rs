@@ -13,6 +13,7 @@
 use crate::options::RenderOptions;
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::stats::RenderStats;
+use crate::transport::Emission;
 use crate::transport::light_walk::{
     LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_at,
 };
@@ -51,6 +52,18 @@ pub enum MapKind {
     Volume,
 }
 
+impl MapKind {
+    /// The emission rule of this map's light paths: `--emission` for caustic photons, uniform
+    /// for the others (guided emission aims at specular surfaces; a global or volume map needs
+    /// every direction).
+    pub fn emission(self, opts: &RenderOptions) -> Emission {
+        match self {
+            MapKind::Caustic => opts.photons.emission.caustic_rule(),
+            MapKind::Global | MapKind::Volume => Emission::Uniform,
+        }
+    }
+}
+
 /// Photons of one map and how they were made.
 pub struct TracedPhotons {
     /// Photons in path order, fluxes already divided by `paths`.
@@ -77,6 +90,7 @@ pub fn trace_photons(
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedPhotons {
     let limits = opts.limits;
+    let emission = kind.emission(opts);
     let (mut photons, paths, stats) = trace_budget(
         budget,
         &PathStream::new(opts, stream),
@@ -89,6 +103,7 @@ pub fn trace_photons(
                 &limits,
                 opts.photons.photon_time(),
                 kind,
+                emission,
                 out,
                 st,
             )
@@ -159,6 +174,7 @@ pub(crate) fn trace_one(
     limits: &PathLimits,
     time: PathTime,
     kind: MapKind,
+    emission: Emission,
     out: &mut Vec<Photon>,
     stats: &mut RenderStats,
 ) {
@@ -229,5 +245,6 @@ pub(crate) fn trace_one(
         stats,
         &mut Store { kind, out },
         time,
+        emission,
     );
 }

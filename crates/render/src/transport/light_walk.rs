@@ -6,6 +6,7 @@
 //! importance mode, with Russian roulette, until it leaves the scene or reaches `max_depth`.
 
 use crate::stats::RenderStats;
+use crate::transport::emission::{Emission, Emitted, emit};
 use crate::transport::limits::{PathLimits, russian_roulette};
 use crate::transport::medium::{Segment, trace_segment};
 use crate::transport::time::PathTime;
@@ -15,7 +16,7 @@ use caustica_core::{Channels, Ray, Spectrum, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::{BsdfSample, TransportMode};
 use caustica_scene::intersection::NONE;
-use caustica_scene::light::EmissionSample;
+use caustica_scene::light::{EmissionDensity, EmissionSample};
 use caustica_scene::phase::{Phase, PhaseSample};
 
 /// The start of a light path.
@@ -32,6 +33,9 @@ pub struct LightStart<'a> {
     /// The lanes of the path: RGB, or the wavelengths it sampled (spectral mode). Values of
     /// the path go to the film or a photon map through [`Channels::to_rgb`].
     pub channels: Channels,
+    /// The emission's relative density against uniform emission (`emission.weight` is already
+    /// divided by it): photon differentials shrink their initial vectors by it.
+    pub density: EmissionDensity,
 }
 
 /// A surface vertex of a light path, as seen by the visitor.
@@ -128,7 +132,7 @@ pub trait LightVisitor {
 }
 
 /// A closure as a [`LightVisitor`] that only sees events.
-struct EventsOnly<F>(F);
+pub struct EventsOnly<F>(pub F);
 
 impl<F: FnMut(LightEvent, &mut Sampler, &mut RenderStats)> LightVisitor for EventsOnly<F> {
     fn event(&mut self, event: LightEvent, sampler: &mut Sampler, stats: &mut RenderStats) {
@@ -160,11 +164,20 @@ pub fn walk_light_path_with(
     stats: &mut RenderStats,
     visitor: &mut impl LightVisitor,
 ) {
-    walk_light_path_at(scene, sampler, limits, stats, visitor, PathTime::Shutter)
+    walk_light_path_at(
+        scene,
+        sampler,
+        limits,
+        stats,
+        visitor,
+        PathTime::Shutter,
+        Emission::Uniform,
+    )
 }
 
 /// [`walk_light_path_with`] at the time `time` chooses (in a moving scene one more number is
-/// drawn first, unless `time` is the instant).
+/// drawn first, unless `time` is the instant), emitted by `emission` (the same numbers are
+/// drawn whatever the rule).
 pub fn walk_light_path_at(
     scene: &Scene,
     sampler: &mut Sampler,
@@ -172,21 +185,25 @@ pub fn walk_light_path_at(
     stats: &mut RenderStats,
     visitor: &mut impl LightVisitor,
     time: PathTime,
+    emission: Emission,
 ) {
     let time = time.sample(scene, sampler);
     let u_light = sampler.next_1d();
     let u_pos = sampler.next_2d();
     let u_dir = sampler.next_2d();
-    let Some(dist) = &scene.light_distribution else {
-        return;
-    };
-    let mut ch = scene.sample_channels(|| sampler.next_1d());
-    let (li, pmf, _) = dist.sample(u_light);
-    let light = &scene.lights[li];
-    let mut es = light.sample_emission(u_pos, u_dir);
-    if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() {
+    if scene.light_distribution.is_none() {
         return;
     }
+    let mut ch = scene.sample_channels(|| sampler.next_1d());
+    let Some(Emitted {
+        light: li,
+        pmf,
+        mut es,
+        density,
+    }) = emit(scene, emission, u_light, u_pos, u_dir)
+    else {
+        return;
+    };
     es.weight = scene.light_emission(li, es.weight, &ch);
     let mut ray = emission_ray(&es).at_time(time);
     let mut medium = scene.light_media.get(li).copied().unwrap_or(NONE);
@@ -198,6 +215,7 @@ pub fn walk_light_path_at(
             ray,
             medium,
             channels: ch,
+            density,
         }),
         sampler,
         stats,

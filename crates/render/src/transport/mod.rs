@@ -10,6 +10,7 @@
 //!   phase function), both behind [`vertex::Scatterer`], and rays spawned off surfaces.
 //! * [`limits`] — path length limits and Russian roulette ([`PathLimits`]).
 //! * [`direct`] — next-event estimation ([`sample_direct`]).
+//! * [`emission`] — how a light path starts: uniform or guided by the projection maps.
 //! * [`light_walk`] — the one light-path walker (light tracer, photon tracers, photon
 //!   differentials), a [`LightVisitor`] deciding what each vertex is for.
 //! * [`eye_walk`] — the one camera-side walker: a camera (or final-gather) ray followed through
@@ -18,6 +19,7 @@
 //!   tracer keeps its own MIS loop over [`trace_segment`] and [`Vertex`].
 
 pub mod direct;
+pub mod emission;
 pub mod eye_walk;
 pub mod light_walk;
 pub mod limits;
@@ -26,6 +28,7 @@ pub mod time;
 pub mod vertex;
 
 pub use direct::sample_direct;
+pub use emission::Emission;
 pub use eye_walk::{EyeEvent, Flow, walk_eye};
 pub use light_walk::{
     LightEvent, LightScatter, LightStart, LightVertex, LightVisitor, walk_light_path,

@@ -72,22 +72,13 @@ impl Vertex {
     }
 }
 
-/// Moves `p` off a surface with normal `n` to the side of direction `d`, by the same relative
-/// offset `SurfaceInteraction::spawn_ray` uses.
-#[inline]
-pub fn offset_origin(p: Vec3, n: Vec3, d: Vec3) -> Vec3 {
-    let eps = 1e-4 * (1.0 + p.abs().max_element());
-    p + n * (eps * if d.dot(n) >= 0.0 { 1.0 } else { -1.0 })
-}
+pub use caustica_scene::light::offset_origin;
 
 /// The emitted ray of a light sample, with its origin moved off the emitting surface so it does
-/// not hit that surface again (lights return origins exactly on their surface).
+/// not hit that surface again ([`EmissionSample::spawn_ray`]).
 #[inline]
 pub fn emission_ray(es: &EmissionSample) -> Ray {
-    match es.normal {
-        Some(n) => Ray::new(offset_origin(es.ray.o, n, es.ray.d), es.ray.d).at_time(es.ray.time),
-        None => es.ray,
-    }
+    es.spawn_ray()
 }
 
 /// A scattering vertex inside a participating medium: a real scattering event of a free flight

@@ -14,6 +14,7 @@ pub mod directional;
 pub mod emission_spectrum;
 pub mod environment;
 pub mod point;
+pub mod projection_map;
 pub mod spot;
 
 pub use area::{AreaLight, AreaShape};
@@ -22,6 +23,7 @@ pub use directional::DirectionalLight;
 pub use emission_spectrum::{EmissionSpectrum, NamedSpectrum};
 pub use environment::EnvironmentLight;
 pub use point::PointLight;
+pub use projection_map::{EmissionDensity, GuidedStart, ProjectionMap};
 pub use spot::SpotLight;
 
 use caustica_core::{Ray, Spectrum, Vec2, Vec3};
@@ -92,7 +94,26 @@ pub struct EmissionSample {
     pub delta_dir: bool,
 }
 
+/// Moves `p` off a surface with normal `n` to the side of direction `d`, by the same relative
+/// offset `SurfaceInteraction::spawn_ray` uses.
+#[inline]
+pub fn offset_origin(p: Vec3, n: Vec3, d: Vec3) -> Vec3 {
+    let eps = 1e-4 * (1.0 + p.abs().max_element());
+    p + n * (eps * if d.dot(n) >= 0.0 { 1.0 } else { -1.0 })
+}
+
 impl EmissionSample {
+    /// The emitted ray with its origin moved off the emitting surface so it does not hit that
+    /// surface again (lights return origins exactly on their surface).
+    #[inline]
+    pub fn spawn_ray(&self) -> Ray {
+        match self.normal {
+            Some(n) => Ray::new(offset_origin(self.ray.o, n, self.ray.d), self.ray.d)
+                .at_time(self.ray.time),
+            None => self.ray,
+        }
+    }
+
     /// Local frame at the origin: around the surface normal where the light has one, else
     /// around the emitted direction. Photon differentials (seed 002 eq. 2–3) choose their
     /// positional (u, v) and directional (θ, φ) bases in the planes of this frame's normal and

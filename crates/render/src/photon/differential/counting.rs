@@ -2,16 +2,14 @@
 //! photon differential splatting must know their number `N` before the first splat, since the
 //! footprints scale with `1/√N` (eq. 5–6).
 
-use super::trace::is_caustic_landing;
+use super::trace::{LandingTracer, is_caustic_landing};
 use crate::photon::plan::{PathStream, trace_paths};
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
     LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_at,
 };
 use crate::transport::limits::PathLimits;
-use crate::transport::time::PathTime;
 use caustica_core::sampling::Sampler;
-use caustica_scene::Scene;
 
 /// The light paths [`trace_photon_differentials`] emits to find `target` caustic landings
 /// with a given stream, found without differentials (see [`count_caustic_paths`]).
@@ -36,22 +34,19 @@ pub const RECORD_LANDING_PATHS: usize = 1 << 21;
 /// with `1/√N` (eq. 5–6). With `record` it also returns which paths landed, so that only those
 /// need tracing again (8 bytes per landing). `progress` receives the fraction of `target` found
 /// so far after each wave of paths and returns false to stop counting there (then `N` is the
-/// paths counted so far).
+/// paths counted so far). The paths are `tracer`'s: its scene, time rule and emission.
 pub fn count_caustic_paths(
-    scene: &Scene,
+    tracer: &LandingTracer,
     target: usize,
     stream: &PathStream,
     limits: &PathLimits,
-    time: PathTime,
     record: bool,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> CausticPaths {
     let mut progress = |found: usize| progress(found as f64 / target.max(1) as f64);
     if record {
         let (mut found, paths, stats) =
-            landings(scene, target, stream, limits, time, &mut progress, |path| {
-                path
-            });
+            landings(tracer, target, stream, limits, &mut progress, |path| path);
         let landings = found.len();
         found.dedup();
         return CausticPaths {
@@ -62,8 +57,7 @@ pub fn count_caustic_paths(
         };
     }
     // Too many to record: count only (a zero-sized record per landing).
-    let (found, paths, stats) =
-        landings(scene, target, stream, limits, time, &mut progress, |_| ());
+    let (found, paths, stats) = landings(tracer, target, stream, limits, &mut progress, |_| ());
     CausticPaths {
         paths,
         landings: found.len(),
@@ -74,11 +68,10 @@ pub fn count_caustic_paths(
 
 /// `record(path)` once per caustic landing, in path order, until `target` of them.
 fn landings<P: Copy + Send>(
-    scene: &Scene,
+    tracer: &LandingTracer,
     target: usize,
     stream: &PathStream,
     limits: &PathLimits,
-    time: PathTime,
     progress: &mut dyn FnMut(usize) -> bool,
     record: impl Fn(u64) -> P + Sync,
 ) -> (Vec<P>, u64, RenderStats) {
@@ -87,7 +80,15 @@ fn landings<P: Copy + Send>(
             out,
             record: record(path),
         };
-        walk_light_path_at(scene, sampler, limits, st, &mut count, time)
+        walk_light_path_at(
+            tracer.scene,
+            sampler,
+            limits,
+            st,
+            &mut count,
+            tracer.time,
+            tracer.emission,
+        )
     })
 }
 

@@ -8,6 +8,7 @@ use crate::options::{FootprintSettings, RenderOptions, Smoothing};
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::photon::tracer::{NO_CAUSTIC_PATHS, shortfall};
 use crate::stats::RenderStats;
+use crate::transport::Emission;
 use crate::transport::light_walk::{
     LightEvent, LightMediumVertex, LightScatter, LightStart, LightVertex, LightVisitor,
     walk_light_path_at,
@@ -23,6 +24,7 @@ use caustica_differentials::{
     transfer_to_fixed_plane,
 };
 use caustica_scene::bsdf::BsdfFlags;
+use caustica_scene::light::EmissionDensity;
 use caustica_scene::phase::PhaseSample;
 use caustica_scene::shape::ShapeGeometry;
 use caustica_scene::{Scene, SurfaceInteraction};
@@ -59,7 +61,8 @@ pub fn trace_photon_differentials(
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedDiffPhotons {
     let tracer = LandingTracer::new(scene, &unit_budget(smoothing))
-        .with_time(&opts.photons.footprints, scene);
+        .with_time(&opts.photons.footprints, scene)
+        .with_emission(opts.photons.emission.caustic_rule());
     let limits = opts.limits;
     let stream = PathStream::new(opts, stream);
     // Two parameters (emission), or three with time (seed 003).
@@ -133,6 +136,8 @@ pub struct LandingTracer<'a> {
     pub(crate) exposure: f32,
     /// Where the traced instant lies on the shutter (temporal photon differentials).
     pub(crate) align: crate::options::ShutterAlign,
+    /// How the light paths are emitted (uniform unless [`Self::with_emission`]).
+    pub(crate) emission: Emission,
 }
 
 /// What every photon differential of one light shares.
@@ -166,7 +171,16 @@ impl<'a> LandingTracer<'a> {
             time: PathTime::Shutter,
             exposure: 0.0,
             align: crate::options::ShutterAlign::Forward,
+            emission: Emission::Uniform,
         }
+    }
+
+    /// The tracer emitting its light paths by `emission` (guided emission shrinks the photon
+    /// differentials' initial vectors where it emits densely, see
+    /// [`caustica_scene::light::projection_map`]).
+    pub fn with_emission(mut self, emission: Emission) -> Self {
+        self.emission = emission;
+        self
     }
 
     /// The tracer with the time rule of `settings`: temporal photon differentials trace at the
@@ -207,7 +221,15 @@ impl<'a> LandingTracer<'a> {
             ray: DiffRay::new(self.scene, &self.lights).with_exposure(self.exposure),
             out,
         };
-        walk_light_path_at(self.scene, sampler, limits, stats, &mut v, self.time);
+        walk_light_path_at(
+            self.scene,
+            sampler,
+            limits,
+            stats,
+            &mut v,
+            self.time,
+            self.emission,
+        );
     }
 }
 
@@ -235,6 +257,8 @@ pub(crate) struct DiffRay<'a, const N: usize> {
     /// differential is first needed (most caustic paths never reach a delta surface, so their
     /// differentials are never computed).
     emission: (Ray, Option<Vec3>, usize),
+    /// The emission's relative density (guided emission): the initial vectors shrink by it.
+    density: EmissionDensity,
     /// The differential of the ray being traced (origin at the last vertex, direction the
     /// sampled one); `None` until computed.
     pub(crate) ray: Option<Result<RayDiff<N>, DiffError>>,
@@ -250,6 +274,7 @@ impl<'a, const N: usize> DiffRay<'a, N> {
             scene,
             lights,
             emission: (Ray::new(Vec3::ZERO, Vec3::Z), None, 0),
+            density: EmissionDensity::UNIFORM,
             ray: None,
             pmf: 1.0,
             exposure: 0.0,
@@ -266,6 +291,7 @@ impl<'a, const N: usize> DiffRay<'a, N> {
     pub(crate) fn start(&mut self, start: &LightStart) {
         self.pmf = start.pmf;
         self.emission = (start.ray, start.emission.normal, start.light);
+        self.density = start.density;
         self.ray = None;
     }
 
@@ -276,12 +302,11 @@ impl<'a, const N: usize> DiffRay<'a, N> {
             let Some(le) = self.lights.get(light) else {
                 return Err(DiffError::NonFinite);
             };
+            let lengths = guided_lengths(le.lengths?, self.density);
             let emitted = match le.fixed {
                 // The light's one basis, for the exact direction and normal it was made from.
-                Some((d, n, b)) if d == ray.d && n == normal => {
-                    emit_with_basis(ray.o, &b, le.lengths?)
-                }
-                _ => emit_with_lengths(ray.o, ray.d, normal, le.lengths?),
+                Some((d, n, b)) if d == ray.d && n == normal => emit_with_basis(ray.o, &b, lengths),
+                _ => emit_with_lengths(ray.o, ray.d, normal, lengths),
             };
             emitted.map(|r| r.widen::<N>())
         })
@@ -320,6 +345,19 @@ impl<'a, const N: usize> DiffRay<'a, N> {
         });
         self.ray = Some(out);
     }
+}
+
+/// The initial lengths `(|D_u x|, |D_θ ω|)` of eq. 5–6 for a photon emitted with relative
+/// density `density` (guided emission): `N_e` photons at `p_rel` times uniform density stand
+/// for `p_rel` times smaller shares, the origins' share shrinking with `p_pos` and the
+/// directions' with `p_dir` (`p_rel = p_pos p_dir`), so each length is divided by the square
+/// root of its density ([`caustica_scene::light::projection_map`]). Uniform emission: unchanged.
+#[inline]
+pub(crate) fn guided_lengths((lx, lw): (f32, f32), density: EmissionDensity) -> (f32, f32) {
+    if density == EmissionDensity::UNIFORM {
+        return (lx, lw);
+    }
+    (lx / density.pos.sqrt(), lw / density.dir.sqrt())
 }
 
 /// Cosine between the differential's scattered direction and the walker's below which the
