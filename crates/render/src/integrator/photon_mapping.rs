@@ -23,6 +23,7 @@ use crate::photon::tracer::{MapKind, TracedPhotons, trace_photons};
 use crate::photon::volume_map::{VolumeEstimate, VolumeMap};
 use crate::stats::RenderStats;
 use crate::transport::direct::sample_direct;
+use crate::transport::emission::caustic_emission_notes;
 use crate::transport::eye_walk::{EyeEvent, Flow, walk_eye};
 use crate::transport::vertex::Vertex;
 use caustica_core::sampling::Sampler;
@@ -447,6 +448,14 @@ pub(crate) fn render(
     let photon_stage = stage.part(0.0, PHOTON_SHARE).labelled("tracing photons");
     let maps = build(&mut |f| photon_stage.report_and_go_on(f));
     notes.push(maps.summary(t.elapsed().as_secs_f64()));
+    if maps.caustic.paths() > 0 {
+        notes.extend(caustic_emission_notes(
+            scene,
+            opts.photons.emission.caustic_rule(),
+            maps.caustic.len(),
+            maps.caustic.paths(),
+        ));
+    }
     match &maps.caustic {
         CausticEstimate::Footprints(d) => notes.push(format!(
             "photon differentials: smoothing s = {}, {} caustic landings, {} stored, {} dropped with a collapsed footprint, {} dropped where the differential could not be propagated{}; gather radius median {:.4} m, max {:.4} m",

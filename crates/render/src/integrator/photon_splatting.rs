@@ -47,6 +47,7 @@ use crate::photon::eye_map::EyeVertex;
 use crate::photon::plan::{PathSet, PathStream, PhotonBudget};
 use crate::photon::tracer::NO_CAUSTIC_PATHS;
 use crate::stats::RenderStats;
+use crate::transport::emission::caustic_emission_notes;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec3};
 use caustica_scene::Scene;
@@ -100,7 +101,7 @@ pub fn render(
     notes: &mut Vec<String>,
 ) -> RenderStats {
     let (stats, report, warnings) = render_report(scene, opts, stage, film, filter);
-    notes.extend(report_notes(&report, opts));
+    notes.extend(report_notes(scene, &report, opts));
     notes.extend(warnings.iter().map(|w| format!("warning: {w}")));
     stats
 }
@@ -272,7 +273,7 @@ pub fn render_report(
 }
 
 /// The notes of a `pds` render.
-fn report_notes(r: &PdsReport, opts: &RenderOptions) -> Vec<String> {
+fn report_notes(scene: &Scene, r: &PdsReport, opts: &RenderOptions) -> Vec<String> {
     let splat_secs = r.splat_secs.max(1e-9);
     let mut notes = vec![format!(
         "photon differential splatting: eye map {} vertices ({:.1} MB) in {:.2} s; {} caustic photons from {} light paths (counted in {:.2} s){}; global map {} photons in {:.2} s",
@@ -304,6 +305,14 @@ fn report_notes(r: &PdsReport, opts: &RenderOptions) -> Vec<String> {
         r.splats as f64 / splat_secs / 1e6,
         r.splats as f64 / r.photons.max(1) as f64,
     ));
+    if r.paths > 0 {
+        notes.extend(caustic_emission_notes(
+            scene,
+            opts.photons.emission.caustic_rule(),
+            r.landings,
+            r.paths,
+        ));
+    }
     notes
 }
 

@@ -90,13 +90,8 @@ impl SplatRule for SppmSplat<'_> {
     fn trace_chunk(&self, c: u64, stats: &mut RenderStats) -> (Vec<Photon>, u64) {
         let lo = self.first + c * CHUNK;
         let hi = (lo + CHUNK).min(self.first + self.paths);
-        let limits = self.opts.limits;
-        let time = self.opts.photons.photon_time();
-        let emission = self.kind.emission(self.opts);
         let run = run_chunk(lo..hi, &self.stream, &|_, sampler, out, st| {
-            trace_one(
-                self.scene, sampler, &limits, time, self.kind, emission, out, st,
-            )
+            trace_one(self.scene, sampler, self.opts, self.kind, out, st)
         });
         *stats += run.stats;
         let inv = 1.0 / self.paths.max(1) as f32;
@@ -183,16 +178,7 @@ pub(crate) fn render(
         Some(r) => r.get() as f64,
         None => {
             let run = run_chunk(0..m.min(16 * CHUNK), &stream, &|_, sampler, out, st| {
-                trace_one(
-                    scene,
-                    sampler,
-                    &opts.limits,
-                    opts.photons.photon_time(),
-                    kind,
-                    kind.emission(opts),
-                    out,
-                    st,
-                )
+                trace_one(scene, sampler, opts, kind, out, st)
             });
             let photons: Vec<Photon> = run
                 .records

@@ -17,8 +17,6 @@ use crate::transport::Emission;
 use crate::transport::light_walk::{
     LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_at,
 };
-use crate::transport::limits::PathLimits;
-use crate::transport::time::PathTime;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec3};
 use caustica_scene::Scene;
@@ -89,25 +87,12 @@ pub fn trace_photons(
     opts: &RenderOptions,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedPhotons {
-    let limits = opts.limits;
-    let emission = kind.emission(opts);
     let (mut photons, paths, stats) = trace_budget(
         budget,
         &PathStream::new(opts, stream),
         opts.photons.first_path,
         progress,
-        |_, sampler, out, st| {
-            trace_one(
-                scene,
-                sampler,
-                &limits,
-                opts.photons.photon_time(),
-                kind,
-                emission,
-                out,
-                st,
-            )
-        },
+        |_, sampler, out, st| trace_one(scene, sampler, opts, kind, out, st),
     );
     let inv_n = 1.0 / paths.max(1) as f32;
     for p in &mut photons {
@@ -171,10 +156,8 @@ pub(crate) fn shortfall(
 pub(crate) fn trace_one(
     scene: &Scene,
     sampler: &mut Sampler,
-    limits: &PathLimits,
-    time: PathTime,
+    opts: &RenderOptions,
     kind: MapKind,
-    emission: Emission,
     out: &mut Vec<Photon>,
     stats: &mut RenderStats,
 ) {
@@ -241,10 +224,10 @@ pub(crate) fn trace_one(
     walk_light_path_at(
         scene,
         sampler,
-        limits,
+        &opts.limits,
         stats,
         &mut Store { kind, out },
-        time,
-        emission,
+        opts.photons.photon_time(),
+        kind.emission(opts),
     );
 }

@@ -22,6 +22,38 @@ pub enum Emission {
     Projection,
 }
 
+/// The render note of a caustic pass that stored `photons` from `paths` light paths emitted by
+/// `rule`: the rule, the projection map's size and build time, and the caustic yield (photons
+/// per light path). Warnings of the map (no marked cell, lights skipped) follow as
+/// `warning:` notes.
+pub fn caustic_emission_notes(
+    scene: &Scene,
+    rule: Emission,
+    photons: usize,
+    paths: u64,
+) -> Vec<String> {
+    let yield_ = format!(
+        "caustic yield {:.2} % ({photons} photons from {paths} light paths)",
+        100.0 * photons as f64 / paths.max(1) as f64
+    );
+    match rule {
+        Emission::Uniform => vec![format!("caustic emission: uniform; {yield_}")],
+        Emission::Projection => {
+            let map = scene.projection_map();
+            let mut notes = vec![format!(
+                "caustic emission: projection map, {} of {} cells marked ({:.2} % of the emitted power), built in {:.2} s from {} test rays; {yield_}",
+                map.marked_cells(),
+                map.total_cells(),
+                100.0 * map.marked_fraction(),
+                map.build_secs,
+                map.test_rays,
+            )];
+            notes.extend(map.warnings.iter().map(|w| format!("warning: {w}")));
+            notes
+        }
+    }
+}
+
 /// A light path's start before the walker traces it.
 pub struct Emitted {
     pub light: usize,
@@ -56,7 +88,7 @@ pub fn emit(
     };
     let mut es = scene.lights[light].sample_emission(u_pos, u_dir);
     let p = density.total();
-    if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() || !(p > 0.0) {
+    if es.pdf_pos <= 0.0 || es.pdf_dir <= 0.0 || es.weight.is_black() || p <= 0.0 || p.is_nan() {
         return None;
     }
     es.weight /= p;

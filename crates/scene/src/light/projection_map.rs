@@ -200,12 +200,15 @@ pub struct ProjectionMap {
     pub warnings: Vec<String>,
     /// Test rays traced to build the map.
     pub test_rays: u64,
+    /// Wall-clock time the build took (s).
+    pub build_secs: f64,
 }
 
 impl ProjectionMap {
     /// Builds the maps of every light of `scene` from its BVH: deterministic (test rays are a
     /// hash of the cell), parallel over cells.
     pub fn build(scene: &Scene) -> Self {
+        let start = std::time::Instant::now();
         let mut warnings = Vec::new();
         let mut test_rays = 0u64;
         let pmf = |l: usize| scene.light_pmf(l as u32);
@@ -214,7 +217,7 @@ impl ProjectionMap {
             .iter()
             .enumerate()
             .map(|(li, light)| {
-                if !(pmf(li) > 0.0) {
+                if pmf(li) <= 0.0 || pmf(li).is_nan() {
                     warnings.push(format!(
                         "light {li} emits no power: skipped by the projection map"
                     ));
@@ -284,6 +287,7 @@ impl ProjectionMap {
             boost,
             warnings,
             test_rays,
+            build_secs: start.elapsed().as_secs_f64(),
         }
     }
 
@@ -305,6 +309,11 @@ impl ProjectionMap {
     /// Marked cells over all lights.
     pub fn marked_cells(&self) -> usize {
         self.cells.len()
+    }
+
+    /// Cells over all lights with a map.
+    pub fn total_cells(&self) -> usize {
+        self.lights.iter().flatten().map(|l| l.grid.cells()).sum()
     }
 
     /// The guided emission for primary samples `u_light`, `u_pos`, `u_dir` (uniform in
