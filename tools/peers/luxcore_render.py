@@ -22,9 +22,9 @@ Engines:
   path   PATHCPU alone (for the radiometric checks: direct and diffuse light only).
 
 Conventions matched to caustica / Mitsuba 3 (checked numerically, see
-docs/results/emission-equal-time/README.md):
-  * point light: LuxCore's `gain` is the power-like factor Φ/... whose radiant intensity is
-    gain/(4π), so gain = 4π · intensity [W/sr];
+docs/results/emission-equal-time/luxcore-checks.md):
+  * point light: with `power` 0, LuxCore's radiant intensity is gain · color / (4π), so
+    gain = 4π · intensity [W/sr];
   * directional light: `sharpdistant`, gain = irradiance [W/m²] across the beam; `direction` is
     the direction of travel, as in caustica;
   * area light: a `matte` black material with `emission` = 1 1 1 and emission.gain = radiance
@@ -33,7 +33,9 @@ docs/results/emission-equal-time/README.md):
     explicitly to x ∈ [-1, 1], so the fov is along x as in caustica (fov_axis x; LuxCore's
     automatic window puts it along the longer axis), and moved down by one pixel, because
     LuxCore otherwise renders the view one pixel row lower than caustica and Mitsuba;
-  * film: no reconstruction filter (each sample lands in its pixel, caustica's box filter).
+  * film: no reconstruction filter (each sample lands in its pixel, caustica's box filter);
+  * gold: `metal2` with caustica's `Au` (n, k); LuxCore's conductor Fresnel is an
+    approximation, up to 9 % brighter than the exact one at 60-80° for these n, k.
 
 LuxCore checks halt conditions only inside RenderSession.UpdateStats(), so the budget is
 enforced by polling UpdateStats()/HasDone() (never WaitForDone()); the budget counts from just
