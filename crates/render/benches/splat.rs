@@ -98,6 +98,7 @@ fn bench(c: &mut Criterion) {
                 widened: 0,
                 stats: RenderStats::default(),
                 warning: None,
+                note: None,
             },
             filter,
         );

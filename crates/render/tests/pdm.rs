@@ -361,6 +361,7 @@ fn collapsed_and_failed_footprints_are_dropped_and_counted_without_nan() {
         widened: 0,
         stats: RenderStats::default(),
         warning: None,
+        note: None,
     };
     // The kernel is selectable: at the centre π K(0) Φ/A is 3 Φ/A for Silverman's kernel
     // (eq. 11) and 2 Φ/A for Epanechnikov's.

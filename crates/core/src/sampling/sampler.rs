@@ -44,6 +44,19 @@ pub struct Sampler {
     rng: Pcg32,
     /// Four consecutive Sobol dimensions computed at once (`sobol_burley::sample_4d`).
     cache: [f32; 4],
+    /// Primary-sample-space mode, for Markov chains over paths (Kelemen et al. 2002): `None`
+    /// normally (one predictable branch per number).
+    primary: Option<Box<Primary>>,
+}
+
+/// The numbers of one path in primary sample space: recorded as drawn, or replayed.
+#[derive(Clone, Debug)]
+struct Primary {
+    values: Vec<f32>,
+    /// Next value to replay.
+    pos: usize,
+    /// Replaying `values` (then the sequence beyond them); else recording what is drawn.
+    replay: bool,
 }
 
 impl Sampler {
@@ -56,7 +69,53 @@ impl Sampler {
             dim: 0,
             rng: Pcg32::new(seed, 0),
             cache: [0.0; 4],
+            primary: None,
         }
+    }
+
+    /// Records the numbers drawn from now on (until [`Self::take_primary`]): the path's point
+    /// in primary sample space, which a Markov chain can then mutate and replay.
+    pub fn record_primary(&mut self) {
+        self.primary = Some(Box::new(Primary {
+            values: Vec::with_capacity(64),
+            pos: 0,
+            replay: false,
+        }));
+    }
+
+    /// Returns `values` as the next numbers drawn, then the positioned sequence beyond them
+    /// (until [`Self::take_primary`]).
+    pub fn replay_primary(&mut self, values: Vec<f32>) {
+        self.primary = Some(Box::new(Primary {
+            values,
+            pos: 0,
+            replay: true,
+        }));
+    }
+
+    /// Leaves primary-sample-space mode, returning the numbers recorded (or replayed).
+    pub fn take_primary(&mut self) -> Vec<f32> {
+        self.primary.take().map(|p| p.values).unwrap_or_default()
+    }
+
+    #[cold]
+    fn next_primary(&mut self) -> f32 {
+        let Some(mut p) = self.primary.take() else {
+            return self.next_sequence();
+        };
+        let x = if p.replay {
+            match p.values.get(p.pos) {
+                Some(&x) => x,
+                None => self.next_sequence(),
+            }
+        } else {
+            let x = self.next_sequence();
+            p.values.push(x);
+            x
+        };
+        p.pos += 1;
+        self.primary = Some(p);
+        x
     }
     pub fn kind(&self) -> SamplerKind {
         self.kind
@@ -87,6 +146,14 @@ impl Sampler {
     /// Next uniform number in [0, 1).
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
+        if self.primary.is_some() {
+            return self.next_primary();
+        }
+        self.next_sequence()
+    }
+
+    #[inline]
+    fn next_sequence(&mut self) -> f32 {
         match self.kind {
             SamplerKind::Independent => self.rng.next_f32(),
             SamplerKind::Sobol => {

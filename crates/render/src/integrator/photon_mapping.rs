@@ -68,11 +68,11 @@ impl PhotonMaps {
     ) -> Self {
         let density = |estimator, progress: &mut dyn FnMut(f64) -> bool| {
             let (caustic, traced) = CausticEstimate::density(scene, estimator, opts, progress);
-            (caustic, traced.warning, traced.stats)
+            (caustic, traced.warning, traced.note, traced.stats)
         };
         Self::with_caustic(scene, opts, progress, |progress| match kind {
             // Only the volume estimate is wanted: no surface is shaded.
-            _ if opts.volume_only => (CausticEstimate::None, None, RenderStats::default()),
+            _ if opts.volume_only => (CausticEstimate::None, None, None, RenderStats::default()),
             IntegratorKind::DiffusionPhotonMapping => {
                 density(CausticEstimator::Diffusion, progress)
             }
@@ -80,9 +80,12 @@ impl PhotonMaps {
             | IntegratorKind::VolumePhotonDifferentials => {
                 CausticEstimate::footprints(scene, opts, progress)
             }
-            IntegratorKind::PhotonDifferentialSplatting => {
-                (CausticEstimate::Splatted, None, RenderStats::default())
-            }
+            IntegratorKind::PhotonDifferentialSplatting => (
+                CausticEstimate::Splatted,
+                None,
+                None,
+                RenderStats::default(),
+            ),
             _ => density(opts.photons.caustic_estimator.unwrap_or_default(), progress),
         })
     }
@@ -103,24 +106,24 @@ impl PhotonMaps {
     }
 
     /// The maps of a photon integrator whose caustic estimate `caustic(progress)` makes (with
-    /// its warning and statistics); `progress` sees the fraction of both passes done.
+    /// its warning, a note and statistics); `progress` sees the fraction of both passes done.
     pub fn with_caustic(
         scene: &Scene,
         opts: &RenderOptions,
         progress: &mut dyn FnMut(f64) -> bool,
         caustic: impl FnOnce(
             &mut dyn FnMut(f64) -> bool,
-        ) -> (CausticEstimate, Option<String>, RenderStats),
+        ) -> (CausticEstimate, Option<String>, Option<String>, RenderStats),
     ) -> Self {
         let has_global = Self::wants_global(opts);
         let has_volume = Self::wants_volume(scene, opts);
         let share = 1.0 / (1 + has_global as u32 + has_volume as u32) as f64;
-        let (caustic, warning, mut stats) = caustic(&mut |f| progress(share * f));
+        let (caustic, warning, note, mut stats) = caustic(&mut |f| progress(share * f));
         let g = Self::trace_global(scene, opts, &mut |f| progress(share + share * f));
         stats += g.stats;
         let mut warnings: Vec<String> = warning.into_iter().chain(g.warning).collect();
         let start = if has_global { 2.0 * share } else { share };
-        let mut notes = Vec::new();
+        let mut notes: Vec<String> = note.into_iter().collect();
         let volume = has_volume.then(|| {
             let settings = opts.photons.volume;
             let budget = crate::photon::plan::PhotonBudget::Records(settings.photons);
@@ -220,6 +223,7 @@ impl PhotonMaps {
                 paths: 0,
                 stats: RenderStats::default(),
                 warning: None,
+                note: None,
             };
         }
         trace_photons(

@@ -36,16 +36,18 @@ use crate::control::Stage;
 use crate::driver::eye_splat::{SplatRule, eye_pass, resolve, splat_batches};
 use crate::film::Film;
 use crate::filter::Filter;
+use crate::options::EmissionStrategy;
 use crate::options::RenderOptions;
 use crate::photon::caustic::CAUSTIC_STREAM;
 use crate::photon::differential::{
     DiffPhoton, EMISSION_PARAMS, FootprintFilter, Landing, LandingTracer, MadePhotons,
-    RECORD_LANDING_PATHS, TEMPORAL_PARAMS, count_caustic_paths, photons_from_landings, unit_budget,
-    widened_note,
+    RECORD_LANDING_PATHS, TEMPORAL_PARAMS, count_adaptive, count_caustic_paths,
+    photons_from_landings, unit_budget, widened_note,
 };
 use crate::photon::eye_map::EyeVertex;
-use crate::photon::plan::{PathSet, PathStream, PhotonBudget};
+use crate::photon::plan::{CHUNK, PathSet, PathStream, PhotonBudget};
 use crate::photon::tracer::NO_CAUSTIC_PATHS;
+use crate::photon::visible_points::VisiblePoints;
 use crate::stats::RenderStats;
 use crate::transport::emission::caustic_emission_notes;
 use caustica_core::sampling::Sampler;
@@ -88,6 +90,8 @@ pub struct PdsReport {
     pub splat_secs: f64,
     /// Set when the render stopped before every path was splatted.
     pub stopped: Option<&'static str>,
+    /// The adaptive sampler's note (`--emission adaptive`).
+    pub adaptive: Option<String>,
 }
 
 /// Renders `scene` by photon differential splatting into `film`; returns the statistics and
@@ -175,7 +179,48 @@ pub fn render_report(
         .with_time(&opts.photons.footprints, scene)
         .with_emission(opts.photons.emission.caustic_rule());
     let counted;
+    let chains;
     let work = match opts.photons.caustic_budget() {
+        // Visibility-driven adaptive photon tracing: chains toward landings near the camera's
+        // visible points; the splatting replays their states.
+        budget if opts.photons.emission == EmissionStrategy::Adaptive => {
+            let steps = match budget {
+                PhotonBudget::Paths(n) => n,
+                PhotonBudget::Records(n) => n as u64,
+            };
+            let visible = VisiblePoints::from_camera(scene, opts);
+            chains = count_adaptive(
+                &tracer,
+                steps,
+                &stream,
+                opts.photons.first_path,
+                &opts.limits,
+                &visible,
+            );
+            stats.rays += chains.stats.rays;
+            report.paths = chains.equivalent_paths().round() as u64;
+            report.landings = chains
+                .states
+                .iter()
+                .map(|s| s.records.len() * s.count as usize)
+                .sum();
+            report.adaptive = Some(format!(
+                "{}; the visible points: {} within {:.4} m",
+                chains.note(),
+                visible.len(),
+                visible.radius()
+            ));
+            if chains.visible == 0 {
+                warnings.push(format!(
+                    "adaptive photon tracing: none of {} light paths landed near a visible point through glass or mirrors",
+                    chains.uniform
+                ));
+            }
+            PathSet::States {
+                states: &chains.states,
+                n: report.paths,
+            }
+        }
         PhotonBudget::Paths(n) => {
             report.paths = n;
             PathSet::Range {
@@ -272,6 +317,10 @@ pub fn render_report(
     (stats, report, warnings)
 }
 
+/// Tag of the stream positioning the sampler while it replays an adaptive chain's state (its
+/// numbers all come from the state; the tag only keeps the positioning distinct).
+const REPLAY_STREAM_TAG: u64 = 0x5E9A_11ED;
+
 /// The notes of a `pds` render.
 fn report_notes(scene: &Scene, r: &PdsReport, opts: &RenderOptions) -> Vec<String> {
     let splat_secs = r.splat_secs.max(1e-9);
@@ -305,6 +354,7 @@ fn report_notes(scene: &Scene, r: &PdsReport, opts: &RenderOptions) -> Vec<Strin
         r.splats as f64 / splat_secs / 1e6,
         r.splats as f64 / r.photons.max(1) as f64,
     ));
+    notes.extend(r.adaptive.clone());
     if r.paths > 0 {
         notes.extend(caustic_emission_notes(
             scene,
@@ -386,6 +436,19 @@ impl FootprintSplat<'_> {
             self.tracer
                 .trace::<N>(&mut sampler, &self.opts.limits, &mut landings, st);
         });
+        // Adaptive photon tracing's states: each replayed once, its landings weighted by how
+        // many chain steps it stood for.
+        for (i, s) in self.work.states_of_chunk(c).iter().enumerate() {
+            sampler.start_path(self.stream.stream ^ REPLAY_STREAM_TAG, c * CHUNK + i as u64);
+            sampler.replay_primary(s.primary.clone());
+            let before = landings.len();
+            self.tracer
+                .trace::<N>(&mut sampler, &self.opts.limits, &mut landings, st);
+            sampler.take_primary();
+            for l in &mut landings[before..] {
+                l.beta *= s.count as f32;
+            }
+        }
         photons_from_landings(
             &landings,
             self.work.len(),

@@ -651,5 +651,6 @@ fn scaled(traced: &TracedDiffPhotons, s: f32, min_semi_axis: Option<f32>) -> Tra
         widened,
         stats: RenderStats::default(),
         warning: None,
+        note: None,
     }
 }

@@ -70,7 +70,12 @@ impl CausticEstimate {
         scene: &Scene,
         opts: &RenderOptions,
         progress: &mut dyn FnMut(f64) -> bool,
-    ) -> (Self, Option<String>, crate::stats::RenderStats) {
+    ) -> (
+        Self,
+        Option<String>,
+        Option<String>,
+        crate::stats::RenderStats,
+    ) {
         let p = &opts.photons;
         let mut d = trace_photon_differentials(
             scene,
@@ -81,9 +86,10 @@ impl CausticEstimate {
             progress,
         );
         let warning = d.warning.take();
+        let note = d.note.take();
         let stats = d.stats;
         let map = PdmMap::with_filter(d, FootprintFilter::new(&p.footprints));
-        (CausticEstimate::Footprints(map), warning, stats)
+        (CausticEstimate::Footprints(map), warning, note, stats)
     }
 
     /// Prepares density estimator `estimator` (with the parameters of `opts`) for a photon map

@@ -10,7 +10,9 @@
 //! `first_path`.
 
 use crate::options::RenderOptions;
+use crate::photon::adaptive::ChainState;
 use crate::stats::RenderStats;
+use caustica_core::Vec3;
 use caustica_core::sampling::{Sampler, SamplerKind};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -289,6 +291,12 @@ pub enum PathSet<'a> {
     Range { first: u64, n: u64 },
     /// These paths (ascending), out of the range `first..first + n` they were chosen from.
     Listed { list: &'a [u64], first: u64, n: u64 },
+    /// The states of adaptive photon tracing's chains ([`crate::photon::adaptive`]), each
+    /// replayed once and weighted by its repeat count; they stand for `n` base light paths.
+    States {
+        states: &'a [ChainState<Vec3>],
+        n: u64,
+    },
 }
 
 impl PathSet<'_> {
@@ -297,10 +305,24 @@ impl PathSet<'_> {
         match self {
             PathSet::Range { n, .. } => n.div_ceil(CHUNK),
             PathSet::Listed { list, .. } => (list.len() as u64).div_ceil(CHUNK),
+            PathSet::States { states, .. } => (states.len() as u64).div_ceil(CHUNK),
         }
     }
 
-    /// Calls `f(path)` for the paths of chunk `c`, in order.
+    /// The chain states of chunk `c` (empty unless the set is [`PathSet::States`]).
+    pub fn states_of_chunk(&self, c: u64) -> &[ChainState<Vec3>] {
+        match *self {
+            PathSet::States { states, .. } => {
+                let lo = ((c * CHUNK) as usize).min(states.len());
+                let hi = (((c + 1) * CHUNK) as usize).min(states.len());
+                &states[lo..hi]
+            }
+            _ => &[],
+        }
+    }
+
+    /// Calls `f(path)` for the paths of chunk `c`, in order (none for [`PathSet::States`]: see
+    /// [`Self::states_of_chunk`]).
     pub fn for_each_path(&self, c: u64, mut f: impl FnMut(u64)) {
         match *self {
             PathSet::Range { first, n } => {
@@ -311,6 +333,7 @@ impl PathSet<'_> {
                 let hi = ((c + 1) * CHUNK).min(list.len() as u64) as usize;
                 list[lo..hi].iter().for_each(|&p| f(p));
             }
+            PathSet::States { .. } => {}
         }
     }
 
@@ -319,6 +342,7 @@ impl PathSet<'_> {
         match self {
             PathSet::Range { n, .. } => (c * CHUNK).min(*n),
             PathSet::Listed { list, .. } => (c * CHUNK).min(list.len() as u64),
+            PathSet::States { states, .. } => (c * CHUNK).min(states.len() as u64),
         }
     }
 
@@ -331,13 +355,22 @@ impl PathSet<'_> {
                 Some(&next) => next - first,
                 None => n,
             },
+            // The share of the chains' states splatted so far.
+            PathSet::States { states, n } => {
+                let done = (c * CHUNK).min(states.len() as u64);
+                if done >= states.len() as u64 {
+                    n
+                } else {
+                    (n as f64 * done as f64 / states.len() as f64) as u64
+                }
+            }
         }
     }
 
     /// Paths in the range.
     pub fn len(&self) -> u64 {
         match *self {
-            PathSet::Range { n, .. } | PathSet::Listed { n, .. } => n,
+            PathSet::Range { n, .. } | PathSet::Listed { n, .. } | PathSet::States { n, .. } => n,
         }
     }
 

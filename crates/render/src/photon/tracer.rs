@@ -10,8 +10,11 @@
 //! Paths are numbered and traced in fixed chunks ([`crate::photon::plan`]) whose photons are
 //! concatenated in path order, so the maps depend on the seed only, not on the thread count.
 
+use crate::options::EmissionStrategy;
 use crate::options::RenderOptions;
+use crate::photon::adaptive::{path_dimensions, run_chains};
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
+use crate::photon::visible_points::VisiblePoints;
 use crate::stats::RenderStats;
 use crate::transport::Emission;
 use crate::transport::light_walk::{
@@ -71,6 +74,8 @@ pub struct TracedPhotons {
     pub stats: RenderStats,
     /// Set when fewer photons than requested were found (no caustic paths, no diffuse surfaces).
     pub warning: Option<String>,
+    /// A fact for the render notes (the adaptive sampler's acceptance and normalisation).
+    pub note: Option<String>,
 }
 
 /// Emits light paths of `stream` under `budget` — until `n` photons of `kind` are stored, cut at
@@ -87,6 +92,9 @@ pub fn trace_photons(
     opts: &RenderOptions,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedPhotons {
+    if kind == MapKind::Caustic && opts.photons.emission == EmissionStrategy::Adaptive {
+        return trace_adaptive(scene, budget, stream, opts, progress);
+    }
     let (mut photons, paths, stats) = trace_budget(
         budget,
         &PathStream::new(opts, stream),
@@ -122,6 +130,70 @@ pub fn trace_photons(
         paths,
         stats,
         warning,
+        note: None,
+    }
+}
+
+/// The caustic photons of visibility-driven adaptive photon tracing ([`super::adaptive`]):
+/// `budget`'s count as chain steps (about one photon each), toward photons near the camera's
+/// visible points. A state repeated by rejected mutations is stored once with its flux times
+/// the repeat count (repeated points would collapse a k-NN radius to zero). The path count is
+/// the chains' equivalent number of base light paths, `M / V_c`.
+fn trace_adaptive(
+    scene: &Scene,
+    budget: PhotonBudget,
+    stream: u64,
+    opts: &RenderOptions,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> TracedPhotons {
+    let visible = VisiblePoints::from_camera(scene, opts);
+    let steps = match budget {
+        PhotonBudget::Records(n) => n as u64,
+        PhotonBudget::Paths(n) => n,
+    };
+    let run = run_chains(
+        &PathStream::new(opts, stream),
+        opts.photons.first_path,
+        steps,
+        path_dimensions(opts.limits.max_depth),
+        &|recs: &[Photon]| recs.iter().any(|p| visible.near(p.p)),
+        &|sampler, out, st| trace_one(scene, sampler, opts, MapKind::Caustic, out, st),
+    );
+    progress(1.0);
+    let n_eff = run.equivalent_paths();
+    let inv_n = if n_eff > 0.0 {
+        (1.0 / n_eff) as f32
+    } else {
+        0.0
+    };
+    let mut photons = Vec::with_capacity(run.states.len());
+    for s in &run.states {
+        for p in &s.records {
+            photons.push(Photon {
+                flux: p.flux * (s.count as f32 * inv_n),
+                ..*p
+            });
+        }
+    }
+    let warning = if run.visible == 0 {
+        Some(format!(
+            "adaptive photon tracing: none of {} light paths stored a caustic photon near a visible point; the caustic map is empty",
+            run.uniform
+        ))
+    } else {
+        None
+    };
+    TracedPhotons {
+        photons,
+        paths: n_eff.round() as u64,
+        stats: run.stats,
+        warning,
+        note: Some(format!(
+            "{}; the visible points: {} within {:.4} m",
+            run.note(),
+            visible.len(),
+            visible.radius()
+        )),
     }
 }
 

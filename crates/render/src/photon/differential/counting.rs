@@ -3,12 +3,15 @@
 //! footprints scale with `1/√N` (eq. 5–6).
 
 use super::trace::{LandingTracer, is_caustic_landing};
+use crate::photon::adaptive::{AdaptiveRun, path_dimensions, run_chains};
 use crate::photon::plan::{PathStream, trace_paths};
+use crate::photon::visible_points::VisiblePoints;
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
     LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_at,
 };
 use crate::transport::limits::PathLimits;
+use caustica_core::Vec3;
 use caustica_core::sampling::Sampler;
 
 /// The light paths [`trace_photon_differentials`] emits to find `target` caustic landings
@@ -90,6 +93,63 @@ fn landings<P: Copy + Send>(
             tracer.emission,
         )
     })
+}
+
+/// Adaptive photon tracing's counting pass ([`crate::photon::adaptive`]): `steps` chain steps
+/// over `tracer`'s light paths from `first` on, a path visible when one of its caustic landings
+/// lies near a visible point; each state keeps its landings' positions. The splatting pass
+/// replays the states ([`crate::photon::plan::PathSet::States`]).
+pub fn count_adaptive(
+    tracer: &LandingTracer,
+    steps: u64,
+    stream: &PathStream,
+    first: u64,
+    limits: &PathLimits,
+    visible: &VisiblePoints,
+) -> AdaptiveRun<Vec3> {
+    run_chains(
+        stream,
+        first,
+        steps,
+        path_dimensions(limits.max_depth),
+        &|points: &[Vec3]| points.iter().any(|&p| visible.near(p)),
+        &|sampler, out, st| {
+            walk_light_path_at(
+                tracer.scene,
+                sampler,
+                limits,
+                st,
+                &mut Points { out },
+                tracer.time,
+                tracer.emission,
+            )
+        },
+    )
+}
+
+/// Pushes the position of every caustic landing of the path.
+struct Points<'a> {
+    out: &'a mut Vec<Vec3>,
+}
+
+impl LightVisitor for Points<'_> {
+    fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
+        if let LightEvent::Vertex(lv) = event
+            && is_caustic_landing(lv)
+        {
+            self.out.push(lv.v.si.p);
+        }
+    }
+    fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
+        sc.keeps_caustic()
+    }
+    fn scatter_in_medium(
+        &mut self,
+        _: &LightMediumVertex,
+        _: &caustica_scene::phase::PhaseSample,
+    ) -> bool {
+        false
+    }
 }
 
 /// Pushes `record` once per caustic landing of the path.

@@ -76,7 +76,7 @@ pub mod map;
 pub mod trace;
 pub mod volume_trace;
 
-pub use counting::{CausticPaths, RECORD_LANDING_PATHS, count_caustic_paths};
+pub use counting::{CausticPaths, RECORD_LANDING_PATHS, count_adaptive, count_caustic_paths};
 pub use footprint::{
     DiffPhoton, FootprintFilter, Landing, MadePhotons, photons_from_landings, widened_note,
 };

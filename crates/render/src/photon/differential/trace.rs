@@ -4,9 +4,11 @@
 //! [`super`]).
 
 use super::footprint::{DiffPhoton, Landing, photons_from_landings};
-use crate::options::{FootprintSettings, RenderOptions, Smoothing};
+use crate::options::{EmissionStrategy, FootprintSettings, RenderOptions, Smoothing};
+use crate::photon::adaptive::{path_dimensions, run_chains};
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::photon::tracer::{NO_CAUSTIC_PATHS, shortfall};
+use crate::photon::visible_points::VisiblePoints;
 use crate::stats::RenderStats;
 use crate::transport::Emission;
 use crate::transport::light_walk::{
@@ -45,6 +47,8 @@ pub struct TracedDiffPhotons {
     pub widened: u64,
     pub stats: RenderStats,
     pub warning: Option<String>,
+    /// A fact for the render notes (the adaptive sampler's acceptance and normalisation).
+    pub note: Option<String>,
 }
 
 /// Traces the light paths of `stream` under `budget` — until that many caustic landings
@@ -63,32 +67,31 @@ pub fn trace_photon_differentials(
     let tracer = LandingTracer::new(scene, &unit_budget(smoothing))
         .with_time(&opts.photons.footprints, scene)
         .with_emission(opts.photons.emission.caustic_rule());
-    let limits = opts.limits;
     let stream = PathStream::new(opts, stream);
+    // Visibility-driven adaptive photon tracing: chains toward landings the camera sees.
+    let visible = (opts.photons.emission == EmissionStrategy::Adaptive)
+        .then(|| VisiblePoints::from_camera(scene, opts));
+    let visible = visible.as_ref();
     // Two parameters (emission), or three with time (seed 003).
     let floor = opts.photons.footprints.min_semi_axis;
-    let (made, landings, paths, stats) = if tracer.is_temporal() {
-        let (landings, paths, stats) = trace_budget(
-            budget,
-            &stream,
-            opts.photons.first_path,
-            progress,
-            |_, sm, out, st| tracer.trace::<TEMPORAL_PARAMS>(sm, &limits, out, st),
-        );
+    let (made, landings, paths, stats, note) = if tracer.is_temporal() {
+        let (landings, paths, stats, note) =
+            trace_landings::<TEMPORAL_PARAMS>(&tracer, budget, &stream, opts, visible, progress);
         let made = photons_from_landings(&landings, paths, tracer.align, floor);
-        (made, landings.len(), paths, stats)
+        (made, landings.len(), paths, stats, note)
     } else {
-        let (landings, paths, stats) = trace_budget(
-            budget,
-            &stream,
-            opts.photons.first_path,
-            progress,
-            |_, sm, out, st| tracer.trace::<EMISSION_PARAMS>(sm, &limits, out, st),
-        );
+        let (landings, paths, stats, note) =
+            trace_landings::<EMISSION_PARAMS>(&tracer, budget, &stream, opts, visible, progress);
         let made = photons_from_landings(&landings, paths, tracer.align, floor);
-        (made, landings.len(), paths, stats)
+        (made, landings.len(), paths, stats, note)
     };
-    let warning = shortfall("caustic", landings, paths, budget).map(|w| {
+    // Adaptive tracing stores repeated states once: its landings are not the budget's count.
+    let budget_check = if visible.is_some() {
+        PhotonBudget::Paths(paths)
+    } else {
+        budget
+    };
+    let warning = shortfall("caustic", landings, paths, budget_check).map(|w| {
         if landings == 0 {
             format!("{w}: {NO_CAUSTIC_PATHS}")
         } else {
@@ -104,7 +107,66 @@ pub fn trace_photon_differentials(
         widened: made.widened,
         stats,
         warning,
+        note,
     }
+}
+
+/// The caustic landings of `budget`'s light paths, the path count N, the statistics and, for
+/// adaptive photon tracing (`visible` given), its note: the chains' states with their landings'
+/// throughputs times the repeat count, and N the chains' equivalent base paths
+/// ([`crate::photon::adaptive`]).
+fn trace_landings<const N: usize>(
+    tracer: &LandingTracer,
+    budget: PhotonBudget,
+    stream: &PathStream,
+    opts: &RenderOptions,
+    visible: Option<&VisiblePoints>,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> (Vec<Landing<N>>, u64, RenderStats, Option<String>) {
+    let limits = opts.limits;
+    let Some(visible) = visible else {
+        let (landings, paths, stats) = trace_budget(
+            budget,
+            stream,
+            opts.photons.first_path,
+            progress,
+            |_, sm, out, st| tracer.trace::<N>(sm, &limits, out, st),
+        );
+        return (landings, paths, stats, None);
+    };
+    let steps = match budget {
+        PhotonBudget::Records(n) => n as u64,
+        PhotonBudget::Paths(n) => n,
+    };
+    let run = run_chains(
+        stream,
+        opts.photons.first_path,
+        steps,
+        path_dimensions(limits.max_depth),
+        &|ls: &[Landing<N>]| ls.iter().any(|l| visible.near(l.p)),
+        &|sm, out, st| tracer.trace::<N>(sm, &limits, out, st),
+    );
+    progress(1.0);
+    let mut landings = Vec::with_capacity(run.states.len());
+    for s in &run.states {
+        for l in &s.records {
+            let mut l = *l;
+            l.beta *= s.count as f32;
+            landings.push(l);
+        }
+    }
+    let note = format!(
+        "{}; the visible points: {} within {:.4} m",
+        run.note(),
+        visible.len(),
+        visible.radius()
+    );
+    (
+        landings,
+        run.equivalent_paths().round() as u64,
+        run.stats,
+        Some(note),
+    )
 }
 
 /// The differential parameters of a photon at emission: the two of seed 002 eq. 1–6 (position
