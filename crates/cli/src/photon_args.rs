@@ -269,8 +269,9 @@ pub struct PhotonArgs {
     pub paper_area: bool,
     /// How caustic light paths are emitted (every photon method's caustic pass, and lighttrace
     /// --caustics-only): uniform (by power, over all directions), projection (projection maps:
-    /// mostly toward mirrors, glass and smooth metal, unbiased) or adaptive (Markov chains toward
-    /// paths that reach visible points). Global and volume photons are always uniform.
+    /// mostly toward mirrors, glass and smooth metal, unbiased; the default) or adaptive (Markov
+    /// chains toward photons near what the camera sees; the light tracer uses projection maps
+    /// for it). Global and volume photons are always uniform.
     #[arg(long, value_name = "RULE", help_heading = "Photon mapping", value_parser = EmissionStrategy::NAMES)]
     pub emission: Option<String>,
     #[command(flatten)]

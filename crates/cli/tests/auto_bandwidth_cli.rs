@@ -69,15 +69,28 @@ fn notes_name_the_automatic_choice() {
 #[test]
 fn explicit_values_disable_the_choice_and_render_as_before() {
     for (name, args, hash) in [
-        ("pm-k50", &["pm", "--k", "50"][..], 0xa8d4_ee89_2b08_8766u64),
+        // Uniform emission, as caustica emitted before projection maps became the default.
+        (
+            "pm-k50",
+            &["pm", "--k", "50", "--emission", "uniform"][..],
+            0xa8d4_ee89_2b08_8766u64,
+        ),
         (
             "pds-s4",
-            &["pds", "--smoothing", "4"][..],
+            &["pds", "--smoothing", "4", "--emission", "uniform"][..],
             0xd1fd_6847_e715_a73f,
         ),
         (
             "dpm-h-q",
-            &["dpm", "--bandwidth", "0.07", "--q", "0.05"][..],
+            &[
+                "dpm",
+                "--bandwidth",
+                "0.07",
+                "--q",
+                "0.05",
+                "--emission",
+                "uniform",
+            ][..],
             0x5642_7cb0_695c_cc03,
         ),
     ] {
@@ -89,7 +102,10 @@ fn explicit_values_disable_the_choice_and_render_as_before() {
         );
     }
     // --no-auto-bandwidth is the fixed default k = 50.
-    let (err, h) = render("pm-fixed", &["pm", "--no-auto-bandwidth"]);
+    let (err, h) = render(
+        "pm-fixed",
+        &["pm", "--no-auto-bandwidth", "--emission", "uniform"],
+    );
     assert!(!err.contains("automatic bandwidth"), "{err}");
     assert_eq!(h, 0xa8d4_ee89_2b08_8766);
     // Only the given value is fixed: dpm with --bandwidth still chooses q.

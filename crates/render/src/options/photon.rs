@@ -75,14 +75,15 @@ pub struct PhotonOptions {
     pub emission: EmissionStrategy,
 }
 
-/// How caustic light paths are emitted (`--emission`; docs/emission.md).
+/// How caustic light paths are emitted (`--emission`; docs/emission.md). The default is
+/// projection maps, measured best (docs/results/emission-equal-time).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum EmissionStrategy {
     /// Light by power, uniform over its directions and area.
-    #[default]
     Uniform,
     /// Projection maps (Jensen 1996): mostly into the emission cells that reach mirrors, glass
     /// and smooth metal, with a defensive uniform share (unbiased).
+    #[default]
     Projection,
     /// Visibility-driven adaptive photon tracing (Hachisuka and Jensen 2011) over projection
     /// emission: Markov chains in primary sample space toward paths that reach visible points.
