@@ -7,7 +7,12 @@ mod common;
 use common::{assert_clean_failure, caustica, stderr, stdout};
 
 fn render(extra: &[&str]) -> std::process::Output {
-    let out = common::tmp_in("emission-cli", &format!("{}.exr", extra.join("-")));
+    let name = if extra.is_empty() {
+        "default".to_string()
+    } else {
+        extra.join("-")
+    };
+    let out = common::tmp_in("emission-cli", &format!("{name}.exr"));
     let mut args = vec![
         "render",
         "glass-sphere",

@@ -6,8 +6,9 @@
 //! uniform emission.
 
 use caustica_core::Vec3;
+mod common;
+
 use caustica_core::image_io::Image;
-use caustica_loader::builtin_scene;
 use caustica_render::photon::caustic::CAUSTIC_STREAM;
 use caustica_render::photon::differential::trace_photon_differentials;
 use caustica_render::photon::plan::PhotonBudget;
@@ -18,14 +19,7 @@ use caustica_render::{
     RenderOptions, Smoothing, render,
 };
 use caustica_scene::Scene;
-
-fn small_builtin(name: &str, w: u32, h: u32) -> Scene {
-    let mut b = builtin_scene(name).unwrap();
-    let mut camera = b.camera().unwrap().clone();
-    (camera.width, camera.height) = (w, h);
-    b.set_camera(camera);
-    b.build().unwrap()
-}
+use common::small_builtin;
 
 fn opts(emission: EmissionStrategy, seed: u64) -> RenderOptions {
     RenderOptions {

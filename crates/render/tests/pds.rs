@@ -6,22 +6,13 @@
 mod common;
 
 use caustica_core::image_io::Image;
-use caustica_loader::builtin_scene;
 use caustica_render::transport::Emission;
 use caustica_render::{
     FootprintSettings, IntegratorKind, NormalDistance, PathLimits, PhotonOptions, RenderControl,
     RenderOptions, Smoothing, render,
 };
 use caustica_scene::Scene;
-
-/// A built-in scene at `w` × `h` pixels.
-fn small_builtin(name: &str, w: u32, h: u32) -> Scene {
-    let mut b = builtin_scene(name).unwrap();
-    let mut camera = b.camera().unwrap().clone();
-    (camera.width, camera.height) = (w, h);
-    b.set_camera(camera);
-    b.build().unwrap()
-}
+use common::small_builtin;
 
 fn run(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions) -> (Image, Vec<String>) {
     let out = render(scene, kind, opts, &RenderControl::silent()).expect("valid options");

@@ -668,6 +668,10 @@ fn ppm_agrees_with_the_path_tracer_and_sppm() {
             paths_per_iteration: PATHS,
             ..Default::default()
         };
+        // Uniform emission: with projection maps the iterations carry 3× the caustic photons
+        // and ppm's error reaches its fixed-hit-point floor (one point per pixel, no
+        // antialiasing) by 16 iterations, so it no longer falls from 16 to 64.
+        o.photons.emission = caustica_render::EmissionStrategy::Uniform;
         run(&w, kind, &o)
     };
     let errs: Vec<f64> = [4u64, 16, 64]

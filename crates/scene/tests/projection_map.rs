@@ -160,11 +160,11 @@ fn guided_point_emission_chi_square() {
     };
     let test = ChiSquareTest::new(domain, 2_000_000);
     let r = test.run(
-        &mut || {
+        || {
             let g = map.sample(dist, rng.next_f32(), u2(&mut rng), u2(&mut rng))?;
             Some(s.lights[g.light].sample_emission(g.u_pos, g.u_dir).ray.d)
         },
-        &|w: Vec3| map.density(0, Vec2::splat(0.5), sphere_u(w)).total() / (4.0 * PI),
+        |w: Vec3| map.density(0, Vec2::splat(0.5), sphere_u(w)).total() / (4.0 * PI),
     );
     assert!(r.passed(), "{r}");
 }

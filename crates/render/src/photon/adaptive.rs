@@ -84,6 +84,29 @@ pub struct AdaptiveRun<P> {
 }
 
 impl<P> AdaptiveRun<P> {
+    fn empty() -> Self {
+        AdaptiveRun {
+            states: Vec::new(),
+            steps: 0,
+            uniform: 0,
+            visible: 0,
+            proposed: 0,
+            accepted: 0,
+            stats: RenderStats::default(),
+        }
+    }
+
+    /// Adds the counts and states of `r` (a later chain or wave) to this run.
+    fn absorb(&mut self, r: AdaptiveRun<P>) {
+        self.states.extend(r.states);
+        self.steps += r.steps;
+        self.uniform += r.uniform;
+        self.visible += r.visible;
+        self.proposed += r.proposed;
+        self.accepted += r.accepted;
+        self.stats += r.stats;
+    }
+
     /// `V_c`: the visible fraction of the base emission's light paths (uniform replicas).
     pub fn normalisation(&self) -> f64 {
         self.visible as f64 / self.uniform.max(1) as f64
@@ -149,15 +172,7 @@ pub fn run_chains<P: Clone + Send>(
             proposed: 0,
         })
         .collect();
-    let mut all = AdaptiveRun {
-        states: Vec::new(),
-        steps: 0,
-        uniform: 0,
-        visible: 0,
-        proposed: 0,
-        accepted: 0,
-        stats: RenderStats::default(),
-    };
+    let mut all = AdaptiveRun::empty();
     let mut next_path = first;
     while all.steps < steps && all.uniform < steps.saturating_mul(MAX_UNIFORM_PER_STEP) {
         // Steps per chain in this wave: what is missing shared by all chains (each deposits
@@ -181,13 +196,7 @@ pub fn run_chains<P: Clone + Send>(
             })
             .collect();
         for r in runs {
-            all.states.extend(r.states);
-            all.steps += r.steps;
-            all.uniform += r.uniform;
-            all.visible += r.visible;
-            all.proposed += r.proposed;
-            all.accepted += r.accepted;
-            all.stats += r.stats;
+            all.absorb(r);
         }
     }
     all
@@ -207,15 +216,7 @@ fn run_chain<P: Clone>(
     trace: &impl Fn(&mut Sampler, &mut Vec<P>, &mut RenderStats),
 ) -> AdaptiveRun<P> {
     let mut sampler = Sampler::new(stream.sampler, stream.seed);
-    let mut run = AdaptiveRun {
-        states: Vec::new(),
-        steps: 0,
-        uniform: 0,
-        visible: 0,
-        proposed: 0,
-        accepted: 0,
-        stats: RenderStats::default(),
-    };
+    let mut run = AdaptiveRun::empty();
     let rng = &mut chain.rng;
     let mut changed = true;
     let mut records = Vec::new();

@@ -287,3 +287,12 @@ pub fn furnace(material: Material, size: u32) -> Scene {
     ));
     b.build().unwrap()
 }
+
+/// The built-in scene `name` at `w` × `h` pixels.
+pub fn small_builtin(name: &str, w: u32, h: u32) -> Scene {
+    let mut b = caustica_loader::builtin_scene(name).unwrap();
+    let mut camera = b.camera().unwrap().clone();
+    (camera.width, camera.height) = (w, h);
+    b.set_camera(camera);
+    b.build().unwrap()
+}

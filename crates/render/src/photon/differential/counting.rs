@@ -8,7 +8,7 @@ use crate::photon::plan::{PathStream, trace_paths};
 use crate::photon::visible_points::VisiblePoints;
 use crate::stats::RenderStats;
 use crate::transport::light_walk::{
-    LightEvent, LightMediumVertex, LightScatter, LightVisitor, walk_light_path_at,
+    LightEvent, LightMediumVertex, LightScatter, LightVertex, LightVisitor, walk_light_path_at,
 };
 use crate::transport::limits::PathLimits;
 use caustica_core::Vec3;
@@ -79,9 +79,10 @@ fn landings<P: Copy + Send>(
     record: impl Fn(u64) -> P + Sync,
 ) -> (Vec<P>, u64, RenderStats) {
     trace_paths(target, stream, 0, progress, |path, sampler, out, st| {
+        let r = record(path);
         let mut count = Count {
             out,
-            record: record(path),
+            record: move |_: &LightVertex| r,
         };
         walk_light_path_at(
             tracer.scene,
@@ -119,7 +120,10 @@ pub fn count_adaptive(
                 sampler,
                 limits,
                 st,
-                &mut Points { out },
+                &mut Count {
+                    out,
+                    record: |lv: &LightVertex| lv.v.si.p,
+                },
                 tracer.time,
                 tracer.emission,
             )
@@ -127,43 +131,18 @@ pub fn count_adaptive(
     )
 }
 
-/// Pushes the position of every caustic landing of the path.
-struct Points<'a> {
-    out: &'a mut Vec<Vec3>,
-}
-
-impl LightVisitor for Points<'_> {
-    fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
-        if let LightEvent::Vertex(lv) = event
-            && is_caustic_landing(lv)
-        {
-            self.out.push(lv.v.si.p);
-        }
-    }
-    fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
-        sc.keeps_caustic()
-    }
-    fn scatter_in_medium(
-        &mut self,
-        _: &LightMediumVertex,
-        _: &caustica_scene::phase::PhaseSample,
-    ) -> bool {
-        false
-    }
-}
-
-/// Pushes `record` once per caustic landing of the path.
-struct Count<'a, P> {
+/// Pushes `record(landing)` once per caustic landing of the path.
+struct Count<'a, P, F> {
     out: &'a mut Vec<P>,
-    record: P,
+    record: F,
 }
 
-impl<P: Copy> LightVisitor for Count<'_, P> {
+impl<P, F: Fn(&LightVertex) -> P> LightVisitor for Count<'_, P, F> {
     fn event(&mut self, event: LightEvent, _: &mut Sampler, _: &mut RenderStats) {
         if let LightEvent::Vertex(lv) = event
             && is_caustic_landing(lv)
         {
-            self.out.push(self.record);
+            self.out.push((self.record)(lv));
         }
     }
     fn scatter(&mut self, sc: &LightScatter, _: &mut RenderStats) -> bool {
