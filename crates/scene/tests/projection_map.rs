@@ -9,7 +9,7 @@ use caustica_core::sampling::Pcg32;
 use caustica_core::{PI, Spectrum, Vec2, Vec3};
 use caustica_scene::camera::PerspectiveCamera;
 use caustica_scene::light::projection_map::DEFENSIVE;
-use caustica_scene::light::{DirectionalLight, Light, PointLight};
+use caustica_scene::light::{BeamLight, DirectionalLight, Light, PointLight, SpotLight};
 use caustica_scene::material::Material;
 use caustica_scene::shape::{ShapeGeometry, Sphere, TriangleMesh};
 use caustica_scene::texture::Texture;
@@ -210,8 +210,8 @@ fn guided_flux_onto_the_ball_is_analytic() {
     assert!(yield_ > 0.5, "guided yield {yield_}");
 }
 
-/// E[1/p_rel] = E[1/p_pos] = E[1/p_dir] = 1 under the guided density, for point, area and
-/// directional lights: N photons' initial footprints (areas ∝ 1/p_pos, solid angles
+/// E[1/p_rel] = E[1/p_pos] = E[1/p_dir] = 1 under the guided density, for point, area,
+/// directional, spot and beam lights: N photons' initial footprints (areas ∝ 1/p_pos, solid angles
 /// ∝ 1/p_dir) still sum to s² A_e and s² ω_e in expectation (seed 002 eq. 5–6).
 #[test]
 fn reciprocal_densities_average_to_one() {
@@ -225,6 +225,33 @@ fn reciprocal_densities_average_to_one() {
                 vec![Light::Directional(DirectionalLight::new(
                     Vec3::new(0.3, -1.0, 0.1).normalize(),
                     Spectrum::splat(2.0),
+                ))],
+                false,
+            ),
+        ),
+        (
+            "spot",
+            scene(
+                true,
+                vec![Light::Spot(SpotLight::new(
+                    LIGHT,
+                    BALL - LIGHT,
+                    Spectrum::splat(10.0),
+                    30.0,
+                    20.0,
+                ))],
+                false,
+            ),
+        ),
+        (
+            "beam",
+            scene(
+                true,
+                vec![Light::Beam(BeamLight::new(
+                    BALL + Vec3::new(0.0, 2.0, 0.0),
+                    -Vec3::Y,
+                    0.6,
+                    Spectrum::splat(5.0),
                 ))],
                 false,
             ),
