@@ -87,17 +87,6 @@ def cover_toml(src, dst):
     print(f"{dst}: {specular} specular shape(s) emitting", file=sys.stderr)
 
 
-def read_pfm(path):
-    import numpy as np
-    with open(path, "rb") as fh:
-        kind = fh.readline().strip()
-        w, h = map(int, fh.readline().split())
-        scale = float(fh.readline())
-        data = np.frombuffer(fh.read(), dtype="<f4" if scale < 0 else ">f4")
-    c = 3 if kind == b"PF" else 1
-    return data.reshape(h, w, c)[::-1].astype(np.float64)
-
-
 def write_pfm(path, img):
     import numpy as np
     h, w = img.shape[:2]
@@ -121,6 +110,10 @@ def main():
     if args.cmd == "toml":
         cover_toml(args.scene, args.out)
     else:
+        # numpy (and the PFM reader) only here: the toml subcommand runs under a bare python3.
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from equal_time_metrics import read_pfm
+
         cov = read_pfm(args.cover).max(axis=2)
         mask = (cov < args.threshold).astype(float)
         write_pfm(args.out, mask)
