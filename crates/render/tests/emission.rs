@@ -350,3 +350,37 @@ fn adaptive_tracing_does_not_depend_on_the_thread_count() {
         "photons differ between 1 and 2 threads"
     );
 }
+
+/// pds's adaptive pass replays the chains' states: each state's numbers (lazily extended when
+/// a mutated path drew more than its parent) retrace exactly the landings it recorded.
+#[test]
+fn adaptive_states_replay_their_landings_exactly() {
+    use caustica_core::sampling::Sampler;
+    use caustica_render::photon::differential::{
+        EMISSION_PARAMS, Landing, LandingTracer, count_adaptive, unit_budget,
+    };
+    use caustica_render::photon::plan::PathStream;
+    let scene = small_builtin("gold-ring", 32, 24);
+    let o = opts(EmissionStrategy::Adaptive, 5);
+    let tracer = LandingTracer::new(&scene, &unit_budget(Smoothing::ONE))
+        .with_emission(EmissionStrategy::Adaptive.caustic_rule());
+    let visible = VisiblePoints::from_camera(&scene, &o);
+    let stream = PathStream::new(&o, CAUSTIC_STREAM);
+    let run = count_adaptive(&tracer, 2000, &stream, 0, &o.limits, &visible);
+    assert!(run.accepted > 0 && run.states.len() > 100, "{}", run.note(&visible));
+    let mut sampler = Sampler::new(o.sampler, o.seed);
+    let mut stats = caustica_render::RenderStats::default();
+    for (i, s) in run.states.iter().enumerate() {
+        sampler.start_path(0xDEAD, i as u64);
+        sampler.replay_primary(s.primary.clone());
+        let mut out: Vec<Landing<EMISSION_PARAMS>> = Vec::new();
+        tracer.trace::<EMISSION_PARAMS>(&mut sampler, &o.limits, &mut out, &mut stats);
+        assert_eq!(
+            sampler.take_primary().len(),
+            s.primary.len(),
+            "state {i} drew more numbers than it holds"
+        );
+        let got: Vec<Vec3> = out.iter().map(|l| l.p).collect();
+        assert_eq!(got, s.records, "state {i} retraces other landings");
+    }
+}

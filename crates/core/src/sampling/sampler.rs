@@ -49,14 +49,13 @@ pub struct Sampler {
     primary: Option<Box<Primary>>,
 }
 
-/// The numbers of one path in primary sample space: recorded as drawn, or replayed.
+/// The numbers of one path in primary sample space: given ones replayed first, then the
+/// positioned sequence's, each of those appended (lazily extended, as Kelemen et al.'s).
 #[derive(Clone, Debug)]
 struct Primary {
     values: Vec<f32>,
-    /// Next value to replay.
+    /// Next value to return.
     pos: usize,
-    /// Replaying `values` (then the sequence beyond them); else recording what is drawn.
-    replay: bool,
 }
 
 impl Sampler {
@@ -73,27 +72,15 @@ impl Sampler {
         }
     }
 
-    /// Records the numbers drawn from now on (until [`Self::take_primary`]): the path's point
-    /// in primary sample space, which a Markov chain can then mutate and replay.
-    pub fn record_primary(&mut self) {
-        self.primary = Some(Box::new(Primary {
-            values: Vec::with_capacity(64),
-            pos: 0,
-            replay: false,
-        }));
-    }
-
-    /// Returns `values` as the next numbers drawn, then the positioned sequence beyond them
-    /// (until [`Self::take_primary`]).
+    /// Primary-sample-space mode until [`Self::take_primary`]: the next numbers drawn are
+    /// `values`, then the positioned sequence's, each appended to `values`. With no values it
+    /// records the path's numbers; with a mutated state it replays it, so that
+    /// [`Self::take_primary`] returns every number the path used.
     pub fn replay_primary(&mut self, values: Vec<f32>) {
-        self.primary = Some(Box::new(Primary {
-            values,
-            pos: 0,
-            replay: true,
-        }));
+        self.primary = Some(Box::new(Primary { values, pos: 0 }));
     }
 
-    /// Leaves primary-sample-space mode, returning the numbers recorded (or replayed).
+    /// Leaves primary-sample-space mode, returning the numbers replayed and drawn.
     pub fn take_primary(&mut self) -> Vec<f32> {
         self.primary.take().map(|p| p.values).unwrap_or_default()
     }
@@ -103,20 +90,19 @@ impl Sampler {
         let Some(mut p) = self.primary.take() else {
             return self.next_sequence();
         };
-        let x = if p.replay {
-            match p.values.get(p.pos) {
-                Some(&x) => x,
-                None => self.next_sequence(),
+        let x = match p.values.get(p.pos) {
+            Some(&x) => x,
+            None => {
+                let x = self.next_sequence();
+                p.values.push(x);
+                x
             }
-        } else {
-            let x = self.next_sequence();
-            p.values.push(x);
-            x
         };
         p.pos += 1;
         self.primary = Some(p);
         x
     }
+
     pub fn kind(&self) -> SamplerKind {
         self.kind
     }
@@ -199,6 +185,29 @@ mod tests {
                 assert_eq!(a.next_1d().to_bits(), b.next_1d().to_bits());
             }
         }
+    }
+
+    #[test]
+    fn primary_samples_record_replay_and_extend() {
+        let mut s = Sampler::new(SamplerKind::Sobol, 7);
+        s.start_path(1, 5);
+        let drawn: Vec<f32> = (0..6).map(|_| s.next_1d()).collect();
+        s.start_path(1, 5);
+        s.replay_primary(Vec::new());
+        let recorded: Vec<f32> = (0..6).map(|_| s.next_1d()).collect();
+        assert_eq!(recorded, drawn, "recording does not change the numbers");
+        assert_eq!(s.take_primary(), drawn);
+        // Replaying returns the given numbers, then the positioned sequence's, appended.
+        s.start_path(1, 9);
+        let fresh: Vec<f32> = (0..3).map(|_| s.next_1d()).collect();
+        s.start_path(1, 9);
+        s.replay_primary(vec![0.25, 0.5]);
+        let got: Vec<f32> = (0..5).map(|_| s.next_1d()).collect();
+        assert_eq!(got, [0.25, 0.5, fresh[0], fresh[1], fresh[2]]);
+        assert_eq!(s.take_primary(), got);
+        // Out of the mode, the sequence again.
+        s.start_path(1, 5);
+        assert_eq!(s.next_1d(), drawn[0]);
     }
 
     #[test]

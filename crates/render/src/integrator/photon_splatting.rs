@@ -38,6 +38,7 @@ use crate::film::Film;
 use crate::filter::Filter;
 use crate::options::EmissionStrategy;
 use crate::options::RenderOptions;
+use crate::photon::adaptive::chain_steps;
 use crate::photon::caustic::CAUSTIC_STREAM;
 use crate::photon::differential::{
     DiffPhoton, EMISSION_PARAMS, FootprintFilter, Landing, LandingTracer, MadePhotons,
@@ -184,32 +185,23 @@ pub fn render_report(
         // Visibility-driven adaptive photon tracing: chains toward landings near the camera's
         // visible points; the splatting replays their states.
         budget if opts.photons.emission == EmissionStrategy::Adaptive => {
-            let steps = match budget {
-                PhotonBudget::Paths(n) => n,
-                PhotonBudget::Records(n) => n as u64,
-            };
             let visible = VisiblePoints::from_camera(scene, opts);
             chains = count_adaptive(
                 &tracer,
-                steps,
+                chain_steps(budget),
                 &stream,
                 opts.photons.first_path,
                 &opts.limits,
                 &visible,
             );
             stats.rays += chains.stats.rays;
-            report.paths = chains.equivalent_paths().round() as u64;
+            report.paths = chains.paths();
             report.landings = chains
                 .states
                 .iter()
                 .map(|s| s.records.len() * s.count as usize)
                 .sum();
-            report.adaptive = Some(format!(
-                "{}; the visible points: {} within {:.4} m",
-                chains.note(),
-                visible.len(),
-                visible.radius()
-            ));
+            report.adaptive = Some(chains.note(&visible));
             if chains.visible == 0 {
                 warnings.push(format!(
                     "adaptive photon tracing: none of {} light paths landed near a visible point through glass or mirrors",

@@ -37,7 +37,8 @@
 //! parallel and are concatenated in chain order, so the result depends on the seed, not on the
 //! thread count.
 
-use crate::photon::plan::PathStream;
+use crate::photon::plan::{PathStream, PhotonBudget};
+use crate::photon::visible_points::VisiblePoints;
 use crate::stats::RenderStats;
 use caustica_core::sampling::sampler::ONE_MINUS_EPSILON;
 use caustica_core::sampling::{Pcg32, Sampler, mix_seed};
@@ -126,10 +127,24 @@ impl<P> AdaptiveRun<P> {
         self.accepted as f64 / self.proposed.max(1) as f64
     }
 
-    /// The render note: acceptance rate, normalisation and paths.
-    pub fn note(&self) -> String {
+    /// `N_eff` rounded: the path count of the pass's fluxes and footprints.
+    pub fn paths(&self) -> u64 {
+        self.equivalent_paths().round() as u64
+    }
+
+    /// The records of every state, each weighted by its repeat count (`weigh(record, count)`).
+    pub fn weighted_records(&self, weigh: impl Fn(&P, f32) -> P) -> Vec<P> {
+        self.states
+            .iter()
+            .flat_map(|s| s.records.iter().map(move |r| (r, s.count as f32)))
+            .map(|(r, c)| weigh(r, c))
+            .collect()
+    }
+
+    /// The render note: acceptance rate, normalisation, paths and the visible points.
+    pub fn note(&self, visible: &VisiblePoints) -> String {
         format!(
-            "adaptive photon tracing: {CHAINS} chains, {} steps, acceptance {:.1} % (target {:.1} %), visible fraction V_c = {:.4} from {} uniform paths ({} visible), {:.0} equivalent light paths",
+            "adaptive photon tracing: {CHAINS} chains, {} steps, acceptance {:.1} % (target {:.1} %), visible fraction V_c = {:.4} from {} uniform paths ({} visible), {:.0} equivalent light paths; the visible points: {} within {:.4} m",
             self.steps,
             100.0 * self.acceptance(),
             100.0 * TARGET_ACCEPTANCE,
@@ -137,6 +152,8 @@ impl<P> AdaptiveRun<P> {
             self.uniform,
             self.visible,
             self.equivalent_paths(),
+            visible.len(),
+            visible.radius(),
         )
     }
 }
@@ -153,14 +170,15 @@ struct Chain<P> {
 /// each), in waves whose sizes depend only on counts, over
 /// light paths from `first` on of `stream`: `trace(sampler, records, stats)` traces one light
 /// path with the sampler positioned (and, for mutations, replaying a state),
-/// `visible(records)` says whether the path is visible. `dims` numbers of each state are
-/// mutated (enough for the longest path the tracer walks). Gives up, like the other passes,
-/// after [`MAX_UNIFORM_PER_STEP`] uniform paths per requested step.
+/// `visible(records)` says whether the path is visible. A state is the numbers its path drew
+/// (extended lazily when a mutated path draws more); the states keep them only with
+/// `keep_primary` (pds replays them; the photon maps need only the records). Gives up, like
+/// the other passes, after [`MAX_UNIFORM_PER_STEP`] uniform paths per requested step.
 pub fn run_chains<P: Clone + Send>(
     stream: &PathStream,
     first: u64,
     steps: u64,
-    dims: usize,
+    keep_primary: bool,
     visible: &(impl Fn(&[P]) -> bool + Sync),
     trace: &(impl Fn(&mut Sampler, &mut Vec<P>, &mut RenderStats) + Sync),
 ) -> AdaptiveRun<P> {
@@ -189,7 +207,7 @@ pub fn run_chains<P: Clone + Send>(
                     stream,
                     wave_first + c as u64 * per_chain,
                     per_chain,
-                    dims,
+                    keep_primary,
                     visible,
                     trace,
                 )
@@ -202,6 +220,15 @@ pub fn run_chains<P: Clone + Send>(
     all
 }
 
+/// The chain steps of a caustic pass's budget: about one photon per step, or one step per
+/// light path of a fixed budget.
+pub fn chain_steps(budget: PhotonBudget) -> u64 {
+    match budget {
+        PhotonBudget::Records(n) => n as u64,
+        PhotonBudget::Paths(n) => n,
+    }
+}
+
 /// Uniform paths per requested chain step after which the chains give up (no light path is
 /// visible: the caustic is not seen, or too rarely to find).
 pub const MAX_UNIFORM_PER_STEP: u64 = 1 << 10;
@@ -211,7 +238,7 @@ fn run_chain<P: Clone>(
     stream: &PathStream,
     first: u64,
     steps: u64,
-    dims: usize,
+    keep_primary: bool,
     visible: &impl Fn(&[P]) -> bool,
     trace: &impl Fn(&mut Sampler, &mut Vec<P>, &mut RenderStats),
 ) -> AdaptiveRun<P> {
@@ -224,21 +251,20 @@ fn run_chain<P: Clone>(
         // 1. The uniform replica: path first + j of the stream, its numbers recorded.
         let path = first + j;
         sampler.start_path(stream.stream, path);
-        sampler.record_primary();
+        sampler.replay_primary(Vec::new());
         records.clear();
         trace(&mut sampler, &mut records, &mut run.stats);
-        let mut primary = sampler.take_primary();
+        let primary = sampler.take_primary();
         run.uniform += 1;
         run.stats.samples += 1;
         if visible(&records) {
             run.visible += 1;
-            // Replica exchange: the chain jumps to the visible uniform path. Numbers the path
-            // did not draw are filled in so mutations can perturb them too.
-            primary.resize_with(dims.max(primary.len()), || rng.next_f32());
+            // Replica exchange: the chain jumps to the visible uniform path.
             chain.current = Some((primary, records.clone()));
             changed = true;
         } else if let Some((state, _)) = &chain.current {
-            // 2. A mutation of the chain's state.
+            // 2. A mutation of the chain's state: its numbers perturbed; numbers the mutated
+            // path draws beyond them are fresh (a lazily extended state).
             let d = chain.log_step.exp() as f32;
             let proposal: Vec<f32> = state.iter().map(|&x| perturb(x, d, rng)).collect();
             sampler.start_path(stream.stream ^ PROPOSAL_STREAM_TAG, path);
@@ -265,7 +291,11 @@ fn run_chain<P: Clone>(
             match run.states.last_mut() {
                 Some(last) if !changed => last.count += 1,
                 _ => run.states.push(ChainState {
-                    primary: state.clone(),
+                    primary: if keep_primary {
+                        state.clone()
+                    } else {
+                        Vec::new()
+                    },
                     records: recs.clone(),
                     count: 1,
                 }),
@@ -283,10 +313,4 @@ fn perturb(x: f32, d: f32, rng: &mut Pcg32) -> f32 {
     let dv = d * (-(STEP_RANGE.ln()) * rng.next_f32()).exp();
     let y = if rng.next_f32() < 0.5 { x + dv } else { x - dv };
     (y - y.floor()).min(ONE_MINUS_EPSILON)
-}
-
-/// The numbers a light path of at most `max_depth` edges draws in the photon tracers: the
-/// start (time, light, position, direction, wavelengths) and four per vertex, capped.
-pub fn path_dimensions(max_depth: u32) -> usize {
-    (8 + 4 * max_depth.min(1024) as usize).min(4096)
 }

@@ -12,7 +12,7 @@
 
 use crate::options::EmissionStrategy;
 use crate::options::RenderOptions;
-use crate::photon::adaptive::{path_dimensions, run_chains};
+use crate::photon::adaptive::{chain_steps, run_chains};
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::photon::visible_points::VisiblePoints;
 use crate::stats::RenderStats;
@@ -147,15 +147,11 @@ fn trace_adaptive(
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> TracedPhotons {
     let visible = VisiblePoints::from_camera(scene, opts);
-    let steps = match budget {
-        PhotonBudget::Records(n) => n as u64,
-        PhotonBudget::Paths(n) => n,
-    };
     let run = run_chains(
         &PathStream::new(opts, stream),
         opts.photons.first_path,
-        steps,
-        path_dimensions(opts.limits.max_depth),
+        chain_steps(budget),
+        false,
         &|recs: &[Photon]| recs.iter().any(|p| visible.near(p.p)),
         &|sampler, out, st| trace_one(scene, sampler, opts, MapKind::Caustic, out, st),
     );
@@ -166,15 +162,10 @@ fn trace_adaptive(
     } else {
         0.0
     };
-    let mut photons = Vec::with_capacity(run.states.len());
-    for s in &run.states {
-        for p in &s.records {
-            photons.push(Photon {
-                flux: p.flux * (s.count as f32 * inv_n),
-                ..*p
-            });
-        }
-    }
+    let photons = run.weighted_records(|p, count| Photon {
+        flux: p.flux * (count * inv_n),
+        ..*p
+    });
     let warning = if run.visible == 0 {
         Some(format!(
             "adaptive photon tracing: none of {} light paths stored a caustic photon near a visible point; the caustic map is empty",
@@ -185,15 +176,10 @@ fn trace_adaptive(
     };
     TracedPhotons {
         photons,
-        paths: n_eff.round() as u64,
+        paths: run.paths(),
+        note: Some(run.note(&visible)),
         stats: run.stats,
         warning,
-        note: Some(format!(
-            "{}; the visible points: {} within {:.4} m",
-            run.note(),
-            visible.len(),
-            visible.radius()
-        )),
     }
 }
 

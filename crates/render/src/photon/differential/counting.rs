@@ -3,7 +3,7 @@
 //! footprints scale with `1/√N` (eq. 5–6).
 
 use super::trace::{LandingTracer, is_caustic_landing};
-use crate::photon::adaptive::{AdaptiveRun, path_dimensions, run_chains};
+use crate::photon::adaptive::{AdaptiveRun, run_chains};
 use crate::photon::plan::{PathStream, trace_paths};
 use crate::photon::visible_points::VisiblePoints;
 use crate::stats::RenderStats;
@@ -112,7 +112,7 @@ pub fn count_adaptive(
         stream,
         first,
         steps,
-        path_dimensions(limits.max_depth),
+        true,
         &|points: &[Vec3]| points.iter().any(|&p| visible.near(p)),
         &|sampler, out, st| {
             walk_light_path_at(

@@ -5,7 +5,7 @@
 
 use super::footprint::{DiffPhoton, Landing, photons_from_landings};
 use crate::options::{EmissionStrategy, FootprintSettings, RenderOptions, Smoothing};
-use crate::photon::adaptive::{path_dimensions, run_chains};
+use crate::photon::adaptive::{chain_steps, run_chains};
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
 use crate::photon::tracer::{NO_CAUSTIC_PATHS, shortfall};
 use crate::photon::visible_points::VisiblePoints;
@@ -134,39 +134,20 @@ fn trace_landings<const N: usize>(
         );
         return (landings, paths, stats, None);
     };
-    let steps = match budget {
-        PhotonBudget::Records(n) => n as u64,
-        PhotonBudget::Paths(n) => n,
-    };
     let run = run_chains(
         stream,
         opts.photons.first_path,
-        steps,
-        path_dimensions(limits.max_depth),
+        chain_steps(budget),
+        false,
         &|ls: &[Landing<N>]| ls.iter().any(|l| visible.near(l.p)),
         &|sm, out, st| tracer.trace::<N>(sm, &limits, out, st),
     );
     progress(1.0);
-    let mut landings = Vec::with_capacity(run.states.len());
-    for s in &run.states {
-        for l in &s.records {
-            let mut l = *l;
-            l.beta *= s.count as f32;
-            landings.push(l);
-        }
-    }
-    let note = format!(
-        "{}; the visible points: {} within {:.4} m",
-        run.note(),
-        visible.len(),
-        visible.radius()
-    );
-    (
-        landings,
-        run.equivalent_paths().round() as u64,
-        run.stats,
-        Some(note),
-    )
+    let landings = run.weighted_records(|l, count| Landing {
+        beta: l.beta * count,
+        ..*l
+    });
+    (landings, run.paths(), run.stats, Some(run.note(visible)))
 }
 
 /// The differential parameters of a photon at emission: the two of seed 002 eq. 1–6 (position
