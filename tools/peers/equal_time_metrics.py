@@ -33,10 +33,12 @@ def read_pfm(path):
 
 
 def write_pfm(path, img):
+    """An RGB PFM of `img` (H × W × 3, or H × W grey written as three equal channels)."""
     h, w = img.shape[:2]
+    rgb = np.repeat(img[..., None], 3, axis=2) if img.ndim == 2 else img
     with open(path, "wb") as fh:
         fh.write(f"PF\n{w} {h}\n-1.0\n".encode())
-        fh.write(np.ascontiguousarray(img[::-1], dtype="<f4").tobytes())
+        fh.write(np.ascontiguousarray(rgb[::-1], dtype="<f4").tobytes())
 
 
 def metrics(args):

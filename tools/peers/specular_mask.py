@@ -87,15 +87,6 @@ def cover_toml(src, dst):
     print(f"{dst}: {specular} specular shape(s) emitting", file=sys.stderr)
 
 
-def write_pfm(path, img):
-    import numpy as np
-    h, w = img.shape[:2]
-    with open(path, "wb") as fh:
-        fh.write(f"PF\n{w} {h}\n-1.0\n".encode())
-        rgb = np.repeat(img[..., None], 3, axis=2) if img.ndim == 2 else img
-        fh.write(np.ascontiguousarray(rgb[::-1], dtype="<f4").tobytes())
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -112,7 +103,7 @@ def main():
     else:
         # numpy (and the PFM reader) only here: the toml subcommand runs under a bare python3.
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-        from equal_time_metrics import read_pfm
+        from equal_time_metrics import read_pfm, write_pfm
 
         cov = read_pfm(args.cover).max(axis=2)
         mask = (cov < args.threshold).astype(float)
