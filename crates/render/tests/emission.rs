@@ -367,7 +367,11 @@ fn adaptive_states_replay_their_landings_exactly() {
     let visible = VisiblePoints::from_camera(&scene, &o);
     let stream = PathStream::new(&o, CAUSTIC_STREAM);
     let run = count_adaptive(&tracer, 2000, &stream, 0, &o.limits, &visible);
-    assert!(run.accepted > 0 && run.states.len() > 100, "{}", run.note(&visible));
+    assert!(
+        run.accepted > 0 && run.states.len() > 100,
+        "{}",
+        run.note(&visible)
+    );
     let mut sampler = Sampler::new(o.sampler, o.seed);
     let mut stats = caustica_render::RenderStats::default();
     for (i, s) in run.states.iter().enumerate() {
