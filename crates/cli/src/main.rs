@@ -5,10 +5,12 @@
 mod compare_cmd;
 mod convert_cmd;
 mod eta;
+mod merge_cmd;
 mod pcf_args;
 mod photon_args;
 mod photons_cmd;
 mod render_cmd;
+mod shard_args;
 mod sweep_cmd;
 mod testbed_cmd;
 mod values;
@@ -31,6 +33,10 @@ struct Cli {
 enum Command {
     /// Render a scene (a TOML file or a built-in name; the embedded default scene if omitted).
     Render(Box<render_cmd::RenderArgs>),
+    /// Merge the partial results of a sharded render (`render --shard I/N`) into its image,
+    /// byte-identical to the render without shards; refuses parts that do not belong together
+    /// or a missing shard (unless --partial).
+    Merge(merge_cmd::MergeArgs),
     /// Compare an image with a reference: relative mean difference, RMSE, relative MSE, MISE,
     /// SSIM, and z-score tests for noise versus bias.
     Compare(compare_cmd::CompareArgs),
@@ -59,6 +65,7 @@ fn main() {
             Err(e) => Err(e),
         },
         Command::Convert(args) => convert_cmd::run(args),
+        Command::Merge(args) => merge_cmd::run(args),
         Command::Sweep(args) => sweep_cmd::run(*args),
         Command::Photons(args) => photons_cmd::run(*args),
         Command::Testbed(args) => testbed_cmd::run(args),

@@ -103,9 +103,10 @@ pub struct RenderSettings {
 pub struct RenderArgs {
     #[command(flatten)]
     pub settings: RenderSettings,
-    /// Output image (.exr, .pfm or .png).
-    #[arg(short, long, default_value = "out.exr")]
-    pub output: PathBuf,
+    /// Output image (.exr, .pfm or .png; default out.exr). With --shard, the partial result: a
+    /// .cpart file, or a directory to write shard-IIII-of-NNNN.cpart into.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
     /// Also write an sRGB PNG.
     #[arg(long)]
     pub png: Option<PathBuf>,
@@ -153,9 +154,26 @@ pub struct RenderArgs {
     /// (to resume an interrupted sequence).
     #[arg(long)]
     pub skip_existing: bool,
+    /// Render only shard I of N (0 <= I < N) of the work and write a partial result (see -o)
+    /// for `caustica merge`, whose image is byte-identical to this render without --shard. Each
+    /// method splits its own unit: pixel rows (path, pm, dpm, pdm, vpm, beam, vpd), light-path
+    /// chunks (lighttrace), splat chunks (pds), iterations (pppm, ppds, ppdm, pdpm, pcf); sppm
+    /// and ppm cannot be split. `/N` reads I from SLURM_ARRAY_TASK_ID (minus
+    /// SLURM_ARRAY_TASK_MIN) or JOB_COMPLETION_INDEX (docs/distributed.md).
+    #[arg(long, value_name = "I/N", allow_hyphen_values = true)]
+    pub shard: Option<String>,
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+impl RenderArgs {
+    /// The output image (`-o`, default out.exr).
+    fn output(&self) -> PathBuf {
+        self.output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out.exr"))
+    }
 }
 
 /// What [`RenderSettings::resolve`] selects for a loaded scene.
@@ -199,6 +217,16 @@ impl RenderSettings {
             eprintln!("warning: {w}");
         }
         Ok(scene)
+    }
+
+    /// The hash tying a sharded render's parts to this scene: its source and the settings that
+    /// change it ([`crate::shard_args::scene_hash`]).
+    pub fn scene_hash(&self) -> Result<String> {
+        let changes = format!(
+            "defines {:?} width {:?} height {:?} frame {:?} shutter {:?} spectral {}",
+            self.define, self.width, self.height, self.frame, self.shutter, self.spectral
+        );
+        crate::shard_args::scene_hash(self.scene.as_deref(), &changes)
     }
 
     /// The integrator and render options these settings select for `scene` (whose suggestions
@@ -278,6 +306,7 @@ impl RenderSettings {
             volume_only: self.volume_only,
             crop: None,
             resume: None,
+            shard: None,
         };
         let mut opts = opts;
         // The scene's [integrator] suggestions, where the command line is silent.
@@ -474,9 +503,12 @@ pub fn parse_defines(defs: &[String]) -> Result<Vec<(String, String)>> {
 /// Where one render writes: the image, and the optional PNG at an exposure.
 #[derive(Clone, Debug)]
 struct Outputs {
+    /// The image, or a shard's partial result.
     image: PathBuf,
     png: Option<PathBuf>,
     exposure: f32,
+    /// The shard rendered (`image` is then its `.cpart` file).
+    shard: Option<caustica_render::Shard>,
 }
 
 /// The iterations of `--save-iterations`, ascending, without repeats.
@@ -555,7 +587,7 @@ pub fn check_writable(path: &Path) -> Result<()> {
 
 /// Writes through a temporary file and renames, so an interrupted write never leaves a
 /// truncated image where a good one was. The error names `path` (not the temporary file) once.
-fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
+pub(crate) fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
     path: &Path,
     write: impl Fn(&Path) -> Result<(), E>,
 ) -> Result<()> {
@@ -580,7 +612,33 @@ pub fn run(args: RenderArgs) -> Result<()> {
     {
         bail!("--checkpoint must be a positive number of seconds, got {c}");
     }
-    check_image_extension(&args.output)?;
+    let shard = args
+        .shard
+        .as_deref()
+        .map(|t| crate::shard_args::parse_shard(t, |v| std::env::var(v).ok()))
+        .transpose()?;
+    let part = match shard {
+        Some(s) => {
+            for (given, what) in [
+                (args.frames.is_some(), "--frames"),
+                (args.resume.is_some(), "--resume"),
+                (args.checkpoint.is_some(), "--checkpoint"),
+                (args.save_iterations.is_some(), "--save-iterations"),
+                (args.png.is_some(), "--png"),
+            ] {
+                if given {
+                    bail!(
+                        "--shard {s} writes a partial result, not an image, so {what} does not apply; merge the shards with `caustica merge PARTS -o IMAGE` (a failed shard is rendered again: shards are idempotent)"
+                    );
+                }
+            }
+            Some(crate::shard_args::part_path(args.output.as_deref(), s)?)
+        }
+        None => {
+            check_image_extension(&args.output())?;
+            None
+        }
+    };
     let sequence = args.frames.as_deref().map(parse_frames).transpose()?;
     if sequence.is_none() && (args.preview.is_some() || args.skip_existing) {
         bail!("--preview and --skip-existing go with --frames A..B");
@@ -602,9 +660,10 @@ pub fn run(args: RenderArgs) -> Result<()> {
     match sequence {
         None => {
             let out = Outputs {
-                image: args.output.clone(),
+                image: part.clone().unwrap_or_else(|| args.output()),
                 png: args.png.clone(),
                 exposure: args.exposure,
+                shard,
             };
             // Nothing rendered may be lost to an unwritable path: check them before any work.
             check_writable(&out.image)?;
@@ -622,7 +681,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-fn check_image_extension(path: &Path) -> Result<()> {
+pub(crate) fn check_image_extension(path: &Path) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -668,7 +727,8 @@ fn run_sequence(args: &RenderArgs, first: i64, last: i64, stop: &'static AtomicB
     if args.settings.frame.is_some() {
         bail!("--frame and --frames exclude each other (--frames sets the frame of each render)");
     }
-    let image = sequence_pattern(&args.output, "-o")?;
+    let output = args.output();
+    let image = sequence_pattern(&output, "-o")?;
     let png = args
         .png
         .as_deref()
@@ -677,7 +737,7 @@ fn run_sequence(args: &RenderArgs, first: i64, last: i64, stop: &'static AtomicB
     let preview = match &args.preview {
         Some(p) => p.clone(),
         None => {
-            let text = args.output.to_string_lossy().into_owned();
+            let text = output.to_string_lossy().into_owned();
             let named = PathBuf::from(
                 loader::frame_pattern::FramePattern::parse(&text)
                     .map_err(anyhow::Error::msg)?
@@ -690,6 +750,7 @@ fn run_sequence(args: &RenderArgs, first: i64, last: i64, stop: &'static AtomicB
         image: PathBuf::from(image.name(f)),
         png: png.as_ref().map(|p| PathBuf::from(p.name(f))),
         exposure: args.exposure,
+        shard: None,
     };
     for f in [first, last] {
         let o = outputs(f);
@@ -743,7 +804,7 @@ fn run_sequence(args: &RenderArgs, first: i64, last: i64, stop: &'static AtomicB
         rendered,
         frames.len() - rendered,
         started.elapsed().as_secs_f64(),
-        args.output.display(),
+        output.display(),
         frames.len(),
         preview.display()
     );
@@ -769,14 +830,15 @@ fn render_one(
         eprintln!("warning: {w}");
     }
     opts.checkpoint_interval = args.checkpoint.map(Duration::from_secs_f64);
+    opts.shard = out.shard;
     let cam = &scene.camera;
     opts.crop = args
         .crop
         .as_deref()
         .map(|c| caustica_render::CropWindow::parse(c, cam.width, cam.height))
         .transpose()?;
-    let fingerprint = kind
-        .resumable()
+    kind.check(&opts)?;
+    let fingerprint = (kind.resumable() && out.shard.is_none())
         .then(|| caustica_render::driver::iteration_state::fingerprint(&scene, kind, &opts));
     if let Some(path) = &args.resume {
         let Some(fp) = &fingerprint else {
@@ -930,7 +992,37 @@ fn render_one(
         eprintln!("{note}");
     }
     let img = rendered.film.to_image();
-    write_outputs(&img, out)?;
+    let shard_note = match out.shard {
+        None => {
+            write_outputs(&img, out)?;
+            String::new()
+        }
+        Some(shard) => {
+            if stop.load(Ordering::SeqCst) {
+                bail!(
+                    "shard {shard} was interrupted: no partial result written (render it again; a shard's result depends only on its index)"
+                );
+            }
+            let part = caustica_render::partial::Part {
+                manifest: caustica_render::partial::Manifest {
+                    shard,
+                    work: rendered.shard.clone().unwrap_or_default(),
+                    scene_hash: settings.scene_hash()?,
+                    fingerprint: caustica_render::driver::iteration_state::fingerprint(
+                        &scene, kind, &opts,
+                    ),
+                },
+                film: rendered.film.clone(),
+            };
+            let bytes = part.to_bytes();
+            write_atomically(&out.image, |p| std::fs::write(p, &bytes))?;
+            format!(
+                ", shard {shard} ({}, {:.1} MB)",
+                rendered.shard.as_deref().unwrap_or(""),
+                bytes.len() as f64 / 1e6
+            )
+        }
+    };
     let secs = rendered.elapsed.as_secs_f64().max(1e-9);
     let what = match kind {
         IntegratorKind::Path
@@ -955,7 +1047,7 @@ fn render_one(
             rendered.film.mean_samples()
         ),
         IntegratorKind::LightTrace => format!("{} light paths", rendered.film.light_paths()),
-    };
+    } + &shard_note;
     let stopped = if stop.load(Ordering::SeqCst) {
         " (interrupted)"
     } else {

@@ -22,6 +22,7 @@ use std::hint::black_box;
 use caustica_core::sampling::Pcg32;
 use caustica_core::{Frame, Spectrum, Vec3};
 use caustica_differentials::Footprint;
+use caustica_render::ExactSum;
 use caustica_render::RenderStats;
 use caustica_render::integrator::photon_splatting::splat_footprint;
 use caustica_render::photon::differential::{
@@ -102,9 +103,12 @@ fn bench(c: &mut Criterion) {
             },
             filter,
         );
-        let mut acc: Vec<Vec<[f64; 3]>> =
-            eye.tiles.iter().map(|t| vec![[0.0; 3]; t.len()]).collect();
-        let splat = |acc: &mut Vec<Vec<[f64; 3]>>| {
+        let mut acc: Vec<Vec<[ExactSum; 3]>> = eye
+            .tiles
+            .iter()
+            .map(|t| vec![[ExactSum::ZERO; 3]; t.len()])
+            .collect();
+        let splat = |acc: &mut Vec<Vec<[ExactSum; 3]>>| {
             let mut n = 0usize;
             let boxed: Vec<(&DiffPhoton, Vec3, Vec3)> = photons
                 .iter()

@@ -4,6 +4,10 @@
 //! samples are averaged per pixel (each has weight 1 under filter importance sampling); splats
 //! from light tracing are summed and scaled by 1/N, N the number of light paths traced.
 //!
+//! The sums are [`ExactSum`]s: each addend is rounded once on its own and the additions are
+//! exact, so a film is the same whatever order its samples, splat buffers, iterations or shards
+//! were added in. That is what makes `--shard` merges byte-identical to one render.
+//!
 //! A film may hold only a [`CropWindow`] of the camera's film: its `width` × `height` are the
 //! window's, pixel (0, 0) is the window's top-left pixel, and [`Film::window`] says where that
 //! lies on the full film (whose coordinates the drivers use for rays and random numbers).
@@ -12,6 +16,7 @@ use caustica_core::image_io::Image;
 use caustica_core::{Spectrum, Vec2};
 
 use crate::crop::CropWindow;
+use crate::exact_sum::ExactSum;
 use crate::filter::Filter;
 
 /// Float accumulators of one image.
@@ -23,14 +28,17 @@ pub struct Film {
     /// Where the image lies on the camera's film, and that film's size.
     window: CropWindow,
     pub(crate) full: (usize, usize),
-    /// Σ L per pixel (camera samples).
-    pub(crate) sum: Vec<[f64; 3]>,
+    /// Σ L per pixel (camera samples, W/m²/sr).
+    pub(crate) sum: Vec<[ExactSum; 3]>,
     /// Number of camera samples per pixel.
     pub(crate) count: Vec<u32>,
-    /// Σ splatted contributions per pixel (light paths).
-    pub(crate) splat: Vec<[f64; 3]>,
+    /// Σ splatted contributions per pixel (light paths; W/m²/sr once divided by their count).
+    pub(crate) splat: Vec<[ExactSum; 3]>,
     /// Number of light paths whose splats are in `splat`.
     pub(crate) splat_paths: u64,
+    /// The rows (of the film held) that camera samples are added to: all of them, or a shard's
+    /// band ([`Film::restrict_rows`]).
+    rows: std::ops::Range<usize>,
 }
 
 impl Film {
@@ -54,11 +62,24 @@ impl Film {
             height,
             window,
             full: (full_width, full_height),
-            sum: vec![[0.0; 3]; n],
+            sum: vec![[ExactSum::ZERO; 3]; n],
             count: vec![0; n],
-            splat: vec![[0.0; 3]; n],
+            splat: vec![[ExactSum::ZERO; 3]; n],
             splat_paths: 0,
+            rows: 0..height,
         }
+    }
+
+    /// Adds camera samples only to `rows` (a shard's band of the film held; clamped to it): the
+    /// pixel driver renders no other row, or, when the method needs every pixel's eye vertices,
+    /// renders them without adding their samples. Splats still reach every pixel.
+    pub fn restrict_rows(&mut self, rows: std::ops::Range<usize>) {
+        self.rows = rows.start.min(self.height)..rows.end.min(self.height);
+    }
+
+    /// The rows camera samples are added to.
+    pub fn rows(&self) -> std::ops::Range<usize> {
+        self.rows.clone()
     }
 
     /// The window of the camera's film this film holds (the whole film unless cropped).
@@ -78,7 +99,8 @@ impl Film {
 
     /// Adds the samples and splats of `other` (a film of the same window) to this one: the
     /// result is the estimate of both renders' samples pooled (with equal samples per pixel,
-    /// the mean of their images).
+    /// the mean of their images). Exact: merging films in any order or grouping gives the same
+    /// film.
     pub fn merge(&mut self, other: &Film) {
         debug_assert_eq!((self.window, self.full), (other.window, other.full));
         for (d, s) in self.sum.iter_mut().zip(&other.sum) {
@@ -114,7 +136,8 @@ impl Film {
             let c = self.count[i];
             let inv_count = if c > 0 { 1.0 / c as f64 } else { 0.0 };
             for (k, out) in px.iter_mut().enumerate() {
-                *out = (self.sum[i][k] * inv_count + self.splat[i][k] * inv_paths) as f32;
+                *out = (self.sum[i][k].to_f64() * inv_count + self.splat[i][k].to_f64() * inv_paths)
+                    as f32;
             }
         }
         img
@@ -216,7 +239,9 @@ impl SplatBuffer {
     pub fn merge_into(&self, film: &mut Film, paths: u64) {
         for (d, s) in film.splat.iter_mut().zip(&self.data) {
             for k in 0..3 {
-                d[k] += s[k] as f64;
+                if s[k] != 0.0 {
+                    d[k] += ExactSum::from_f32(s[k]);
+                }
             }
         }
         film.splat_paths += paths;

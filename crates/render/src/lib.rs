@@ -19,20 +19,24 @@ pub mod control;
 pub mod crop;
 pub mod driver;
 pub mod error;
+pub mod exact_sum;
 pub mod film;
 pub mod filter;
 pub mod integrator;
 pub mod memory;
 pub mod options;
+pub mod partial;
 pub mod pcf;
 pub mod photon;
 pub mod photon_view;
+pub mod shard;
 pub mod stats;
 pub mod transport;
 
 pub use control::{Progress, RenderControl};
 pub use crop::CropWindow;
 pub use error::{OptionError, RenderError};
+pub use exact_sum::ExactSum;
 pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};
 pub use options::{
@@ -41,5 +45,6 @@ pub use options::{
     RenderOptions, ShutterAlign, Smoothing, Steepness, SweepRule,
 };
 pub use photon::plan::PhotonBudget;
+pub use shard::{Shard, ShardUnit};
 pub use stats::RenderStats;
 pub use transport::PathLimits;

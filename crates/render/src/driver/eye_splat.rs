@@ -20,6 +20,7 @@
 
 use crate::control::Stage;
 use crate::driver::pixels::render_pixels_collect;
+use crate::exact_sum::ExactSum;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::options::RenderOptions;
@@ -55,8 +56,10 @@ pub trait SplatRule: Sync {
         let _ = (v, acc);
     }
     /// Radiance sum (W/m²/sr, times the sample's count of 1) that vertex `v` adds to its pixel
-    /// after the first `chunks_done` chunks.
-    fn resolve(&self, v: &EyeVertex, acc: &Self::Acc, chunks_done: u64) -> [f64; 3];
+    /// after the first `chunks_done` chunks. Exact, so a rule whose accumulator is an exact sum
+    /// of fully weighted contributions can return it unrounded: its pixels then do not depend
+    /// on how the light paths were split (into batches, or into shards).
+    fn resolve(&self, v: &EyeVertex, acc: &Self::Acc, chunks_done: u64) -> [ExactSum; 3];
 }
 
 /// Runs the eye pass into `film`: `sample(sampler, raster, pixel, vertices, stats)` renders a
@@ -80,7 +83,8 @@ where
 pub struct Splatted<R: SplatRule> {
     /// Per tile, per vertex: the accumulators.
     pub acc: Vec<Vec<R::Acc>>,
-    /// Chunks of light paths traced and splatted.
+    /// Chunks of light paths traced and splatted (all of the rule's once a shard has done its
+    /// range).
     pub chunks_done: u64,
     /// The rule's counts over those chunks.
     pub totals: R::Totals,
@@ -91,12 +95,15 @@ pub struct Splatted<R: SplatRule> {
 
 /// Traces the rule's light paths in batches and splats each batch onto `eye` (see the module
 /// docs) until every chunk is done or `stage` must end; checkpoints hand the callback `film`
-/// with the splats so far resolved.
+/// with the splats so far resolved. A shard splats only its range of the chunks
+/// ([`crate::shard`]): since each vertex's accumulator is an exact sum, the shards' sums add up
+/// to the whole render's.
 pub fn splat_batches<R: SplatRule>(
     film: &Film,
     eye: &EyeMap,
     rule: &R,
     stage: &Stage,
+    shard: Option<crate::shard::Shard>,
 ) -> Splatted<R> {
     let mut acc: Vec<Vec<R::Acc>> = eye
         .tiles
@@ -106,11 +113,13 @@ pub fn splat_batches<R: SplatRule>(
     let mut totals = R::Totals::default();
     let mut stats = RenderStats::default();
     let mut splats = 0u64;
-    let chunks = rule.chunks();
+    let all = rule.chunks();
+    let range = shard.map_or(0..all, |s| s.range(all));
+    let (first, chunks) = (range.start, range.end);
     // Chunks traced concurrently per batch (any number gives the same image: each vertex sums
     // its photons in path order).
     let wave = (4 * rayon::current_num_threads()).max(1) as u64;
-    let mut c = 0u64;
+    let mut c = first;
     while c < chunks {
         let end = (c + wave).min(chunks);
         let parts: Vec<(Vec<R::Photon>, R::Totals, RenderStats)> = (c..end)
@@ -130,7 +139,10 @@ pub fn splat_batches<R: SplatRule>(
         }
         splats += splat_batch(eye, rule, &batch, &mut acc);
         c = end;
-        stage.report(c as f64 / chunks.max(1) as f64, c);
+        stage.report(
+            (c - first) as f64 / (chunks - first).max(1) as f64,
+            c - first,
+        );
         if c < chunks
             && stage.end_of_pass_with(|| {
                 let mut partial = film.clone();
@@ -143,7 +155,8 @@ pub fn splat_batches<R: SplatRule>(
     }
     Splatted {
         acc,
-        chunks_done: c,
+        // A complete shard stands for the whole pass (its splats carry the flux of all N paths).
+        chunks_done: if c >= chunks { all } else { c },
         totals,
         splats,
         stats,
@@ -183,12 +196,8 @@ fn splat_batch<R: SplatRule>(
 }
 
 /// Adds what every eye vertex gathered in the first `chunks_done` chunks to its pixel's
-/// camera-sample sum.
-///
-/// The vertices of one pixel are added in eye-map order, which depends on the whole vertex set:
-/// a crop window's map holds fewer vertices, so a cropped pixel's f64 sum may be rounded in
-/// another order than the uncropped one's (a last-bit difference that the f32 image almost
-/// never shows; `crates/render/tests/crop.rs` finds none).
+/// camera-sample sum (exactly: the order of the vertices does not matter, so a crop window's
+/// smaller eye map gives its pixels the same sums).
 pub fn resolve<R: SplatRule>(
     film: &mut Film,
     eye: &EyeMap,
@@ -253,9 +262,9 @@ mod tests {
         fn end_of_batch(&self, _: &EyeVertex, acc: &mut Vec<u32>) {
             acc.push(u32::MAX);
         }
-        fn resolve(&self, _: &EyeVertex, acc: &Vec<u32>, _: u64) -> [f64; 3] {
+        fn resolve(&self, _: &EyeVertex, acc: &Vec<u32>, _: u64) -> [ExactSum; 3] {
             let n = acc.iter().filter(|&&i| i != u32::MAX).count() as f64;
-            [n, 0.0, 0.0]
+            [ExactSum::from_f64(n), ExactSum::ZERO, ExactSum::ZERO]
         }
     }
 
@@ -280,7 +289,7 @@ mod tests {
 
     /// Per pixel: the photons each vertex received and the number of batch ends it saw; the
     /// splat count; the film's sums.
-    type Run = (Vec<Vec<u32>>, Vec<usize>, u64, Vec<[f64; 3]>);
+    type Run = (Vec<Vec<u32>>, Vec<usize>, u64, Vec<[ExactSum; 3]>);
 
     fn run(threads: usize) -> Run {
         let vertices: Vec<EyeVertex> = (0..300).map(|i| vertex(point(i + 1000), i)).collect();
@@ -296,7 +305,7 @@ mod tests {
             .num_threads(threads)
             .build()
             .unwrap();
-        let done = pool.install(|| splat_batches(&film, &eye, &rule, &clock.stage(&ctl)));
+        let done = pool.install(|| splat_batches(&film, &eye, &rule, &clock.stage(&ctl), None));
         assert_eq!(done.chunks_done, rule.chunks());
         assert_eq!(done.totals, 500);
         resolve(&mut film, &eye, &rule, &done.acc, done.chunks_done);
@@ -326,7 +335,7 @@ mod tests {
         assert_eq!(splats, total);
         // Resolve adds each vertex's count to its own pixel.
         for (pixel, got) in one.iter().enumerate() {
-            assert_eq!(sums[pixel][0], got.len() as f64);
+            assert_eq!(sums[pixel][0].to_f64(), got.len() as f64);
         }
         // One batch end per batch, at every vertex; 2 threads batch differently (the batch holds
         // 4 chunks per thread) but give the same sums.

@@ -2,17 +2,19 @@
 //! `--resume` needs to continue it to exactly the bytes an uninterrupted render gives. Since
 //! iteration `i` is a pure function of `i` (its light paths, camera samples and bandwidth depend
 //! on nothing else), the state is just the number of iterations pooled and the pooled film's
-//! accumulators (f64, stored exactly), with a fingerprint of what was rendered (scene,
+//! accumulators (exact sums, stored as their fixed-point integers), with a fingerprint of what was rendered (scene,
 //! integrator, every option that changes an iteration) and a checksum.
 //!
 //! Layout (little-endian): magic `CAUSTICA-STATE\n`, format version (u32), fingerprint (u64
 //! length + UTF-8), iterations (u64), window x, y, width, height and full-film width, height
-//! (u32 each), per pixel Σ L (3 × f64), sample count (u32) and splat sum (3 × f64), the splat
+//! (u32 each), per pixel Σ L (3 × i128, units of 2⁻⁶⁴: [`crate::ExactSum`]), sample count (u32)
+//! and splat sum (3 × i128), the splat
 //! path count (u64), the method's own statistics (u64 count + f64 each: SPPM's and PPM's R², N
 //! and τ per pixel; none for pppm, ppds, ppdm), then the FNV-1a 64 checksum of everything before
 //! it.
 
 use crate::crop::CropWindow;
+use crate::exact_sum::ExactSum;
 use crate::film::Film;
 use crate::integrator::IntegratorKind;
 use crate::options::RenderOptions;
@@ -20,7 +22,7 @@ use caustica_scene::Scene;
 
 const MAGIC: &[u8] = b"CAUSTICA-STATE\n";
 /// Bumped whenever the layout or what an iteration computes changes.
-pub const STATE_VERSION: u32 = 2;
+pub const STATE_VERSION: u32 = 3;
 
 /// Why a state file cannot be resumed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -68,6 +70,7 @@ pub fn fingerprint(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions) ->
     o.checkpoint_interval = None;
     o.memory_limit = None;
     o.resume = None;
+    o.shard = None;
     o.photons.progressive.iterations = None;
     format!(
         "caustica {}\nscene {} {}x{} ({} primitives, {} lights, {} materials, {} media)\nintegrator {}\noptions {:?}",
@@ -161,7 +164,7 @@ impl IterationState {
     /// method's statistics `extra`.
     pub fn encode_with(fingerprint: &str, iterations: u64, film: &Film, extra: &[f64]) -> Vec<u8> {
         let n = film.sum.len();
-        let mut b = Vec::with_capacity(64 + fingerprint.len() + n * 52);
+        let mut b = Vec::with_capacity(64 + fingerprint.len() + n * 100 + extra.len() * 8);
         b.extend_from_slice(MAGIC);
         b.extend_from_slice(&STATE_VERSION.to_le_bytes());
         b.extend_from_slice(&(fingerprint.len() as u64).to_le_bytes());
@@ -180,11 +183,11 @@ impl IterationState {
         }
         for i in 0..n {
             for v in film.sum[i] {
-                b.extend_from_slice(&v.to_le_bytes());
+                b.extend_from_slice(&v.to_bits().to_le_bytes());
             }
             b.extend_from_slice(&film.count[i].to_le_bytes());
             for v in film.splat[i] {
-                b.extend_from_slice(&v.to_le_bytes());
+                b.extend_from_slice(&v.to_bits().to_le_bytes());
             }
         }
         b.extend_from_slice(&film.splat_paths.to_le_bytes());
@@ -241,11 +244,11 @@ impl IterationState {
         let mut film = Film::cropped(window, fw as usize, fh as usize);
         for i in 0..film.sum.len() {
             for k in 0..3 {
-                film.sum[i][k] = r.f64()?;
+                film.sum[i][k] = ExactSum::from_bits(r.i128()?);
             }
             film.count[i] = r.u32()?;
             for k in 0..3 {
-                film.splat[i][k] = r.f64()?;
+                film.splat[i][k] = ExactSum::from_bits(r.i128()?);
             }
         }
         film.splat_paths = r.u64()?;
@@ -267,7 +270,7 @@ impl IterationState {
 }
 
 /// The first line (scene, integrator, version) or option that differs between two fingerprints.
-fn first_difference(state: &str, now: &str) -> StateError {
+pub(crate) fn first_difference(state: &str, now: &str) -> StateError {
     for (a, b) in state.lines().zip(now.lines()) {
         if a == b {
             continue;
@@ -301,33 +304,40 @@ fn first_difference(state: &str, now: &str) -> StateError {
     }
 }
 
-struct Reader<'a> {
-    b: &'a [u8],
-    at: usize,
+pub(crate) struct Reader<'a> {
+    pub(crate) b: &'a [u8],
+    pub(crate) at: usize,
 }
 
 impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> Result<&'a [u8], StateError> {
+    pub(crate) fn take(&mut self, n: usize) -> Result<&'a [u8], StateError> {
         let end = self.at.checked_add(n).ok_or(StateError::Corrupted)?;
         let s = self.b.get(self.at..end).ok_or(StateError::Corrupted)?;
         self.at = end;
         Ok(s)
     }
-    fn u32(&mut self) -> Result<u32, StateError> {
+    pub(crate) fn u32(&mut self) -> Result<u32, StateError> {
         Ok(u32::from_le_bytes(
             self.take(4)?
                 .try_into()
                 .map_err(|_| StateError::Corrupted)?,
         ))
     }
-    fn u64(&mut self) -> Result<u64, StateError> {
+    pub(crate) fn u64(&mut self) -> Result<u64, StateError> {
         Ok(u64::from_le_bytes(
             self.take(8)?
                 .try_into()
                 .map_err(|_| StateError::Corrupted)?,
         ))
     }
-    fn f64(&mut self) -> Result<f64, StateError> {
+    pub(crate) fn i128(&mut self) -> Result<i128, StateError> {
+        Ok(i128::from_le_bytes(
+            self.take(16)?
+                .try_into()
+                .map_err(|_| StateError::Corrupted)?,
+        ))
+    }
+    pub(crate) fn f64(&mut self) -> Result<f64, StateError> {
         Ok(f64::from_le_bytes(
             self.take(8)?
                 .try_into()
@@ -352,10 +362,10 @@ mod tests {
             6,
         );
         for (i, s) in f.sum.iter_mut().enumerate() {
-            *s = [i as f64 * 0.1, 1.0 / 3.0, -2.5e-300];
+            *s = [i as f64 * 0.1, 1.0 / 3.0, -2.5e3].map(ExactSum::from_f64);
         }
         f.count.iter_mut().for_each(|c| *c = 7);
-        f.splat[3] = [1.0, 2.0, 3.0];
+        f.splat[3] = [1.0, 2.0, -3.0].map(ExactSum::from_f64);
         f.splat_paths = 99;
         f
     }

@@ -15,6 +15,23 @@ use crate::driver::iteration_state::IterationState;
 use crate::film::Film;
 use crate::stats::RenderStats;
 
+/// The iterations a render runs, `first ..= max`, narrowed to its shard's (`opts.shard`, a
+/// range of the `max` iterations of the whole render: [`crate::shard`]); a sharded render has a
+/// count of iterations, since it refuses time budgets.
+pub fn shard_iterations(
+    opts: &crate::options::RenderOptions,
+    first: u64,
+    max: Option<u64>,
+) -> (u64, Option<u64>) {
+    match (opts.shard, max) {
+        (Some(s), Some(total)) => {
+            let r = s.range(total);
+            (r.start + 1, Some(r.end))
+        }
+        _ => (first, max),
+    }
+}
+
 /// The image of a pooled film after iteration `i` (see [`run_iterations`]).
 pub type Present<'a> = dyn Fn(&Film, u64) -> Film + 'a;
 

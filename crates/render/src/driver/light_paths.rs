@@ -14,11 +14,13 @@ pub const CHUNK: u64 = 1 << 14;
 /// Chunks rendered concurrently before merging (a constant, not the thread count).
 const WAVE: usize = 8;
 
-/// Traces `total_paths` light paths (or paths until the time budget is spent) by calling
-/// `trace(sampler, out, stats)` with the sampler positioned on each path.
+/// Traces the light paths `paths` (or paths from `paths.start` until the time budget is spent)
+/// by calling `trace(sampler, out, stats)` with the sampler positioned on each path. Chunks
+/// start at `paths.start`, so a range starting on a multiple of [`CHUNK`] (a shard's) splats
+/// exactly the chunks of the whole render.
 pub fn render_paths<F>(
     film: &mut Film,
-    total_paths: u64,
+    paths: std::ops::Range<u64>,
     opts: &RenderOptions,
     stage: &Stage,
     trace: F,
@@ -28,11 +30,12 @@ where
 {
     let mut buffers: Vec<SplatBuffer> = (0..WAVE).map(|_| SplatBuffer::for_film(film)).collect();
     let mut stats = RenderStats::default();
-    let mut next_path = 0u64;
+    let total_paths = paths.end.saturating_sub(paths.start);
+    let mut next_path = paths.start;
     loop {
         let remaining = match opts.time_limit {
             Some(_) => u64::MAX,
-            None => total_paths - next_path,
+            None => paths.end.saturating_sub(next_path),
         };
         if remaining == 0 {
             break;
@@ -63,7 +66,8 @@ where
             next_path += n;
             stats += st;
         }
-        stage.report(next_path as f64 / total_paths.max(1) as f64, next_path);
+        let done = next_path - paths.start;
+        stage.report(done as f64 / total_paths.max(1) as f64, done);
         if stage.end_of_pass(film) {
             break;
         }

@@ -7,6 +7,7 @@
 //! position and the sampler stream of its full-film pixel, so each equals the uncropped pixel.
 
 use crate::control::Stage;
+use crate::exact_sum::ExactSum;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::options::RenderOptions;
@@ -31,11 +32,12 @@ pub fn render_pixels<F>(
 where
     F: Fn(&mut Sampler, Vec2, &mut RenderStats) -> Spectrum + Sync,
 {
-    let (stats, _) = render_pixels_collect(
+    let (stats, _) = render_rows(
         film,
         filter,
         opts,
         stage,
+        false,
         |s, raster, _, _: &mut Vec<()>, st| sample(s, raster, st),
     );
     stats
@@ -44,7 +46,9 @@ where
 /// [`render_pixels`] whose closure also learns the film's pixel index (`y · width + x` within
 /// the film's window) and may push records into `out`; the records of all samples are returned
 /// in a fixed order (pass, row, column, sample index), so they too are a pure function of the
-/// seed. Photon differential splatting keeps its eye-path vertices this way.
+/// seed. Photon differential splatting keeps its eye-path vertices this way. Every row is
+/// rendered for its records, even those outside the film's [`Film::rows`] (whose samples are not
+/// added to the film).
 pub fn render_pixels_collect<F, R>(
     film: &mut Film,
     filter: &Filter,
@@ -56,10 +60,33 @@ where
     F: Fn(&mut Sampler, Vec2, u32, &mut Vec<R>, &mut RenderStats) -> Spectrum + Sync,
     R: Send,
 {
+    render_rows(film, filter, opts, stage, true, sample)
+}
+
+/// The pixel driver: rows outside [`Film::rows`] are skipped, or rendered for their records
+/// only when `all_rows`.
+fn render_rows<F, R>(
+    film: &mut Film,
+    filter: &Filter,
+    opts: &RenderOptions,
+    stage: &Stage,
+    all_rows: bool,
+    sample: F,
+) -> (RenderStats, Vec<R>)
+where
+    F: Fn(&mut Sampler, Vec2, u32, &mut Vec<R>, &mut RenderStats) -> Spectrum + Sync,
+    R: Send,
+{
     let mut records = Vec::new();
     let (w, h) = (film.width, film.height);
     let (x0, y0) = (film.window().x, film.window().y);
-    let pixels = (w * h) as u64;
+    let band = film.rows();
+    // The pixels whose samples this render computes (for the progress bar and the pass size).
+    let pixels = if all_rows {
+        (w * h) as u64
+    } else {
+        (w * band.len()) as u64
+    };
     let per_pass = (SAMPLES_PER_PASS / pixels.max(1)).clamp(1, 64) as u32;
     let mut done_spp = 0u32;
     let mut stats = RenderStats::default();
@@ -95,6 +122,10 @@ where
             .map(|(y, (sum_row, count_row))| {
                 let mut st = RenderStats::default();
                 let mut out = Vec::new();
+                let keep = band.contains(&y);
+                if !keep && !all_rows {
+                    return (st, out);
+                }
                 let mut sampler = Sampler::new(opts.sampler, opts.seed);
                 for x in 0..w {
                     // The full-film pixel.
@@ -105,9 +136,12 @@ where
                         let raster = Vec2::new(fx as f32 + 0.5, fy as f32 + 0.5) + offset;
                         let pixel = (y * w + x) as u32;
                         let l = sample(&mut sampler, raster, pixel, &mut out, &mut st);
+                        if !keep {
+                            continue;
+                        }
                         if l.is_finite() {
                             for (acc, v) in sum_row[x].iter_mut().zip(l.c) {
-                                *acc += v as f64;
+                                *acc += ExactSum::from_f32(v);
                             }
                         } else {
                             st.nonfinite += 1;

@@ -9,7 +9,7 @@ pub mod progressive;
 pub mod sppm;
 
 use crate::control::{Clock, RenderControl};
-use crate::driver::light_paths::render_paths;
+use crate::driver::light_paths::{CHUNK as LIGHT_CHUNK, render_paths};
 use crate::driver::pixels::render_pixels;
 use crate::error::{OptionError, RenderError};
 use crate::film::Film;
@@ -17,6 +17,7 @@ use crate::filter::Filter;
 use crate::memory;
 use crate::options::{CausticEstimator, RenderOptions};
 use crate::photon::volume_map::VolumeEstimate;
+use crate::shard::{Shard, ShardUnit};
 use crate::stats::RenderStats;
 use caustica_scene::Scene;
 use caustica_scene::material::Material;
@@ -225,6 +226,22 @@ impl IntegratorKind {
     /// Checks that this integrator can render with `opts` (the values themselves are valid by
     /// their types and [`crate::PhotonOptions::validate`]); the message says what to change.
     pub fn check(self, opts: &RenderOptions) -> Result<(), OptionError> {
+        if let Some(shard) = opts.shard {
+            ShardUnit::of(self)?;
+            if opts.time_limit.is_some() {
+                return Err(OptionError::Conflict(format!(
+                    "--shard {shard} cannot be combined with a time budget (--time): the work a \
+                     shard does would depend on its machine's speed, and the merge would not be \
+                     one render; give the work instead (--spp, --photons, --iterations)"
+                )));
+            }
+            if opts.resume.is_some() {
+                return Err(OptionError::Conflict(format!(
+                    "--shard {shard} cannot resume a state file: a shard renders its own \
+                     iterations from the start; merge finished shards with `caustica merge`"
+                )));
+            }
+        }
         if self.uses_photons() {
             opts.photons.validate()?;
         }
@@ -413,6 +430,8 @@ pub struct RenderOutput {
     pub iterations: Option<u64>,
     /// The progressive render's state after its last complete iteration (for `--resume`).
     pub state: Option<crate::driver::iteration_state::IterationState>,
+    /// A sharded render's part of the work, in words (for its manifest).
+    pub shard: Option<String>,
 }
 
 /// Renders `scene` with integrator `kind`, after [`IntegratorKind::check`]ing the options.
@@ -434,6 +453,16 @@ pub fn render(
     let mut film = Film::cropped(window, cam.width as usize, cam.height as usize);
     let filter = Filter::new(scene.settings.filter);
     let mut notes = Vec::new();
+    // A shard of a method split by rows adds camera samples to its band only.
+    if let Some(shard) = opts.shard
+        && matches!(
+            ShardUnit::of(kind)?,
+            ShardUnit::PixelRows | ShardUnit::SplatChunks
+        )
+    {
+        let rows = shard.range(film.height as u64);
+        film.restrict_rows(rows.start as usize..rows.end as usize);
+    }
     // Automatic bandwidths first, in a small share of the progress bar (and of a time budget);
     // without any the stage is untouched, so explicit values render exactly as before.
     let chosen;
@@ -498,7 +527,8 @@ pub fn render(
             // window dropped.
             let total = opts.spp as u64 * cam.width as u64 * cam.height as u64;
             let stage = stage.labelled("tracing light paths");
-            render_paths(&mut film, total, opts, &stage, |sampler, out, st| {
+            let paths = light_path_range(total, opts.shard);
+            render_paths(&mut film, paths, opts, &stage, |sampler, out, st| {
                 light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
             })
         }
@@ -533,6 +563,7 @@ pub fn render(
         }
     };
     Ok(RenderOutput {
+        shard: opts.shard.map(|s| shard_work(scene, kind, opts, s)),
         film,
         stats,
         elapsed: clock.elapsed(),
@@ -540,6 +571,60 @@ pub fn render(
         iterations,
         state,
     })
+}
+
+/// The light paths of a light-tracer render of `total` paths that `shard` traces: whole chunks
+/// of the light-path driver, so every chunk's splat buffer is the unsharded render's.
+fn light_path_range(total: u64, shard: Option<Shard>) -> std::ops::Range<u64> {
+    match shard {
+        None => 0..total,
+        Some(s) => {
+            let chunks = s.range(total.div_ceil(LIGHT_CHUNK));
+            (chunks.start * LIGHT_CHUNK).min(total)..(chunks.end * LIGHT_CHUNK).min(total)
+        }
+    }
+}
+
+/// What `shard` of a `kind` render does, for its manifest ("light-path chunks 3..6 of 12 (paths
+/// 49152..98304)").
+fn shard_work(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions, shard: Shard) -> String {
+    let Ok(unit) = ShardUnit::of(kind) else {
+        return String::new();
+    };
+    let rows = |h: u64| {
+        let r = shard.range(h);
+        format!("pixel rows {}..{} of {h}", r.start, r.end)
+    };
+    let height = opts
+        .window(&scene.camera)
+        .map_or(scene.camera.height, |w| w.height) as u64;
+    match unit {
+        ShardUnit::PixelRows => rows(height),
+        ShardUnit::LightPathChunks => {
+            let total = opts.spp as u64 * scene.camera.width as u64 * scene.camera.height as u64;
+            let chunks = total.div_ceil(LIGHT_CHUNK);
+            let c = shard.range(chunks);
+            let p = light_path_range(total, Some(shard));
+            format!(
+                "light-path chunks {}..{} of {chunks} (paths {}..{} of {total})",
+                c.start, c.end, p.start, p.end
+            )
+        }
+        ShardUnit::SplatChunks => format!(
+            "splat chunks {} (a share of every count), and the eye pass's {}",
+            shard,
+            rows(height)
+        ),
+        ShardUnit::Iterations => {
+            let total = opts
+                .photons
+                .progressive
+                .max_iterations(opts)
+                .unwrap_or_default();
+            let r = shard.range(total);
+            format!("iterations {}..={} of {total}", r.start + 1, r.end)
+        }
+    }
 }
 
 /// Share of the progress bar (and of a time budget) of the automatic bandwidth choice.

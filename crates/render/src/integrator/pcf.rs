@@ -14,7 +14,7 @@ use super::IntegratorKind;
 use super::path::{CameraRule, Direct, Lookup, radiance_with};
 use crate::control::Stage;
 use crate::driver::iteration_state::{IterationState, resume_pooled};
-use crate::driver::iterations::run_iterations;
+use crate::driver::iterations::{run_iterations, shard_iterations};
 use crate::driver::pixels::render_pixels;
 use crate::error::OptionError;
 use crate::film::Film;
@@ -229,6 +229,7 @@ pub(crate) fn render(
     };
     let stage = stage.part(0.02, 1.0);
     let (first, fp) = resume_pooled(scene, kind, opts, film, notes)?;
+    let (first, max) = shard_iterations(opts, first, max);
     let snapshot = |f: &Film, i: u64| IterationState::pooled(&fp, i, f);
     let mut cones_total = 0u64;
     let mut cone_bytes = 0usize;

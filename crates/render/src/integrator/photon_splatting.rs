@@ -34,6 +34,7 @@ use super::IntegratorKind;
 use super::photon_mapping::{self, PhotonMaps};
 use crate::control::Stage;
 use crate::driver::eye_splat::{SplatRule, eye_pass, resolve, splat_batches};
+use crate::exact_sum::ExactSum;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::options::EmissionStrategy;
@@ -278,6 +279,7 @@ pub fn render_report(
         &eye,
         &rule,
         &stage.part(count_end, 1.0).labelled("splatting"),
+        opts.shard,
     );
     resolve(film, &eye, &rule, &done.acc, done.chunks_done);
     stats.rays += done.stats.rays;
@@ -358,15 +360,17 @@ fn report_notes(scene: &Scene, r: &PdsReport, opts: &RenderOptions) -> Vec<Strin
     notes
 }
 
-/// Adds the reflected radiance of footprint `ph` at eye vertex `v`,
-/// `f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, seed 002 eq. 10–12 with `filter`, before the
-/// throughput β), to `acc`; true if it reached the vertex with a finite, non-zero value.
+/// Adds the reflected radiance of footprint `ph` at eye vertex `v` times the vertex's
+/// throughput, `β f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, seed 002 eq. 10–12 with
+/// `filter`), to `acc`; true if it reached the vertex with a finite, non-zero value. Each
+/// contribution is rounded into the exact sum on its own (β times the f32 radiance is exact in
+/// f64), so a vertex's sum does not depend on how the light paths were split.
 #[inline]
 pub fn splat_footprint(
     filter: &FootprintFilter,
     ph: &DiffPhoton,
     v: &EyeVertex,
-    acc: &mut [f64; 3],
+    acc: &mut [ExactSum; 3],
 ) -> bool {
     let Some(w) = filter.weight(ph, v.p, v.n) else {
         return false;
@@ -376,8 +380,8 @@ pub fn splat_footprint(
         .eval(v.wo, v.frame.to_local(ph.wi), TransportMode::Radiance);
     let l = f * ph.flux * w;
     if l.is_finite() && !l.is_black() {
-        for (a, x) in acc.iter_mut().zip(l.c) {
-            *a += x as f64;
+        for ((a, x), b) in acc.iter_mut().zip(l.c).zip(v.beta.c) {
+            *a += ExactSum::from_f64(b as f64 * x as f64);
         }
         true
     } else {
@@ -404,9 +408,9 @@ impl std::ops::AddAssign for ChunkTotals {
 }
 
 /// The splat rule of photon differential splatting: photons are footprints (seed 002 eq. 4,
-/// 12), a vertex accumulates `f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, eq. 10 before the
-/// throughput β) for every footprint that reaches it ([`FootprintFilter::weight`], the rule
-/// `pdm` gathers with), and resolves to `β · Σ`.
+/// 12), a vertex accumulates `β f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, eq. 10 times the
+/// throughput β) exactly for every footprint that reaches it ([`FootprintFilter::weight`], the
+/// rule `pdm` gathers with), and resolves to that sum unrounded.
 pub struct FootprintSplat<'a> {
     pub opts: &'a RenderOptions,
     pub stream: PathStream,
@@ -452,11 +456,11 @@ impl FootprintSplat<'_> {
 
 impl SplatRule for FootprintSplat<'_> {
     type Photon = DiffPhoton;
-    type Acc = [f64; 3];
+    type Acc = [ExactSum; 3];
     type Totals = ChunkTotals;
 
-    fn empty(&self) -> [f64; 3] {
-        [0.0; 3]
+    fn empty(&self) -> [ExactSum; 3] {
+        [ExactSum::ZERO; 3]
     }
 
     fn chunks(&self) -> u64 {
@@ -483,19 +487,19 @@ impl SplatRule for FootprintSplat<'_> {
     }
 
     #[inline]
-    fn splat(&self, ph: &DiffPhoton, v: &EyeVertex, acc: &mut [f64; 3]) -> bool {
+    fn splat(&self, ph: &DiffPhoton, v: &EyeVertex, acc: &mut [ExactSum; 3]) -> bool {
         splat_footprint(&self.filter, ph, v, acc)
     }
 
-    fn resolve(&self, v: &EyeVertex, acc: &[f64; 3], chunks_done: u64) -> [f64; 3] {
+    fn resolve(&self, _: &EyeVertex, acc: &[ExactSum; 3], chunks_done: u64) -> [ExactSum; 3] {
         // Stopped after M < N paths: the estimate of the M paths splatted (flux β/M).
         let covered = self.work.covered(chunks_done);
-        let scale = if covered == 0 || covered >= self.work.len() {
-            1.0
+        if covered == 0 || covered >= self.work.len() {
+            *acc
         } else {
-            self.work.len() as f64 / covered as f64
-        };
-        std::array::from_fn(|k| v.beta.c[k] as f64 * acc[k] * scale)
+            let scale = self.work.len() as f64 / covered as f64;
+            acc.map(|a| ExactSum::from_f64(a.to_f64() * scale))
+        }
     }
 }
 
@@ -552,9 +556,10 @@ mod tests {
         let (lo, hi) = filter.bounds(&ph).expect("a finite footprint");
         for t in &map.tiles {
             t.for_each_in_box(lo, hi, |_, v| {
-                let mut acc = [0.0; 3];
+                let mut acc = [ExactSum::ZERO; 3];
                 if splat_footprint(filter, &ph, v, &mut acc) {
-                    let l = Spectrum::new(acc[0] as f32, acc[1] as f32, acc[2] as f32);
+                    let [r, g, b] = acc.map(|a| a.to_f64() as f32);
+                    let l = Spectrum::new(r, g, b);
                     out.push((v.pixel, l));
                 }
             });

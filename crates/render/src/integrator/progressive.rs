@@ -30,7 +30,7 @@ use super::photon_mapping::{self, PhotonMaps};
 use super::photon_splatting;
 use crate::control::Stage;
 use crate::driver::iteration_state::{IterationState, resume_pooled};
-use crate::driver::iterations::run_iterations;
+use crate::driver::iterations::{run_iterations, shard_iterations};
 use crate::error::OptionError;
 use crate::film::Film;
 use crate::filter::Filter;
@@ -196,6 +196,7 @@ pub(crate) fn render(
     let max = p.max_iterations(opts);
     // Resuming: the pooled film of the iterations done, then on from the next one.
     let (first, fp) = resume_pooled(scene, kind, opts, film, notes)?;
+    let (first, max) = shard_iterations(opts, first, max);
     let mut first_notes = Vec::new();
     let snapshot = |f: &Film, i: u64| IterationState::pooled(&fp, i, f);
     let run = run_iterations(film, stage, first, max, None, &snapshot, |i, st, f| {

@@ -23,6 +23,7 @@ use crate::driver::eye_splat::{SplatRule, eye_pass, splat_batches};
 use crate::driver::iteration_state::{IterationState, fingerprint};
 use crate::driver::iterations::run_iterations;
 use crate::error::OptionError;
+use crate::exact_sum::ExactSum;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::integrator::IntegratorKind;
@@ -125,8 +126,8 @@ impl SplatRule for SppmSplat<'_> {
         acc.1 += 1;
         true
     }
-    fn resolve(&self, _: &EyeVertex, _: &Self::Acc, _: u64) -> [f64; 3] {
-        [0.0; 3] // the statistics are updated per pixel instead
+    fn resolve(&self, _: &EyeVertex, _: &Self::Acc, _: u64) -> [ExactSum; 3] {
+        [ExactSum::ZERO; 3] // the statistics are updated per pixel instead
     }
 }
 
@@ -216,7 +217,7 @@ pub(crate) fn render(
         for (px, s) in stats.borrow().iter().enumerate() {
             let c = film.count[px] as f64;
             for k in 0..3 {
-                film.sum[px][k] += c * s.tau[k] / (PI as f64 * s.r2 * i);
+                film.sum[px][k].add_f64(c * s.tau[k] / (PI as f64 * s.r2 * i));
             }
         }
     };
@@ -369,7 +370,7 @@ pub(crate) fn render(
                 kind,
                 min_depth,
             };
-            let done = splat_batches(f, eye, &rule, &st.part(0.3, 1.0).labelled("photons"));
+            let done = splat_batches(f, eye, &rule, &st.part(0.3, 1.0).labelled("photons"), None);
             rs.rays += done.stats.rays;
             if done.chunks_done < rule.chunks() {
                 // Stopped inside the photon pass: the driver drops (or, the first, keeps as partial)

@@ -69,6 +69,9 @@ pub struct RenderOptions {
     /// A progressive render to continue (`--resume`): its pooled film and iteration count;
     /// the render goes on from the next iteration to the bytes an uninterrupted one gives.
     pub resume: Option<std::sync::Arc<crate::driver::iteration_state::IterationState>>,
+    /// Render only this shard's part of the work (`--shard I/N`, [`crate::shard`]): the films
+    /// of shards `0..N` merge into exactly this render's film without a shard.
+    pub shard: Option<crate::shard::Shard>,
 }
 
 impl Default for RenderOptions {
@@ -87,6 +90,7 @@ impl Default for RenderOptions {
             volume_only: false,
             crop: None,
             resume: None,
+            shard: None,
         }
     }
 }

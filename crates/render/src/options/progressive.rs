@@ -75,14 +75,16 @@ impl ProgressiveSettings {
     /// The options of iteration `i ≥ 1` of a render with `opts`: a one-shot render of its own
     /// window of light paths (paths `(i − 1) M … i M − 1` of every photon stream, `M` =
     /// `paths_per_iteration`) and camera samples (`(i − 1) spp … i spp − 1` of every pixel),
-    /// without time budget, checkpoints or automatic bandwidths (the progressive driver owns
-    /// those). Iterations are therefore independent, and iteration `i` is the same whenever
+    /// without time budget, checkpoints, shard or automatic bandwidths (the progressive driver
+    /// owns those). Iterations are therefore independent, and iteration `i` is the same whenever
     /// and wherever it runs.
     pub fn iteration_options(&self, opts: &RenderOptions, i: u64) -> RenderOptions {
         let mut o = opts.clone();
         let k = i.max(1) - 1;
         o.time_limit = None;
         o.checkpoint_interval = None;
+        // A sharded render splits iterations; each iteration is whole.
+        o.shard = None;
         o.first_sample = (k.saturating_mul(opts.spp as u64)).min(u32::MAX as u64) as u32;
         let p = &mut o.photons;
         p.first_path = k.saturating_mul(self.paths_per_iteration);
