@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Submits a sharded caustica render to Slurm: an array job of N shards and a merge job that
+# runs when every shard has succeeded (--dependency=afterok).
+#
+#   submit.sh SCENE N OUT.exr [caustica render options...]
+#   e.g. submit.sh scenes/pool.toml 64 renders/pool.exr --integrator pppm --iterations 10000
+#
+# SCENE: a scene file (made absolute) or a built-in name; `-` for the default scene.
+# Environment (all optional):
+#   CAUSTICA            the caustica binary (default: `caustica` on PATH), the same path on every node
+#   PARTS_DIR           where the shards write their parts (default: OUT without extension + .parts),
+#                       on a file system every node sees
+#   PNG                 also write this sRGB PNG at the merge
+#   CPUS_PER_TASK       cores per shard (default 1; caustica's --threads follows it)
+#   MAX_PARALLEL        at most this many shards at once (--array=...%K)
+#   SHARDS              only these shard indices, as a Slurm array spec (e.g. 3,5 or 10-19), to run
+#                       failed or missing shards again; the merge then waits for them only
+#   SBATCH_ARGS         extra sbatch options for both jobs (e.g. "--partition=long --time=4:00:00")
+#   SHARD_SBATCH_ARGS   extra sbatch options for the array only; MERGE_SBATCH_ARGS for the merge only
+# Prints the two job ids. Logs go to PARTS_DIR/logs/. If a shard fails for good the merge is
+# cancelled (--kill-on-invalid-dep=yes); `SHARDS=... submit.sh` with the same arguments runs the
+# missing shards and a new merge, and `MERGE_PARTIAL=1 sbatch merge.sbatch PARTS_DIR PREVIEW.exr`
+# previews what is there.
+set -euo pipefail
+
+if [[ $# -lt 3 ]]; then
+    awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0" >&2
+    exit 2
+fi
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+scene=$1 shards=$2 out=$3
+shift 3
+if ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then
+    echo "submit.sh: N must be a positive integer, not '$shards'" >&2
+    exit 2
+fi
+[[ -e $scene ]] && scene=$(realpath "$scene")
+out=$(realpath -m "$out")
+parts=$(realpath -m "${PARTS_DIR:-${out%.*}.parts}")
+logs="$parts/logs"
+mkdir -p "$logs" "$(dirname "$out")"
+
+# The jobs inherit this environment (sbatch's default --export=ALL): pin the binary's full path.
+caustica=${CAUSTICA:-caustica}
+if resolved=$(command -v "$caustica"); then
+    caustica=$(realpath "$resolved")
+else
+    echo "submit.sh: warning: '$caustica' is not on this host's PATH; the jobs look for it on theirs" >&2
+fi
+export CAUSTICA=$caustica
+
+array="0-$((shards - 1))"
+unset CAUSTICA_SHARD_FROM_TASK_ID
+if [[ -n ${SHARDS:-} ]]; then
+    array=$SHARDS
+    # A subset's minimum is not 0: pass the task id itself as the shard index.
+    export CAUSTICA_SHARD_FROM_TASK_ID=1
+fi
+[[ -n ${MAX_PARALLEL:-} ]] && array+="%$MAX_PARALLEL"
+
+read -r -a common <<<"${SBATCH_ARGS:-}"
+read -r -a shard_extra <<<"${SHARD_SBATCH_ARGS:-}"
+read -r -a merge_extra <<<"${MERGE_SBATCH_ARGS:-}"
+merge_opts=()
+[[ -n ${PNG:-} ]] && merge_opts=(--png "$(realpath -m "$PNG")")
+
+array_id=$(sbatch --parsable --array="$array" \
+    --cpus-per-task="${CPUS_PER_TASK:-1}" \
+    --output="$logs/shard-%A_%a.out" \
+    "${common[@]+"${common[@]}"}" "${shard_extra[@]+"${shard_extra[@]}"}" \
+    "$here/render_array.sbatch" "$scene" "$shards" "$parts" "$@")
+array_id=${array_id%%;*}
+merge_id=$(sbatch --parsable --dependency="afterok:$array_id" --kill-on-invalid-dep=yes \
+    --output="$logs/merge-%j.out" \
+    "${common[@]+"${common[@]}"}" "${merge_extra[@]+"${merge_extra[@]}"}" \
+    "$here/merge.sbatch" "$parts" "$out" "${merge_opts[@]+"${merge_opts[@]}"}")
+merge_id=${merge_id%%;*}
+echo "caustica: array job $array_id (shards $array of $shards) -> $parts; merge job $merge_id -> $out" >&2
+echo "$array_id $merge_id"
