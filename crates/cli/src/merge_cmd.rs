@@ -44,6 +44,8 @@ fn part_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
                 .with_context(|| format!("cannot list {}", p.display()))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|f| f.extension().and_then(|e| e.to_str()) == Some("cpart"))
+                // A shard still writing (or killed while writing) leaves its temporary file.
+                .filter(|f| !f.to_string_lossy().ends_with(".partial.cpart"))
                 .collect();
             found.sort();
             if found.is_empty() && inputs.len() == 1 {

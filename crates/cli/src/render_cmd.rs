@@ -158,8 +158,8 @@ pub struct RenderArgs {
     /// for `caustica merge`, whose image is byte-identical to this render without --shard. Each
     /// method splits its own unit: pixel rows (path, pm, dpm, pdm, vpm, beam, vpd), light-path
     /// chunks (lighttrace), splat chunks (pds), iterations (pppm, ppds, ppdm, pdpm, pcf); sppm
-    /// and ppm cannot be split. `/N` reads I from SLURM_ARRAY_TASK_ID (minus
-    /// SLURM_ARRAY_TASK_MIN) or JOB_COMPLETION_INDEX (docs/distributed.md).
+    /// and ppm cannot be split. `/N` reads I from SLURM_ARRAY_TASK_ID (an array 0..N-1) or
+    /// JOB_COMPLETION_INDEX (docs/distributed.md).
     #[arg(long, value_name = "I/N", allow_hyphen_values = true)]
     pub shard: Option<String>,
     /// No progress bar.
@@ -1017,7 +1017,7 @@ fn render_one(
             let bytes = part.to_bytes();
             write_atomically(&out.image, |p| std::fs::write(p, &bytes))?;
             format!(
-                ", shard {shard} ({}, {:.1} MB)",
+                "shard {shard} ({}, {:.1} MB)",
                 rendered.shard.as_deref().unwrap_or(""),
                 bytes.len() as f64 / 1e6
             )
@@ -1025,6 +1025,7 @@ fn render_one(
     };
     let secs = rendered.elapsed.as_secs_f64().max(1e-9);
     let what = match kind {
+        _ if out.shard.is_some() => String::new(),
         IntegratorKind::Path
         | IntegratorKind::PhotonMapping
         | IntegratorKind::DiffusionPhotonMapping

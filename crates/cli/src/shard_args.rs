@@ -6,8 +6,9 @@ use caustica_render::Shard;
 use std::path::{Path, PathBuf};
 
 /// The environment variables an array job sets to a task's index, in the order they are read
-/// when `--shard /N` leaves the index out: Slurm job arrays (minus `SLURM_ARRAY_TASK_MIN`, so
-/// `--array=1-N` works too) and Kubernetes Indexed Jobs.
+/// when `--shard /N` leaves the index out: Slurm job arrays (`sbatch --array=0-(N-1)`: the task
+/// id is the shard index, so a resubmitted subset such as `--array=3,5` renders shards 3 and 5)
+/// and Kubernetes Indexed Jobs.
 pub const INDEX_VARIABLES: [&str; 2] = ["SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"];
 
 /// Parses `--shard I/N` (or `/N`, the index read by `env` from [`INDEX_VARIABLES`]).
@@ -45,10 +46,7 @@ fn index_from_env(env: &impl Fn(&str) -> Option<String>) -> Result<u32> {
         }
     };
     if let Some(id) = int("SLURM_ARRAY_TASK_ID")? {
-        let min = int("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-        return id.checked_sub(min).ok_or_else(|| {
-            anyhow::anyhow!("SLURM_ARRAY_TASK_ID={id} is below SLURM_ARRAY_TASK_MIN={min}")
-        });
+        return Ok(id);
     }
     if let Some(i) = int("JOB_COMPLETION_INDEX")? {
         return Ok(i);
@@ -128,10 +126,11 @@ mod tests {
             parse_shard("3/8", &none).unwrap(),
             Shard::new(3, 8).unwrap()
         );
-        let slurm = env(&[("SLURM_ARRAY_TASK_ID", "5"), ("SLURM_ARRAY_TASK_MIN", "1")]);
+        // The task id is the index, also in a resubmitted subset (--array=3,5: MIN is 3).
+        let slurm = env(&[("SLURM_ARRAY_TASK_ID", "5"), ("SLURM_ARRAY_TASK_MIN", "3")]);
         assert_eq!(
             parse_shard("/8", &slurm).unwrap(),
-            Shard::new(4, 8).unwrap()
+            Shard::new(5, 8).unwrap()
         );
         let k8s = env(&[("JOB_COMPLETION_INDEX", "7")]);
         assert_eq!(parse_shard("/8", &k8s).unwrap(), Shard::new(7, 8).unwrap());

@@ -325,6 +325,19 @@ impl Merge {
                 here,
                 there,
             };
+            let film = self.film.as_ref().ok_or(PartError::Empty)?;
+            if (film.window(), film.full) != (part.film.window(), part.film.full) {
+                return Err(differs(
+                    "image size",
+                    format!(
+                        "{} of {}x{}",
+                        part.film.window(),
+                        part.film.full.0,
+                        part.film.full.1
+                    ),
+                    format!("{} of {}x{}", film.window(), film.full.0, film.full.1),
+                ));
+            }
             if m.fingerprint != first.fingerprint {
                 return Err(match first_difference(&m.fingerprint, &first.fingerprint) {
                     StateError::Differs { what, state, now } => {
@@ -350,19 +363,6 @@ impl Merge {
                     "shard count",
                     m.shard.to_string(),
                     first.shard.to_string(),
-                ));
-            }
-            let film = self.film.as_ref().ok_or(PartError::Empty)?;
-            if (film.window(), film.full) != (part.film.window(), part.film.full) {
-                return Err(differs(
-                    "image size",
-                    format!(
-                        "{} of {}x{}",
-                        part.film.window(),
-                        part.film.full.0,
-                        part.film.full.1
-                    ),
-                    format!("{} of {}x{}", film.window(), film.full.0, film.full.1),
                 ));
             }
         } else {
