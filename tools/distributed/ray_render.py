@@ -99,7 +99,7 @@ def render_shard(
             if proc.returncode == USAGE_EXIT:
                 raise ShardUsageError(msg)
             raise ShardFailed(msg)
-        parts = sorted(Path(tmp).glob("*.cpart"))
+        parts = [p for p in sorted(Path(tmp).glob("*.cpart")) if not p.name.endswith(".partial.cpart")]
         if len(parts) != 1:
             raise ShardFailed(
                 f"shard {index}/{shards}: expected one .cpart in {tmp}, found "
@@ -317,7 +317,9 @@ def main(argv: list[str]) -> int:
         if bad:
             print(f"ray_render: --shards-only {bad}: not shard indices of 0..{n - 1}", file=sys.stderr)
             return 2
-    existing = sorted(parts.glob("*.cpart"))
+    # A shard's temporary file (*.partial.cpart, e.g. from an engine killed mid-write) is not a
+    # part: caustica merge skips it too.
+    existing = [p for p in sorted(parts.glob("*.cpart")) if not p.name.endswith(".partial.cpart")]
     if existing and not args.resume:
         print(
             f"ray_render: {parts} already holds {len(existing)} part(s) (e.g. {existing[0].name}): "

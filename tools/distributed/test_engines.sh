@@ -3,8 +3,9 @@
 # every sharded run must merge to the bytes of the unsharded render.
 #   (a) the unsharded references (cornell-box: path tracer, light tracer)
 #   (b) Slurm: render_array.sbatch run for every array index with the environment Slurm gives a
-#       task (shuffled; a 1-based array; a resubmitted subset), merge.sbatch, a missing shard,
-#       --partial, and submit.sh against a stand-in sbatch that runs the jobs here
+#       task (shuffled; resubmitted subsets, --array=1 and --array=3,5, whose task ids are the
+#       shard indices), merge.sbatch, a missing shard, a shard's temporary *.partial.cpart left in
+#       the directory, --partial, and submit.sh (also SHARDS=1,3) against a stand-in sbatch
 #   (c) Kubernetes: the manifests checked (against the API models if the kubernetes client is
 #       installed), their containers' commands run with the environment of an Indexed Job's pods
 #       (JOB_COMPLETION_INDEX), the merge job's command; shard.sh directly
@@ -68,12 +69,13 @@ run "reference (path, 256 spp)" "$CAUSTICA" render "$SCENE" "${RAY_OPTS[@]}" -q 
 
 echo "# (b) Slurm array: render_array.sbatch and merge.sbatch with the environment of array tasks"
 slurm=$here/slurm
-# slurm_task TASK_ID MIN MAX JOB_ID SCRIPT ARGS...: one array task, as slurmd starts it.
+# slurm_task TASK_ID MIN MAX JOB_ID SCRIPT ARGS...: one array task, as slurmd starts it
+# (TASK_COUNT: the array's task count, if not MAX - MIN + 1).
 slurm_task() {
     local id=$1 min=$2 max=$3 job=$4
     shift 4
     env SLURM_ARRAY_JOB_ID="$job" SLURM_ARRAY_TASK_ID="$id" SLURM_ARRAY_TASK_MIN="$min" \
-        SLURM_ARRAY_TASK_MAX="$max" SLURM_ARRAY_TASK_COUNT=$((max - min + 1)) SLURM_ARRAY_TASK_STEP=1 \
+        SLURM_ARRAY_TASK_MAX="$max" SLURM_ARRAY_TASK_COUNT="${TASK_COUNT:-$((max - min + 1))}" SLURM_ARRAY_TASK_STEP=1 \
         SLURM_JOB_ID=$((job + id + 1)) SLURM_JOBID=$((job + id + 1)) SLURM_JOB_NAME=caustica-shard \
         SLURM_CPUS_PER_TASK=1 SLURM_CPUS_ON_NODE=1 SLURM_NNODES=1 SLURM_JOB_NUM_NODES=1 \
         SLURM_NODELIST="$(hostname -s)" SLURM_SUBMIT_DIR="$work" SLURM_CLUSTER_NAME=test \
@@ -93,16 +95,25 @@ if ((ran)); then
     fi
     run "slurm merge" env SLURM_JOB_ID=504 bash "$slurm/merge.sbatch" "$parts" "$work/slurm/out.exr" &&
         same "slurm: 3 shards merged" "$work/ref-path.exr" "$work/slurm/out.exr"
+    # A shard rendered again and killed while writing leaves its temporary file (the part's name
+    # with .partial.cpart) next to the complete parts: the merge skips it.
+    head -c 1000 "$parts/shard-0001-of-0003.cpart" >"$parts/shard-0001-of-0003.partial.cpart"
+    run "slurm merge beside a .partial.cpart" bash "$slurm/merge.sbatch" "$parts" "$work/slurm/out-tmp.exr" &&
+        same "slurm: merged with a half-written shard-0001-of-0003.partial.cpart in the directory" \
+            "$work/ref-path.exr" "$work/slurm/out-tmp.exr"
 fi
 
 # A shard is idempotent by index: rendered again, its part has the same bytes.
 cp "$parts/shard-0001-of-0003.cpart" "$work/slurm/saved-1.cpart"
 rm "$parts/shard-0001-of-0003.cpart"
-# Without shard 1 the merge fails and writes nothing; --partial previews the rest.
+# Without shard 1 (still writing: only its .partial.cpart is there) the merge fails, names shard 1
+# missing and writes nothing; --partial previews the rest.
 if env SLURM_JOB_ID=505 bash "$slurm/merge.sbatch" "$parts" "$work/slurm/missing.exr" >"$log" 2>&1; then
     not_ok "slurm: merge with shard 1 of 3 missing succeeded"
 elif [[ -e $work/slurm/missing.exr ]]; then
     not_ok "slurm: merge with a missing shard failed but wrote $work/slurm/missing.exr"
+elif grep -q 'partial\.cpart' "$log" || ! grep -q 'missing' "$log"; then
+    not_ok "slurm: merge with shard 1 missing (a .partial.cpart present) failed for another reason: $(tail -n1 "$log")"
 else
     ok "slurm: merge refuses a missing shard: $(grep -m1 -i 'shard' "$log" || tail -n1 "$log")"
 fi
@@ -113,13 +124,13 @@ else
     not_ok "slurm: MERGE_PARTIAL=1 merge.sbatch failed"
     sed 's/^/    /' "$log" | tail -n 20
 fi
-# Resubmitting the missing shard (sbatch --array=1: its minimum is 1, not 0), as submit.sh SHARDS=1 does.
-export CAUSTICA_SHARD_FROM_TASK_ID=1
+# Resubmitting the missing shard (sbatch --array=1, as submit.sh SHARDS=1 does: SLURM_ARRAY_TASK_MIN
+# is 1 too, and the task id is the index). It replaces the temporary file.
 resubmitted=0
 slurm_task 1 1 1 600 "$slurm/render_array.sbatch" "$SCENE" 3 "$parts" "${PATH_OPTS[@]}" >"$log" 2>&1 && resubmitted=1
-unset CAUSTICA_SHARD_FROM_TASK_ID
 if ((resubmitted)); then
-    if cmp -s "$work/slurm/saved-1.cpart" "$parts/shard-0001-of-0003.cpart"; then
+    if cmp -s "$work/slurm/saved-1.cpart" "$parts/shard-0001-of-0003.cpart" &&
+        [[ ! -e $parts/shard-0001-of-0003.partial.cpart && $(find "$parts" -name '*.cpart' | wc -l) == 3 ]]; then
         ok "slurm: shard 1 resubmitted alone (--array=1) wrote the same bytes again"
     else
         not_ok "slurm: shard 1 resubmitted alone wrote different bytes (or another file: $(ls "$parts"))"
@@ -131,16 +142,39 @@ else
     sed 's/^/    /' "$log" | tail -n 20
 fi
 
-# A 1-based array (--array=1-4): the CLI subtracts SLURM_ARRAY_TASK_MIN.
-parts1=$work/slurm1/parts
+# A resubmitted subset, --array=3,5 of 6 shards: SLURM_ARRAY_TASK_MIN is 3, and task 5 renders
+# shard 5 (the task id as is, not minus the minimum). Into an empty directory: only shards 3 and 5
+# appear, with the bytes of the full array's; with the other four the merge is the unsharded image.
+full6=$work/slurm6/full subset6=$work/slurm6/subset
 ran=1
-for i in 4 2 1 3; do
-    slurm_task "$i" 1 4 700 "$slurm/render_array.sbatch" "$SCENE" 4 "$parts1" "${PATH_OPTS[@]}" >"$log" 2>&1 ||
-        { ran=0; not_ok "slurm: task $i of --array=1-4 failed"; sed 's/^/    /' "$log" | tail -n 20; }
+for i in 5 0 3 1 4 2; do
+    slurm_task "$i" 0 5 700 "$slurm/render_array.sbatch" "$SCENE" 6 "$full6" "${PATH_OPTS[@]}" >"$log" 2>&1 ||
+        { ran=0; not_ok "slurm: task $i of --array=0-5 failed"; sed 's/^/    /' "$log" | tail -n 20; }
+done
+for i in 5 3; do
+    TASK_COUNT=2 slurm_task "$i" 3 5 800 "$slurm/render_array.sbatch" "$SCENE" 6 "$subset6" "${PATH_OPTS[@]}" >"$log" 2>&1 ||
+        { ran=0; not_ok "slurm: task $i of --array=3,5 failed"; sed 's/^/    /' "$log" | tail -n 20; }
+    # The shard's one-line summary names the shard it rendered: `..., shard 5/6 (<work>, X MB) in T s`.
+    if [[ $i == 5 ]] && ((ran)); then
+        if grep -q 'shard 5/6 (.* MB) in [0-9.]* s' "$log"; then
+            ok "slurm: task 5 of --array=3,5 (SLURM_ARRAY_TASK_MIN=3) rendered $(grep -o 'shard 5/6 ([^)]*)' "$log")"
+        else
+            not_ok "slurm: task 5 of --array=3,5: no 'shard 5/6 (…) in T s' in its log: $(grep -m1 'shard' "$log")"
+        fi
+    fi
 done
 if ((ran)); then
-    run "slurm merge (1-based)" bash "$slurm/merge.sbatch" "$parts1" "$work/slurm1/out.exr" &&
-        same "slurm: --array=1-4 (4 shards from SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN)" "$work/ref-path.exr" "$work/slurm1/out.exr"
+    subset_files=$(cd "$subset6" && ls)
+    if [[ $subset_files == $'shard-0003-of-0006.cpart\nshard-0005-of-0006.cpart' ]] &&
+        cmp -s "$full6/shard-0003-of-0006.cpart" "$subset6/shard-0003-of-0006.cpart" &&
+        cmp -s "$full6/shard-0005-of-0006.cpart" "$subset6/shard-0005-of-0006.cpart"; then
+        ok "slurm: --array=3,5 wrote shard-0003 and shard-0005-of-0006.cpart, the bytes of the full array's"
+    else
+        not_ok "slurm: --array=3,5 wrote $(tr '\n' ' ' <<<"$subset_files")(expected shards 3 and 5, as in the full array)"
+    fi
+    for i in 0 1 2 4; do cp "$full6/shard-000$i-of-0006.cpart" "$subset6/"; done
+    run "slurm merge (--array=0-5 and 3,5)" bash "$slurm/merge.sbatch" "$subset6" "$work/slurm6/out.exr" &&
+        same "slurm: 6 shards, 3 and 5 from the resubmitted --array=3,5" "$work/ref-path.exr" "$work/slurm6/out.exr"
 fi
 # Outside an array job the script says so.
 if bash "$slurm/render_array.sbatch" "$SCENE" 3 "$work/slurm-x" "${PATH_OPTS[@]}" >"$log" 2>&1; then
@@ -212,6 +246,26 @@ if PATH="$work/bin:$PATH" bash "$slurm/submit.sh" "$SCENE" 4 "$work/submit/out.e
         not_ok "slurm: submit.sh's sbatch calls: $(cat "$work/sbatch/calls")"
     fi
     same "slurm: submit.sh (4 shards, stand-in sbatch)" "$work/ref-path.exr" "$work/submit/out.exr"
+    # Shards 1 and 3 lost: SHARDS=1,3 submits --array=1,3 (task ids = shard indices) and a new merge.
+    sparts=$work/submit/out.parts
+    mkdir -p "$work/submit/saved"
+    mv "$sparts/shard-0001-of-0004.cpart" "$sparts/shard-0003-of-0004.cpart" "$work/submit/saved/"
+    mv "$work/submit/out.exr" "$work/submit/first.exr"
+    if SHARDS=1,3 PATH="$work/bin:$PATH" bash "$slurm/submit.sh" "$SCENE" 4 "$work/submit/out.exr" "${PATH_OPTS[@]}" >"$log" 2>&1; then
+        if grep -q -- "--array=1,3 .*render_array.sbatch" "$work/sbatch/calls" &&
+            cmp -s "$work/submit/saved/shard-0001-of-0004.cpart" "$sparts/shard-0001-of-0004.cpart" &&
+            cmp -s "$work/submit/saved/shard-0003-of-0004.cpart" "$sparts/shard-0003-of-0004.cpart" &&
+            [[ $(find "$sparts" -maxdepth 1 -name '*.cpart' | wc -l) == 4 ]]; then
+            ok "slurm: SHARDS=1,3 submit.sh submitted --array=1,3, which rewrote shards 1 and 3 with the same bytes"
+        else
+            not_ok "slurm: SHARDS=1,3 submit.sh: calls $(grep -o -- '--array=[^ ]*' "$work/sbatch/calls" | tr '\n' ' '), parts $(ls "$sparts" | tr '\n' ' ')"
+        fi
+        same "slurm: merged again after SHARDS=1,3 submit.sh" "$work/ref-path.exr" "$work/submit/out.exr"
+    else
+        not_ok "slurm: SHARDS=1,3 submit.sh failed"
+        sed 's/^/    /' "$log" | tail -n 20
+        tail -n 5 "$sparts"/logs/* 2>/dev/null | sed 's/^/    /'
+    fi
 else
     not_ok "slurm: submit.sh failed"
     sed 's/^/    /' "$log" | tail -n 20

@@ -3,7 +3,8 @@
 # from Debian's slurm-wlm, as root, with their own config, state, sockets and ports under a
 # temporary directory), submits a 4-shard render with slurm/submit.sh (sbatch --array plus a merge
 # with --dependency=afterok), and checks the merged bytes against the unsharded render. Then it
-# resubmits one deleted shard alone (SHARDS=2) and merges again, and checks that a failing array
+# resubmits two deleted shards (SHARDS=1,3: --array=1,3, whose task ids are the shard indices though
+# SLURM_ARRAY_TASK_MIN is 1) and merges again, and checks that a failing array
 # cancels its merge (--kill-on-invalid-dep). The daemons it started are stopped at the end.
 #
 # Environment: CAUSTICA (the binary; default caustica on PATH); CAUSTICA_SLURM_INSTALL=1 to
@@ -157,17 +158,20 @@ else
     cat "$dir/log/submit.err" "$dir"/out/a.parts/logs/* 2>/dev/null | tail -n 30 | sed 's/^/    /'
 fi
 
-# Shard 2 lost: resubmit it alone (sbatch --array=2, whose minimum is 2) and merge again.
-saved=$dir/out/saved-2.cpart
-cp "$dir/out/a.parts/shard-0002-of-0004.cpart" "$saved" 2>/dev/null || true
-rm -f "$dir/out/a.parts/shard-0002-of-0004.cpart" "$dir/out/a.exr"
+# Shards 1 and 3 lost: resubmit them (sbatch --array=1,3: Slurm sets SLURM_ARRAY_TASK_MIN=1, and
+# task 3 renders shard 3, the task id being the shard index) and merge again.
+mkdir -p "$dir/out/saved"
+cp "$dir"/out/a.parts/shard-000[13]-of-0004.cpart "$dir/out/saved/" 2>/dev/null || true
+rm -f "$dir"/out/a.parts/shard-000[13]-of-0004.cpart "$dir/out/a.exr"
 t0=$SECONDS
-read -r array_id merge_id < <(SHARDS=2 bash "$here/slurm/submit.sh" "$SCENE" 4 "$dir/out/a.exr" "${OPTS[@]}" 2>"$dir/log/submit.err")
+read -r array_id merge_id < <(SHARDS=1,3 bash "$here/slurm/submit.sh" "$SCENE" 4 "$dir/out/a.exr" "${OPTS[@]}" 2>"$dir/log/submit.err")
 states=$(wait_jobs "$array_id" "$merge_id")
-if all_completed "$states" && cmp -s "$dir/out/ref.exr" "$dir/out/a.exr" && cmp -s "$saved" "$dir/out/a.parts/shard-0002-of-0004.cpart"; then
-    ok "real Slurm: shard 2 resubmitted alone (SHARDS=2) wrote the same part; merged again identical ($((SECONDS - t0)) s)"
+if all_completed "$states" && cmp -s "$dir/out/ref.exr" "$dir/out/a.exr" &&
+    cmp -s "$dir/out/saved/shard-0001-of-0004.cpart" "$dir/out/a.parts/shard-0001-of-0004.cpart" &&
+    cmp -s "$dir/out/saved/shard-0003-of-0004.cpart" "$dir/out/a.parts/shard-0003-of-0004.cpart"; then
+    ok "real Slurm: shards 1 and 3 resubmitted (SHARDS=1,3: --array=1,3) wrote the same parts (task 3: $(grep -h -o 'shard 3/4 ([^)]*)' "$dir/out/a.parts/logs/shard-${array_id}_3.out" 2>/dev/null)); merged again identical ($((SECONDS - t0)) s)"
 else
-    not_ok "real Slurm: resubmission of shard 2: states $(tr "\n" " " <<<"$states")"
+    not_ok "real Slurm: resubmission of shards 1 and 3: states $(tr "\n" " " <<<"$states")"
     find "$dir/out/a.parts" -maxdepth 1 -name '*.cpart' | sed 's/^/    /'
     tail -n 20 "$dir"/out/a.parts/logs/* 2>/dev/null | sed 's/^/    /'
 fi

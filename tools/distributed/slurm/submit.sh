@@ -13,8 +13,9 @@
 #   PNG                 also write this sRGB PNG at the merge
 #   CPUS_PER_TASK       cores per shard (default 1; caustica's --threads follows it)
 #   MAX_PARALLEL        at most this many shards at once (--array=...%K)
-#   SHARDS              only these shard indices, as a Slurm array spec (e.g. 3,5 or 10-19), to run
-#                       failed or missing shards again; the merge then waits for them only
+#   SHARDS              only these shard indices, as a Slurm array spec (e.g. 3,5 or 10-19): it
+#                       becomes --array=$SHARDS (the task id is the shard index), to run failed or
+#                       missing shards again; the merge then waits for them only
 #   SBATCH_ARGS         extra sbatch options for both jobs (e.g. "--partition=long --time=4:00:00")
 #   SHARD_SBATCH_ARGS   extra sbatch options for the array only; MERGE_SBATCH_ARGS for the merge only
 # Prints the two job ids. Logs go to PARTS_DIR/logs/. If a shard fails for good the merge is
@@ -49,12 +50,20 @@ else
 fi
 export CAUSTICA=$caustica
 
-array="0-$((shards - 1))"
-unset CAUSTICA_SHARD_FROM_TASK_ID
+# The array task id is the shard index (caustica render --shard /N): 0-based, or a subset of 0..N-1.
+array=${SHARDS:-0-$((shards - 1))}
 if [[ -n ${SHARDS:-} ]]; then
-    array=$SHARDS
-    # A subset's minimum is not 0: pass the task id itself as the shard index.
-    export CAUSTICA_SHARD_FROM_TASK_ID=1
+    # Each index (range ends; a range's :step left out) must be a shard of 0..N-1.
+    IFS=, read -r -a pieces <<<"${SHARDS%%\%*}"
+    for piece in "${pieces[@]}"; do
+        piece=${piece%%:*}
+        for k in ${piece/-/ }; do
+            if ! [[ $k =~ ^[0-9]+$ ]] || ((10#$k >= shards)); then
+                echo "submit.sh: SHARDS=$SHARDS: '$k' is not a shard index of 0..$((shards - 1))" >&2
+                exit 2
+            fi
+        done
+    done
 fi
 [[ -n ${MAX_PARALLEL:-} ]] && array+="%$MAX_PARALLEL"
 
