@@ -116,9 +116,7 @@ pub struct RenderArgs {
     /// Render only the W×H window whose top-left pixel is (X,Y) of the film (after
     /// --width/--height), like pbrt's --pixelbounds: the image is W×H and each pixel equals the
     /// uncropped render's with the same seed (every integrator; the light tracer and the photon
-    /// methods still trace the whole film's light paths and photons; pds adds a pixel's splats
-    /// in an order that depends on the window, which could change a last bit, and tests find
-    /// none). X,Y,W,H: four non-negative integers, W and H at least 1, the window inside the
+    /// methods still trace the whole film's light paths and photons). X,Y,W,H: four non-negative integers, W and H at least 1, the window inside the
     /// film.
     #[arg(long, value_name = "X,Y,W,H", allow_hyphen_values = true)]
     pub crop: Option<String>,

@@ -103,12 +103,12 @@ fn bench(c: &mut Criterion) {
             },
             filter,
         );
-        let mut acc: Vec<Vec<[ExactSum; 3]>> = eye
+        let mut acc: Vec<Vec<ChunkedSum>> = eye
             .tiles
             .iter()
-            .map(|t| vec![[ExactSum::ZERO; 3]; t.len()])
+            .map(|t| vec![ChunkedSum::default(); t.len()])
             .collect();
-        let splat = |acc: &mut Vec<Vec<[ExactSum; 3]>>| {
+        let splat = |acc: &mut Vec<Vec<ChunkedSum>>| {
             let mut n = 0usize;
             let boxed: Vec<(&DiffPhoton, Vec3, Vec3)> = photons
                 .iter()
@@ -117,7 +117,7 @@ fn bench(c: &mut Criterion) {
             for (tile, acc) in eye.tiles.iter().zip(acc.iter_mut()) {
                 for &(ph, lo, hi) in &boxed {
                     tile.for_each_in_box(lo, hi, |i, v| {
-                        n += splat_footprint(&filter, ph, v, &mut acc[i]) as usize;
+                        n += splat_footprint(&filter, ph, 0, v, &mut acc[i]) as usize;
                     });
                 }
             }

@@ -3,28 +3,27 @@
 //!
 //! Floating-point addition is not associative, so `(a + b) + c` and `a + (b + c)` may differ in
 //! the last bit; a film pooled from shards would then depend on how the work was cut. An
-//! [`ExactSum`] is a fixed-point number with 64 fraction bits in an `i128` (the film's
-//! accumulator type): every addend is rounded once, on its own, to a multiple of 2⁻⁶⁴ (a
+//! [`ExactSum`] is a fixed-point number with 63 fraction bits in an `i128` (the film's
+//! accumulator type): every addend is truncated once, on its own, to a multiple of 2⁻⁶³ (a
 //! deterministic function of that addend alone), and the sums of those integers are exact,
 //! associative and commutative (two's-complement wrapping addition is, and the total of a
 //! film's pixel never comes near 2¹²⁷). So the sum of any set of addends is one number whatever
 //! the order or grouping of the additions, and partial sums computed anywhere merge exactly.
 //!
 //! Range and resolution, in the addend's unit (radiance W/m²/sr times a sample weight, or a
-//! light path's splat): magnitudes up to 2⁶² ≈ 4.6·10¹⁸ (larger ones saturate), resolution
-//! 2⁻⁶⁴ ≈ 5.4·10⁻²⁰ (an addend below half of it counts as 0). An f32 image cannot show either
-//! limit for radiance in any physical range: a pixel sum of 10¹² samples of 10⁶ W/m²/sr fits, and
-//! the rounding of 10⁹ addends moves a pixel by < 10⁻¹⁰ absolute.
+//! light path's splat): addends below 2⁶³ ≈ 9.2·10¹⁸ in magnitude (larger ones saturate), sums
+//! below 2⁶⁴ (beyond, they wrap), resolution 2⁻⁶³ ≈ 1.1·10⁻¹⁹ (an addend's bits below it are
+//! dropped). An f32 image cannot show either limit for radiance in any physical range: a pixel
+//! sum of 10¹² samples of 10⁶ W/m²/sr fits, and the truncation of 10⁹ addends moves a pixel by
+//! < 10⁻¹⁰ absolute. The conversion is branch-free (two float-to-integer instructions; a
+//! correctly rounded one with branches, or `f64::trunc`, which is a libm call on the x86-64
+//! baseline, cost pds's splatting twice as much: docs/performance.md).
 
-/// Fraction bits of the fixed point.
-const FRACTION_BITS: i32 = 64;
-/// Largest magnitude an addend is rounded to (2¹²⁶, i.e. 2⁶² in value): a quarter of the
-/// `i128` range, so sums of a few addends at the limit do not wrap.
-const MAX_ADDEND: i128 = 1 << 126;
-/// 2⁻⁶⁴, the value of one unit.
-const UNIT: f64 = 1.0 / 18_446_744_073_709_551_616.0;
+/// 2⁶³ and its inverse, the value of one unit.
+const SCALE: f64 = 9_223_372_036_854_775_808.0;
+const UNIT: f64 = 1.0 / SCALE;
 
-/// A sum of floating-point addends, each rounded to a multiple of 2⁻⁶⁴: exact and independent
+/// A sum of floating-point addends, each truncated to a multiple of 2⁻⁶³: exact and independent
 /// of the order and grouping of the additions (see the module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct ExactSum(i128);
@@ -32,41 +31,16 @@ pub struct ExactSum(i128);
 impl ExactSum {
     pub const ZERO: Self = Self(0);
 
-    /// The addend `v` rounded to the nearest multiple of 2⁻⁶⁴ (ties away from zero), saturating
-    /// at ±2⁶²; NaN is 0. A pure function of `v`'s bits.
+    /// The addend `v` truncated toward zero to a multiple of 2⁻⁶³ (magnitudes of 2⁶³ and more
+    /// saturate to some value beyond 2⁶³; NaN is 0). A pure function of `v`'s bits, without
+    /// branches or calls: the integer part and the fraction each convert with one instruction.
     #[inline]
     pub fn from_f64(v: f64) -> Self {
-        let bits = v.to_bits();
-        let exp = ((bits >> 52) & 0x7ff) as i32;
-        if exp == 0 {
-            // Zero and subnormals (< 2⁻¹⁰²², far below the resolution).
-            return Self::ZERO;
-        }
-        let negative = bits >> 63 == 1;
-        let magnitude = if exp == 0x7ff {
-            if bits & ((1 << 52) - 1) != 0 {
-                return Self::ZERO; // NaN
-            }
-            MAX_ADDEND
-        } else {
-            // |v| = mant · 2^(exp − 1075), so |v| / 2⁻⁶⁴ = mant · 2^shift.
-            let mant = ((bits & ((1 << 52) - 1)) | (1 << 52)) as i128;
-            let shift = exp - 1075 + FRACTION_BITS;
-            if shift >= 0 {
-                if shift > 126 - 53 {
-                    MAX_ADDEND
-                } else {
-                    (mant << shift).min(MAX_ADDEND)
-                }
-            } else if shift < -53 {
-                0
-            } else {
-                // Round half away from zero: add half a unit, then drop the bits below it.
-                let s = -shift;
-                ((mant >> (s - 1)) + 1) >> 1
-            }
-        };
-        Self(if negative { -magnitude } else { magnitude })
+        // Truncation toward zero (saturating); exact back in f64 below 2⁶³.
+        let whole = v as i64;
+        // Exact: v minus its integer part is an f64, and scaling by 2⁶³ is exact.
+        let frac = ((v - whole as f64) * SCALE) as i64;
+        Self(((whole as i128) << 63) + frac as i128)
     }
 
     /// [`Self::from_f64`] of an f32 (exact widening first).
@@ -75,7 +49,7 @@ impl ExactSum {
         Self::from_f64(v as f64)
     }
 
-    /// Adds `v` (rounded on its own, see [`Self::from_f64`]).
+    /// Adds `v` (truncated on its own, see [`Self::from_f64`]).
     #[inline]
     pub fn add_f64(&mut self, v: f64) {
         *self += Self::from_f64(v);
@@ -87,12 +61,12 @@ impl ExactSum {
         self.0 as f64 * UNIT
     }
 
-    /// The fixed-point integer (units of 2⁻⁶⁴), for files.
+    /// The fixed-point integer (units of 2⁻⁶³), for files.
     pub fn to_bits(self) -> i128 {
         self.0
     }
 
-    /// The sum whose fixed-point integer is `bits` (units of 2⁻⁶⁴).
+    /// The sum whose fixed-point integer is `bits` (units of 2⁻⁶³).
     pub fn from_bits(bits: i128) -> Self {
         Self(bits)
     }
@@ -126,20 +100,17 @@ mod tests {
     use super::*;
     use caustica_core::sampling::Pcg32;
 
-    /// The rounding by exact rational arithmetic: v · 2⁶⁴ for values whose product is exact in
-    /// f64 (a power-of-two scaling), rounded half away from zero.
+    /// The truncation by exact arithmetic: v · 2⁶³ is exact in f64 (a power-of-two scaling), and
+    /// so is its integer part.
     fn reference(v: f64) -> i128 {
-        let scaled = v * 18_446_744_073_709_551_616.0; // exact: a power of two
-        let r = scaled.abs().floor();
-        let frac = scaled.abs() - r; // exact for |scaled| < 2⁵³ … and 0 above
-        let m = r as i128 + (frac >= 0.5) as i128;
-        if v < 0.0 { -m } else { m }
+        (v * SCALE).trunc() as i128
     }
 
     #[test]
-    fn rounding_matches_exact_scaling() {
+    fn truncation_matches_exact_scaling() {
         for v in [
             0.0,
+            -0.0,
             1.0,
             -1.0,
             0.5,
@@ -147,17 +118,18 @@ mod tests {
             1e-3,
             -7.25e5,
             3.0 * UNIT,
-            2.5 * UNIT,  // a tie: away from zero → 3
-            -2.5 * UNIT, // → −3
-            0.49 * UNIT, // → 0
+            2.5 * UNIT,  // → 2
+            -2.5 * UNIT, // → −2
+            0.99 * UNIT, // → 0
             1e15,
+            -1e18,
             std::f64::consts::PI,
         ] {
             assert_eq!(ExactSum::from_f64(v).to_bits(), reference(v), "{v:e}");
         }
         let mut rng = Pcg32::new(7, 1);
-        for _ in 0..10_000 {
-            let e = (rng.next_f32() * 80.0) as i32 - 60;
+        for _ in 0..100_000 {
+            let e = (rng.next_f32() * 120.0) as i32 - 80;
             let v = (rng.next_f32() as f64 - 0.3) * 2f64.powi(e);
             assert_eq!(ExactSum::from_f64(v).to_bits(), reference(v), "{v:e}");
         }
@@ -166,10 +138,13 @@ mod tests {
     #[test]
     fn limits_saturate_and_nan_is_zero() {
         assert_eq!(ExactSum::from_f64(f64::NAN), ExactSum::ZERO);
-        assert_eq!(ExactSum::from_f64(f64::INFINITY).to_bits(), MAX_ADDEND);
-        assert_eq!(ExactSum::from_f64(-1e30).to_bits(), -MAX_ADDEND);
+        // Saturated: beyond 2⁶³ (in value), whatever the addend.
+        assert!(ExactSum::from_f64(f64::INFINITY).to_f64() >= 2f64.powi(63));
+        assert!(ExactSum::from_f64(-1e30).to_f64() <= -(2f64.powi(63)));
+        assert_eq!(ExactSum::from_f64(1e30), ExactSum::from_f64(f64::INFINITY));
         assert_eq!(ExactSum::from_f64(1e-300), ExactSum::ZERO);
         assert_eq!(ExactSum::from_f64(2f64.powi(61)).to_f64(), 2f64.powi(61));
+        assert_eq!(ExactSum::from_f64(-0.75).to_f64(), -0.75);
     }
 
     #[test]

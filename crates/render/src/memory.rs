@@ -237,7 +237,8 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
             m.add(
                 "eye map",
                 samples,
-                2 * size_of::<EyeVertex>() as u64 + size_of::<[f64; 3]>() as u64,
+                2 * size_of::<EyeVertex>() as u64
+                    + size_of::<crate::integrator::photon_splatting::ChunkedSum>() as u64,
             );
             if let PhotonBudget::Records(n) = p.caustic_budget()
                 && n <= RECORD_LANDING_PATHS

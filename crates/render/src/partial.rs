@@ -17,7 +17,7 @@
 //! checksum: FNV-1a over the 64-bit words of everything before it (u64)
 //! ```
 //!
-//! The sums are [`ExactSum`] integers (units of 2⁻⁶⁴), so merging parts in any order is exact.
+//! The sums are [`ExactSum`] integers (units of 2⁻⁶³), so merging parts in any order is exact.
 
 use crate::CropWindow;
 use crate::driver::iteration_state::{Reader, StateError, first_difference};

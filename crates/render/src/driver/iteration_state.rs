@@ -7,7 +7,7 @@
 //!
 //! Layout (little-endian): magic `CAUSTICA-STATE\n`, format version (u32), fingerprint (u64
 //! length + UTF-8), iterations (u64), window x, y, width, height and full-film width, height
-//! (u32 each), per pixel Σ L (3 × i128, units of 2⁻⁶⁴: [`crate::ExactSum`]), sample count (u32)
+//! (u32 each), per pixel Σ L (3 × i128, units of 2⁻⁶³: [`crate::ExactSum`]), sample count (u32)
 //! and splat sum (3 × i128), the splat
 //! path count (u64), the method's own statistics (u64 count + f64 each: SPPM's and PPM's R², N
 //! and τ per pixel; none for pppm, ppds, ppdm), then the FNV-1a 64 checksum of everything before

@@ -360,17 +360,61 @@ fn report_notes(scene: &Scene, r: &PdsReport, opts: &RenderOptions) -> Vec<Strin
     notes
 }
 
-/// Adds the reflected radiance of footprint `ph` at eye vertex `v` times the vertex's
-/// throughput, `β f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, seed 002 eq. 10–12 with
-/// `filter`), to `acc`; true if it reached the vertex with a finite, non-zero value. Each
-/// contribution is rounded into the exact sum on its own (β times the f32 radiance is exact in
-/// f64), so a vertex's sum does not depend on how the light paths were split.
+/// A vertex's splat sum (W/m²/sr times the sample's count of 1): the contributions of the
+/// current chunk of light paths summed in f64, in path order, and folded into an exact total
+/// ([`ExactSum`]) when a photon of a later chunk arrives (and when read). Each chunk's partial sum
+/// is a pure function of that chunk's photons and the total is exact, so the vertex's sum does
+/// not depend on how chunks are grouped into batches, threads or shards, while the hot path stays
+/// one f64 addition per channel (an exact sum per splat cost pds's splatting pass 60 %:
+/// docs/performance.md).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ChunkedSum {
+    partial: [f64; 3],
+    /// The chunk `partial` belongs to.
+    chunk: u32,
+    total: [ExactSum; 3],
+}
+
+impl ChunkedSum {
+    /// Adds `c`, a contribution from a photon of chunk `chunk` (chunks arrive in increasing
+    /// order).
+    #[inline]
+    pub fn add(&mut self, chunk: u32, c: [f64; 3]) {
+        if chunk != self.chunk {
+            self.fold();
+            self.chunk = chunk;
+        }
+        for (p, c) in self.partial.iter_mut().zip(c) {
+            *p += c;
+        }
+    }
+
+    fn fold(&mut self) {
+        for (t, p) in self.total.iter_mut().zip(self.partial) {
+            *t += ExactSum::from_f64(p);
+        }
+        self.partial = [0.0; 3];
+    }
+
+    /// The sum of every contribution.
+    pub fn sum(&self) -> [ExactSum; 3] {
+        let mut s = *self;
+        s.fold();
+        s.total
+    }
+}
+
+/// Adds the reflected radiance of footprint `ph` (from a light path of chunk `chunk`) at eye
+/// vertex `v` times the vertex's throughput, `β f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr,
+/// seed 002 eq. 10–12 with `filter`), to `acc`; true if it reached the vertex with a finite,
+/// non-zero value.
 #[inline]
 pub fn splat_footprint(
     filter: &FootprintFilter,
     ph: &DiffPhoton,
+    chunk: u32,
     v: &EyeVertex,
-    acc: &mut [ExactSum; 3],
+    acc: &mut ChunkedSum,
 ) -> bool {
     let Some(w) = filter.weight(ph, v.p, v.n) else {
         return false;
@@ -380,13 +424,21 @@ pub fn splat_footprint(
         .eval(v.wo, v.frame.to_local(ph.wi), TransportMode::Radiance);
     let l = f * ph.flux * w;
     if l.is_finite() && !l.is_black() {
-        for ((a, x), b) in acc.iter_mut().zip(l.c).zip(v.beta.c) {
-            *a += ExactSum::from_f64(b as f64 * x as f64);
-        }
+        // β times the f32 radiance is exact in f64.
+        acc.add(
+            chunk,
+            std::array::from_fn(|k| v.beta.c[k] as f64 * l.c[k] as f64),
+        );
         true
     } else {
         false
     }
+}
+
+/// A photon of the splatting pass with the chunk of light paths it came from.
+pub struct ChunkPhoton {
+    pub chunk: u32,
+    pub photon: DiffPhoton,
 }
 
 /// Counts of one chunk of the splatting pass.
@@ -409,8 +461,8 @@ impl std::ops::AddAssign for ChunkTotals {
 
 /// The splat rule of photon differential splatting: photons are footprints (seed 002 eq. 4,
 /// 12), a vertex accumulates `β f_r π K(|M_p (x − x_p)|) Φ_p / A_p` (W/m²/sr, eq. 10 times the
-/// throughput β) exactly for every footprint that reaches it ([`FootprintFilter::weight`], the
-/// rule `pdm` gathers with), and resolves to that sum unrounded.
+/// throughput β) for every footprint that reaches it ([`FootprintFilter::weight`], the rule
+/// `pdm` gathers with) into a [`ChunkedSum`], and resolves to that sum unrounded.
 pub struct FootprintSplat<'a> {
     pub opts: &'a RenderOptions,
     pub stream: PathStream,
@@ -455,19 +507,19 @@ impl FootprintSplat<'_> {
 }
 
 impl SplatRule for FootprintSplat<'_> {
-    type Photon = DiffPhoton;
-    type Acc = [ExactSum; 3];
+    type Photon = ChunkPhoton;
+    type Acc = ChunkedSum;
     type Totals = ChunkTotals;
 
-    fn empty(&self) -> [ExactSum; 3] {
-        [ExactSum::ZERO; 3]
+    fn empty(&self) -> ChunkedSum {
+        ChunkedSum::default()
     }
 
     fn chunks(&self) -> u64 {
         self.work.chunks()
     }
 
-    fn trace_chunk(&self, c: u64, st: &mut RenderStats) -> (Vec<DiffPhoton>, ChunkTotals) {
+    fn trace_chunk(&self, c: u64, st: &mut RenderStats) -> (Vec<ChunkPhoton>, ChunkTotals) {
         let made = if self.tracer.is_temporal() {
             self.trace_landings::<TEMPORAL_PARAMS>(c, st)
         } else {
@@ -479,23 +531,30 @@ impl SplatRule for FootprintSplat<'_> {
             failed: made.failed,
             widened: made.widened,
         };
-        (made.photons, totals)
+        let chunk = c as u32;
+        let photons = made
+            .photons
+            .into_iter()
+            .map(|photon| ChunkPhoton { chunk, photon })
+            .collect();
+        (photons, totals)
     }
 
-    fn bounds(&self, photon: &DiffPhoton) -> Option<(Vec3, Vec3)> {
-        self.filter.bounds(photon)
+    fn bounds(&self, p: &ChunkPhoton) -> Option<(Vec3, Vec3)> {
+        self.filter.bounds(&p.photon)
     }
 
     #[inline]
-    fn splat(&self, ph: &DiffPhoton, v: &EyeVertex, acc: &mut [ExactSum; 3]) -> bool {
-        splat_footprint(&self.filter, ph, v, acc)
+    fn splat(&self, p: &ChunkPhoton, v: &EyeVertex, acc: &mut ChunkedSum) -> bool {
+        splat_footprint(&self.filter, &p.photon, p.chunk, v, acc)
     }
 
-    fn resolve(&self, _: &EyeVertex, acc: &[ExactSum; 3], chunks_done: u64) -> [ExactSum; 3] {
+    fn resolve(&self, _: &EyeVertex, acc: &ChunkedSum, chunks_done: u64) -> [ExactSum; 3] {
         // Stopped after M < N paths: the estimate of the M paths splatted (flux β/M).
         let covered = self.work.covered(chunks_done);
+        let acc = acc.sum();
         if covered == 0 || covered >= self.work.len() {
-            *acc
+            acc
         } else {
             let scale = self.work.len() as f64 / covered as f64;
             acc.map(|a| ExactSum::from_f64(a.to_f64() * scale))
@@ -556,9 +615,9 @@ mod tests {
         let (lo, hi) = filter.bounds(&ph).expect("a finite footprint");
         for t in &map.tiles {
             t.for_each_in_box(lo, hi, |_, v| {
-                let mut acc = [ExactSum::ZERO; 3];
-                if splat_footprint(filter, &ph, v, &mut acc) {
-                    let [r, g, b] = acc.map(|a| a.to_f64() as f32);
+                let mut acc = ChunkedSum::default();
+                if splat_footprint(filter, &ph, 0, v, &mut acc) {
+                    let [r, g, b] = acc.sum().map(|a| a.to_f64() as f32);
                     let l = Spectrum::new(r, g, b);
                     out.push((v.pixel, l));
                 }
