@@ -22,9 +22,8 @@ use std::hint::black_box;
 use caustica_core::sampling::Pcg32;
 use caustica_core::{Frame, Spectrum, Vec3};
 use caustica_differentials::Footprint;
-use caustica_render::ExactSum;
 use caustica_render::RenderStats;
-use caustica_render::integrator::photon_splatting::splat_footprint;
+use caustica_render::integrator::photon_splatting::{ChunkedSum, splat_footprint};
 use caustica_render::photon::differential::{
     DiffPhoton, FootprintFilter, PdmMap, TracedDiffPhotons,
 };
