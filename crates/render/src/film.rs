@@ -18,6 +18,7 @@ use caustica_core::{Spectrum, Vec2};
 use crate::crop::CropWindow;
 use crate::exact_sum::ExactSum;
 use crate::filter::Filter;
+use crate::shard::RowSet;
 
 /// Float accumulators of one image.
 #[derive(Clone, Debug)]
@@ -37,8 +38,8 @@ pub struct Film {
     /// Number of light paths whose splats are in `splat`.
     pub(crate) splat_paths: u64,
     /// The rows (of the film held) that camera samples are added to: all of them, or a shard's
-    /// band ([`Film::restrict_rows`]).
-    rows: std::ops::Range<usize>,
+    /// ([`Film::restrict_rows`]).
+    rows: RowSet,
 }
 
 impl Film {
@@ -66,20 +67,20 @@ impl Film {
             count: vec![0; n],
             splat: vec![[ExactSum::ZERO; 3]; n],
             splat_paths: 0,
-            rows: 0..height,
+            rows: RowSet::ALL,
         }
     }
 
-    /// Adds camera samples only to `rows` (a shard's band of the film held; clamped to it): the
-    /// pixel driver renders no other row, or, when the method needs every pixel's eye vertices,
-    /// renders them without adding their samples. Splats still reach every pixel.
-    pub fn restrict_rows(&mut self, rows: std::ops::Range<usize>) {
-        self.rows = rows.start.min(self.height)..rows.end.min(self.height);
+    /// Adds camera samples only to `rows` (a shard's rows of the film held): the pixel driver
+    /// renders no other row, or, when the method needs every pixel's eye vertices, renders them
+    /// without adding their samples. Splats still reach every pixel.
+    pub fn restrict_rows(&mut self, rows: RowSet) {
+        self.rows = rows;
     }
 
     /// The rows camera samples are added to.
-    pub fn rows(&self) -> std::ops::Range<usize> {
-        self.rows.clone()
+    pub fn rows(&self) -> RowSet {
+        self.rows
     }
 
     /// The window of the camera's film this film holds (the whole film unless cropped).

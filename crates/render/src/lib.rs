@@ -45,6 +45,6 @@ pub use options::{
     RenderOptions, ShutterAlign, Smoothing, Steepness, SweepRule,
 };
 pub use photon::plan::PhotonBudget;
-pub use shard::{Shard, ShardUnit};
+pub use shard::{RowSet, Shard, ShardUnit};
 pub use stats::RenderStats;
 pub use transport::PathLimits;

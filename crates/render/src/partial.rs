@@ -12,8 +12,9 @@
 //!     <the render's fingerprint: "caustica VERSION", "scene …", "integrator …", "options …">
 //! film: window x, y, width, height, full-film width, height (u32 each), light paths (u64), then
 //!     three planes (Σ L: 3 × i128 per pixel; sample counts: u32; splat sums: 3 × i128), each as
-//!     its first and end row (u32, u32) and the pixels of those rows (rows outside are zero: a
-//!     band's shard stores its band)
+//!     its runs of rows holding a non-zero pixel: the number of runs (u32), each run's first and
+//!     end row (u32, u32), then the pixels of those rows, run after run (rows outside the runs
+//!     are zero: a row-split shard stores only its rows)
 //! checksum: FNV-1a over the 64-bit words of everything before it (u64)
 //! ```
 //!
@@ -135,16 +136,39 @@ fn checksum(bytes: &[u8]) -> u64 {
     h.wrapping_mul(0x0000_0100_0000_01b3)
 }
 
-/// The rows `first..end` of a plane that hold a non-zero pixel (`0..0` if none).
-fn nonzero_rows<T: PartialEq + Default>(plane: &[T], width: usize) -> (usize, usize) {
+/// The runs `first..end` of rows of a plane (of `width` pixels per row) that hold a non-zero
+/// pixel, in order.
+fn nonzero_runs<T: PartialEq + Default>(plane: &[T], width: usize) -> Vec<(usize, usize)> {
     let rows = plane.len() / width.max(1);
     let zero = T::default();
-    let is_zero = |y: usize| plane[y * width..(y + 1) * width].iter().all(|v| *v == zero);
-    match (0..rows).find(|&y| !is_zero(y)) {
-        None => (0, 0),
-        Some(first) => {
-            let last = (first..rows).rev().find(|&y| !is_zero(y)).unwrap_or(first);
-            (first, last + 1)
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for y in 0..rows {
+        if plane[y * width..(y + 1) * width].iter().all(|v| *v == zero) {
+            continue;
+        }
+        match runs.last_mut() {
+            Some(r) if r.1 == y => r.1 = y + 1,
+            _ => runs.push((y, y + 1)),
+        }
+    }
+    runs
+}
+
+/// Appends a plane's runs of non-zero rows: their count, each run's first and end row, then the
+/// runs' pixels.
+fn put_plane<T>(b: &mut Vec<u8>, plane: &[T], width: usize, put: impl Fn(&mut Vec<u8>, &T))
+where
+    T: PartialEq + Default,
+{
+    let runs = nonzero_runs(plane, width);
+    b.extend_from_slice(&(runs.len() as u32).to_le_bytes());
+    for &(lo, hi) in &runs {
+        b.extend_from_slice(&(lo as u32).to_le_bytes());
+        b.extend_from_slice(&(hi as u32).to_le_bytes());
+    }
+    for (lo, hi) in runs {
+        for v in &plane[lo * width..hi * width] {
+            put(b, v);
         }
     }
 }
@@ -155,15 +179,7 @@ impl Part {
         let film = &self.film;
         let manifest = self.manifest.to_text();
         let w = film.width;
-        let sums = nonzero_rows(&film.sum, w);
-        let counts = nonzero_rows(&film.count, w);
-        let splats = nonzero_rows(&film.splat, w);
-        let size = 128
-            + manifest.len()
-            + (sums.1 - sums.0) * w * 48
-            + (counts.1 - counts.0) * w * 4
-            + (splats.1 - splats.0) * w * 48;
-        let mut b = Vec::with_capacity(size);
+        let mut b = Vec::with_capacity(128 + manifest.len() + film.sum.len() * 100);
         b.extend_from_slice(MAGIC);
         b.extend_from_slice(&PART_VERSION.to_le_bytes());
         b.extend_from_slice(&(manifest.len() as u64).to_le_bytes());
@@ -180,26 +196,16 @@ impl Part {
             b.extend_from_slice(&v.to_le_bytes());
         }
         b.extend_from_slice(&film.splat_paths.to_le_bytes());
-        let rows = |b: &mut Vec<u8>, (lo, hi): (usize, usize)| {
-            b.extend_from_slice(&(lo as u32).to_le_bytes());
-            b.extend_from_slice(&(hi as u32).to_le_bytes());
+        let sums = |b: &mut Vec<u8>, px: &[ExactSum; 3]| {
+            for v in px {
+                b.extend_from_slice(&v.to_bits().to_le_bytes());
+            }
         };
-        rows(&mut b, sums);
-        for px in &film.sum[sums.0 * w..sums.1 * w] {
-            for v in px {
-                b.extend_from_slice(&v.to_bits().to_le_bytes());
-            }
-        }
-        rows(&mut b, counts);
-        for c in &film.count[counts.0 * w..counts.1 * w] {
-            b.extend_from_slice(&c.to_le_bytes());
-        }
-        rows(&mut b, splats);
-        for px in &film.splat[splats.0 * w..splats.1 * w] {
-            for v in px {
-                b.extend_from_slice(&v.to_bits().to_le_bytes());
-            }
-        }
+        put_plane(&mut b, &film.sum, w, sums);
+        put_plane(&mut b, &film.count, w, |b, c| {
+            b.extend_from_slice(&c.to_le_bytes())
+        });
+        put_plane(&mut b, &film.splat, w, sums);
         let sum = checksum(&b);
         b.extend_from_slice(&sum.to_le_bytes());
         b
@@ -258,24 +264,41 @@ impl Part {
             film.splat_paths = r.u64()?;
             let w = film.width;
             let h = film.height;
-            let rows = |r: &mut Reader| -> Result<std::ops::Range<usize>, StateError> {
-                let (lo, hi) = (r.u32()? as usize, r.u32()? as usize);
-                if lo > hi || hi > h {
+            // A plane's runs: ascending, disjoint, inside the film.
+            let runs = |r: &mut Reader| -> Result<Vec<std::ops::Range<usize>>, StateError> {
+                let n = r.u32()? as usize;
+                if n > h {
                     return Err(StateError::Corrupted);
                 }
-                Ok(lo * w..hi * w)
+                let mut out = Vec::with_capacity(n);
+                let mut end = 0;
+                for _ in 0..n {
+                    let (lo, hi) = (r.u32()? as usize, r.u32()? as usize);
+                    if lo < end || lo >= hi || hi > h {
+                        return Err(StateError::Corrupted);
+                    }
+                    end = hi;
+                    out.push(lo * w..hi * w);
+                }
+                Ok(out)
             };
-            for i in rows(r)? {
-                for k in 0..3 {
-                    film.sum[i][k] = ExactSum::from_bits(r.i128()?);
+            for run in runs(r)? {
+                for i in run {
+                    for k in 0..3 {
+                        film.sum[i][k] = ExactSum::from_bits(r.i128()?);
+                    }
                 }
             }
-            for i in rows(r)? {
-                film.count[i] = r.u32()?;
+            for run in runs(r)? {
+                for i in run {
+                    film.count[i] = r.u32()?;
+                }
             }
-            for i in rows(r)? {
-                for k in 0..3 {
-                    film.splat[i][k] = ExactSum::from_bits(r.i128()?);
+            for run in runs(r)? {
+                for i in run {
+                    for k in 0..3 {
+                        film.splat[i][k] = ExactSum::from_bits(r.i128()?);
+                    }
                 }
             }
             Ok(Self { manifest, film })
@@ -487,6 +510,21 @@ mod tests {
             ..p.clone()
         };
         assert_eq!(whole.to_bytes().len() - b.len(), 4 * 8 * 48);
+        // Interleaved rows 1, 3, 5: three runs, each stored with its rows alone.
+        let mut rows = p.clone();
+        rows.film
+            .sum
+            .iter_mut()
+            .for_each(|s| *s = [ExactSum::ZERO; 3]);
+        for y in [1, 3, 5] {
+            for x in 0..8 {
+                rows.film.sum[y * 8 + x] = [ExactSum::from_f64(0.5); 3];
+            }
+        }
+        let rb = rows.to_bytes();
+        let back = Part::decode(&rb, "rows").unwrap();
+        assert_eq!(back.film.sum, rows.film.sum);
+        assert_eq!(rb.len() - b.len(), 8 * 48 + 2 * 8);
     }
 
     #[test]

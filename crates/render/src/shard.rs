@@ -58,11 +58,47 @@ impl std::fmt::Display for Shard {
     }
 }
 
+/// The rows of a film a shard adds camera samples to: every `step`-th row from row `first`.
+/// Interleaved rows give every shard a share of every part of the image, so the shards take
+/// about equal time (with bands, the shard holding the caustic or the glass was the slowest:
+/// docs/distributed.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RowSet {
+    first: u32,
+    step: u32,
+}
+
+impl RowSet {
+    /// Every row.
+    pub const ALL: Self = Self { first: 0, step: 1 };
+
+    /// The rows of `shard`: I, I + N, I + 2N, …
+    pub fn of(shard: Shard) -> Self {
+        Self {
+            first: shard.index,
+            step: shard.count,
+        }
+    }
+
+    #[inline]
+    pub fn contains(self, y: usize) -> bool {
+        y % self.step as usize == self.first as usize
+    }
+
+    /// How many of rows `0..height` are in the set.
+    pub fn count(self, height: usize) -> usize {
+        height
+            .saturating_sub(self.first as usize)
+            .div_ceil(self.step as usize)
+    }
+}
+
 /// What a method's shards split.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShardUnit {
-    /// Rows of the film (the path tracer and the one-shot photon methods: every pixel's
-    /// samples are summed by one shard; the photon maps are traced by every shard).
+    /// Rows of the film, interleaved ([`RowSet`]; the path tracer and the one-shot photon
+    /// methods: every pixel's samples are summed by one shard; the photon maps are traced by
+    /// every shard).
     PixelRows,
     /// Chunks of light paths (the light tracer), each splatting over the whole film.
     LightPathChunks,
@@ -136,6 +172,26 @@ mod tests {
                 assert_eq!(next, units);
             }
         }
+    }
+
+    #[test]
+    fn row_sets_tile_the_rows() {
+        for h in [0usize, 1, 5, 64, 65] {
+            for n in [1u32, 2, 3, 7, 100] {
+                let sets: Vec<RowSet> = (0..n)
+                    .map(|i| RowSet::of(Shard::new(i, n).unwrap()))
+                    .collect();
+                for y in 0..h {
+                    assert_eq!(sets.iter().filter(|s| s.contains(y)).count(), 1);
+                }
+                let counts: usize = sets.iter().map(|s| s.count(h)).sum();
+                assert_eq!(counts, h);
+                for s in &sets {
+                    assert_eq!(s.count(h), (0..h).filter(|&y| s.contains(y)).count());
+                }
+            }
+        }
+        assert_eq!(RowSet::ALL.count(9), 9);
     }
 
     #[test]

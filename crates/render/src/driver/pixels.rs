@@ -85,7 +85,7 @@ where
     let pixels = if all_rows {
         (w * h) as u64
     } else {
-        (w * band.len()) as u64
+        (w * band.count(h)) as u64
     };
     let per_pass = (SAMPLES_PER_PASS / pixels.max(1)).clamp(1, 64) as u32;
     let mut done_spp = 0u32;
@@ -122,7 +122,7 @@ where
             .map(|(y, (sum_row, count_row))| {
                 let mut st = RenderStats::default();
                 let mut out = Vec::new();
-                let keep = band.contains(&y);
+                let keep = band.contains(y);
                 if !keep && !all_rows {
                     return (st, out);
                 }

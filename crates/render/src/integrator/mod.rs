@@ -17,7 +17,7 @@ use crate::filter::Filter;
 use crate::memory;
 use crate::options::{CausticEstimator, RenderOptions};
 use crate::photon::volume_map::VolumeEstimate;
-use crate::shard::{Shard, ShardUnit};
+use crate::shard::{RowSet, Shard, ShardUnit};
 use crate::stats::RenderStats;
 use caustica_scene::Scene;
 use caustica_scene::material::Material;
@@ -453,15 +453,14 @@ pub fn render(
     let mut film = Film::cropped(window, cam.width as usize, cam.height as usize);
     let filter = Filter::new(scene.settings.filter);
     let mut notes = Vec::new();
-    // A shard of a method split by rows adds camera samples to its band only.
+    // A shard of a method split by rows adds camera samples to its rows only.
     if let Some(shard) = opts.shard
         && matches!(
             ShardUnit::of(kind)?,
             ShardUnit::PixelRows | ShardUnit::SplatChunks
         )
     {
-        let rows = shard.range(film.height as u64);
-        film.restrict_rows(rows.start as usize..rows.end as usize);
+        film.restrict_rows(RowSet::of(shard));
     }
     // Automatic bandwidths first, in a small share of the progress bar (and of a time budget);
     // without any the stage is untouched, so explicit values render exactly as before.
@@ -592,8 +591,12 @@ fn shard_work(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions, shard: 
         return String::new();
     };
     let rows = |h: u64| {
-        let r = shard.range(h);
-        format!("pixel rows {}..{} of {h}", r.start, r.end)
+        let (i, n) = (shard.index(), shard.count());
+        let k = RowSet::of(shard).count(h as usize);
+        match n {
+            1 => format!("pixel rows 0..{h}"),
+            _ => format!("pixel rows {i}, {}, … every {n}th: {k} of {h}", i + n),
+        }
     };
     let height = opts
         .window(&scene.camera)
