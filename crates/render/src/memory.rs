@@ -127,7 +127,11 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
             scene.camera.width as u64 * scene.camera.height as u64,
             |w| w.pixels(),
         );
-        m.add("pooled film", pixels, 2 * size_of::<[f64; 3]>() as u64 + 4);
+        m.add(
+            "pooled film",
+            pixels,
+            2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4,
+        );
         return m;
     }
     let mut m = MemoryEstimate::default();
@@ -140,7 +144,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
             scene.camera.width as u64 * scene.camera.height as u64,
             |w| w.pixels(),
         );
-        let film = 2 * size_of::<[f64; 3]>() as u64 + 4;
+        let film = 2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4;
         // The pooled and the iteration's film, the visible points (records and tiles) with
         // their accumulators, and the statistics (R², N, τ) of every pixel.
         m.add("films", pixels, 2 * film);
@@ -158,7 +162,11 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         |w| w.pixels(),
     );
     // Film: sum, splat (3 × f64 each) and count (u32) per pixel.
-    m.add("film", pixels, 2 * size_of::<[f64; 3]>() as u64 + 4);
+    m.add(
+        "film",
+        pixels,
+        2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4,
+    );
     if !kind.uses_photons() {
         return m;
     }
@@ -171,7 +179,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         m.add(
             "iteration film",
             pixels,
-            2 * size_of::<[f64; 3]>() as u64 + 4,
+            2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4,
         );
         m.add(
             "cone map",

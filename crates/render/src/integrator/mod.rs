@@ -614,8 +614,7 @@ fn shard_work(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions, shard: 
             )
         }
         ShardUnit::SplatChunks => format!(
-            "splat chunks {} (a share of every count), and the eye pass's {}",
-            shard,
+            "share {shard} of the splatting pass's light-path chunks, and of the eye pass {}",
             rows(height)
         ),
         ShardUnit::Iterations => {
