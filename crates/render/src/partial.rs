@@ -20,8 +20,7 @@
 //!
 //! The sums are [`ExactSum`] integers (units of 2⁻⁶³), so merging parts in any order is exact.
 
-use crate::CropWindow;
-use crate::driver::iteration_state::{Reader, StateError, first_difference};
+use crate::driver::iteration_state::{Reader, StateError, first_difference, put_frame, read_frame};
 use crate::exact_sum::ExactSum;
 use crate::film::Film;
 use crate::shard::Shard;
@@ -184,17 +183,7 @@ impl Part {
         b.extend_from_slice(&PART_VERSION.to_le_bytes());
         b.extend_from_slice(&(manifest.len() as u64).to_le_bytes());
         b.extend_from_slice(manifest.as_bytes());
-        let win = film.window();
-        for v in [
-            win.x,
-            win.y,
-            win.width,
-            win.height,
-            film.full.0 as u32,
-            film.full.1 as u32,
-        ] {
-            b.extend_from_slice(&v.to_le_bytes());
-        }
+        put_frame(&mut b, film);
         b.extend_from_slice(&film.splat_paths.to_le_bytes());
         let sums = |b: &mut Vec<u8>, px: &[ExactSum; 3]| {
             for v in px {
@@ -242,25 +231,7 @@ impl Part {
             let len = r.u64()? as usize;
             let text = std::str::from_utf8(r.take(len)?).map_err(|_| StateError::Corrupted)?;
             let manifest = Manifest::parse(text).ok_or(StateError::Corrupted)?;
-            let [x, y, width, height, fw, fh] =
-                [r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?];
-            let window = CropWindow {
-                x,
-                y,
-                width,
-                height,
-            };
-            // A window inside its film, of a size a film can have (the checksum passed, so this
-            // guards only against a part written wrong).
-            let fits = width >= 1
-                && height >= 1
-                && x as u64 + width as u64 <= fw as u64
-                && y as u64 + height as u64 <= fh as u64
-                && (width as u64 * height as u64) <= (body.len() as u64).max(1 << 26);
-            if !fits {
-                return Err(StateError::Corrupted);
-            }
-            let mut film = Film::cropped(window, fw as usize, fh as usize);
+            let mut film = read_frame(r, body.len())?;
             film.splat_paths = r.u64()?;
             let w = film.width;
             let h = film.height;

@@ -170,17 +170,7 @@ impl IterationState {
         b.extend_from_slice(&(fingerprint.len() as u64).to_le_bytes());
         b.extend_from_slice(fingerprint.as_bytes());
         b.extend_from_slice(&iterations.to_le_bytes());
-        let w = film.window();
-        for v in [
-            w.x,
-            w.y,
-            w.width,
-            w.height,
-            film.full.0 as u32,
-            film.full.1 as u32,
-        ] {
-            b.extend_from_slice(&v.to_le_bytes());
-        }
+        put_frame(&mut b, film);
         for i in 0..n {
             for v in film.sum[i] {
                 b.extend_from_slice(&v.to_bits().to_le_bytes());
@@ -233,15 +223,7 @@ impl IterationState {
             return Err(first_difference(&fp, expected));
         }
         let iterations = r.u64()?;
-        let [x, y, width, height, fw, fh] =
-            [r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?];
-        let window = CropWindow {
-            x,
-            y,
-            width,
-            height,
-        };
-        let mut film = Film::cropped(window, fw as usize, fh as usize);
+        let mut film = read_frame(&mut r, body.len())?;
         for i in 0..film.sum.len() {
             for k in 0..3 {
                 film.sum[i][k] = ExactSum::from_bits(r.i128()?);
@@ -302,6 +284,45 @@ pub(crate) fn first_difference(state: &str, now: &str) -> StateError {
         state: state.into(),
         now: now.into(),
     }
+}
+
+/// Writes a film's frame: its window x, y, width, height and the full film's width, height
+/// (u32 each). Shared by the state file and the shard's part ([`crate::partial`]).
+pub(crate) fn put_frame(b: &mut Vec<u8>, film: &Film) {
+    let w = film.window();
+    for v in [
+        w.x,
+        w.y,
+        w.width,
+        w.height,
+        film.full.0 as u32,
+        film.full.1 as u32,
+    ] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+}
+
+/// Reads a frame ([`put_frame`]) into an empty film: a window inside its film, of at most
+/// `limit` or 2²⁶ pixels, whichever is more (the checksum has passed, so this guards only
+/// against a file written wrong allocating without bound).
+pub(crate) fn read_frame(r: &mut Reader, limit: usize) -> Result<Film, StateError> {
+    let [x, y, width, height, fw, fh] =
+        [r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?];
+    let fits = width >= 1
+        && height >= 1
+        && x as u64 + width as u64 <= fw as u64
+        && y as u64 + height as u64 <= fh as u64
+        && (width as u64 * height as u64) <= (limit as u64).max(1 << 26);
+    if !fits {
+        return Err(StateError::Corrupted);
+    }
+    let window = CropWindow {
+        x,
+        y,
+        width,
+        height,
+    };
+    Ok(Film::cropped(window, fw as usize, fh as usize))
 }
 
 pub(crate) struct Reader<'a> {
