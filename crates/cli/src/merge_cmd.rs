@@ -15,7 +15,9 @@ pub struct MergeArgs {
     /// (every .cpart file inside is read).
     #[arg(required = true)]
     pub parts: Vec<PathBuf>,
-    /// Output image (.exr, .pfm or .png).
+    /// Output image (.exr, .pfm or .png), or a .cpart: a part holding every shard given, to
+    /// merge again with the parts of the other shards (a tree of merges: each merge reads a few
+    /// films instead of one reading them all; the result is the same bytes).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Also write an sRGB PNG.
@@ -60,7 +62,14 @@ fn part_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
 }
 
 pub fn run(args: MergeArgs) -> Result<()> {
-    check_image_extension(&args.output)?;
+    let to_part = args.output.extension().and_then(|e| e.to_str()) == Some("cpart");
+    if !to_part {
+        check_image_extension(&args.output)
+            .context("merge writes an image, or a .cpart of the shards given")?;
+    }
+    if to_part && args.png.is_some() {
+        bail!("--png goes with an image output, not a merged part (.cpart)");
+    }
     let files = part_files(&args.parts)?;
     if files.is_empty() {
         bail!("no partial results to merge");
@@ -98,7 +107,23 @@ pub fn run(args: MergeArgs) -> Result<()> {
         .manifest()
         .cloned()
         .context("no partial results to merge")?;
-    let count = manifest.shard.count();
+    let count = manifest.count;
+    if to_part {
+        // An inner node of a tree of merges: the shards given, whatever is missing.
+        let part = merge.finish_part()?;
+        let bytes = part.to_bytes();
+        write_atomically(&args.output, |p| std::fs::write(p, &bytes))?;
+        let secs = started.elapsed().as_secs_f64().max(1e-9);
+        println!(
+            "merged {} parts into one holding shards {} in {secs:.2} s: {:.1} MB read at {:.0} MB/s -> {}",
+            files.len(),
+            part.manifest.shards_text(),
+            bytes_read as f64 / 1e6,
+            bytes_read as f64 / 1e6 / secs,
+            args.output.display()
+        );
+        return Ok(());
+    }
     let film = merge.finish(args.partial)?;
     let img = film.to_image();
     write_image(&img, &args.output, args.png.as_deref(), args.exposure)?;
@@ -117,7 +142,8 @@ pub fn run(args: MergeArgs) -> Result<()> {
         );
     }
     println!(
-        "merged {} of {count} shards ({}; {}; {}) in {secs:.2} s: {:.1} MB read at {:.0} MB/s -> {}",
+        "merged {} of {count} shards from {} parts ({}; {}; {}) in {secs:.2} s: {:.1} MB read at {:.0} MB/s -> {}",
+        count as usize - missing.len(),
         files.len(),
         scene.unwrap_or("?"),
         integrator.unwrap_or("?"),

@@ -1002,14 +1002,12 @@ fn render_one(
                 );
             }
             let part = caustica_render::partial::Part {
-                manifest: caustica_render::partial::Manifest {
+                manifest: caustica_render::partial::Manifest::of_shard(
                     shard,
-                    work: rendered.shard.clone().unwrap_or_default(),
-                    scene_hash: settings.scene_hash()?,
-                    fingerprint: caustica_render::driver::iteration_state::fingerprint(
-                        &scene, kind, &opts,
-                    ),
-                },
+                    rendered.shard.clone().unwrap_or_default(),
+                    settings.scene_hash()?,
+                    caustica_render::driver::iteration_state::fingerprint(&scene, kind, &opts),
+                ),
                 film: rendered.film.clone(),
             };
             let bytes = part.to_bytes();

@@ -127,6 +127,26 @@ fn shards_from_any_engine_merge_into_the_unsharded_bytes() {
         std::fs::read(&again).unwrap(),
         std::fs::read(&whole).unwrap()
     );
+    // A tree of merges: shards 0 and 2 into one part, then with shard 1.
+    let inner = d.join("inner.cpart");
+    let o = merge(&[&p2, &p0], &inner, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("holding shards 0, 2 of 3"),
+        "{}",
+        stdout(&o)
+    );
+    let tree = d.join("tree.exr");
+    let o = merge(&[&p1, &inner], &tree, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read(&tree).unwrap(),
+        std::fs::read(&whole).unwrap(),
+        "a two-level merge is not the unsharded image"
+    );
+    // A shard given again beside a merged part holding it is refused.
+    let o = merge(&[&inner, &p0, &p1], &d.join("twice.exr"), &[]);
+    assert_clean_failure(&o, &["both hold shard 0/3"]);
 }
 
 #[test]
@@ -163,7 +183,10 @@ fn merge_refuses_parts_that_do_not_make_one_render_and_writes_nothing() {
     // A duplicate.
     let copy = d.join("copy.cpart");
     std::fs::copy(&p1, &copy).unwrap();
-    refused(&[&p0, &p1, &copy, &p2], &["copy.cpart", "both shard 1/3"]);
+    refused(
+        &[&p0, &p1, &copy, &p2],
+        &["copy.cpart", "both hold shard 1/3"],
+    );
     // Another scene, seed, option set, image size.
     let other = |name: &str, extra: &[&str]| {
         let p = d.join(format!("{name}.cpart"));

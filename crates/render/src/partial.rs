@@ -6,7 +6,7 @@
 //! ```text
 //! magic "CAUSTICA-PART\n", format version (u32)
 //! manifest: u64 length + UTF-8 text, lines
-//!     shard I/N
+//!     shards <the shard indices it holds, e.g. "3" or "0..7, 9"> of N
 //!     work <what this shard did, in words>
 //!     scene-hash <16 hex digits: the scene's source and the options that change it>
 //!     <the render's fingerprint: "caustica VERSION", "scene …", "integrator …", "options …">
@@ -29,10 +29,14 @@ const MAGIC: &[u8] = b"CAUSTICA-PART\n";
 /// Bumped whenever the layout changes.
 pub const PART_VERSION: u32 = 1;
 
-/// What a part holds: which shard of which render.
+/// What a part holds: which shards of which render.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Manifest {
-    pub shard: Shard,
+    /// The shards the part holds, ascending: one for a shard's own part, several for a part
+    /// merged from parts (`caustica merge … -o merged.cpart`, a level of a tree of merges).
+    pub shards: Vec<u32>,
+    /// The render's shard count N.
+    pub count: u32,
     /// The shard's work in words ("light-path chunks 3..6 of 12 …").
     pub work: String,
     /// A hash of the scene's source (file bytes or built-in name) and of the options that
@@ -44,23 +48,53 @@ pub struct Manifest {
 }
 
 impl Manifest {
+    /// The manifest of `shard`'s own part.
+    pub fn of_shard(shard: Shard, work: String, scene_hash: String, fingerprint: String) -> Self {
+        Self {
+            shards: vec![shard.index()],
+            count: shard.count(),
+            work,
+            scene_hash,
+            fingerprint,
+        }
+    }
+
+    /// "3 of 8", "0..3, 5 of 8".
+    pub fn shards_text(&self) -> String {
+        format!("{} of {}", ranges(&self.shards), self.count)
+    }
+
     fn to_text(&self) -> String {
         format!(
-            "shard {}\nwork {}\nscene-hash {}\n{}",
-            self.shard, self.work, self.scene_hash, self.fingerprint
+            "shards {}\nwork {}\nscene-hash {}\n{}",
+            self.shards_text(),
+            self.work,
+            self.scene_hash,
+            self.fingerprint
         )
     }
 
     fn parse(text: &str) -> Option<Self> {
         let mut lines = text.splitn(4, '\n');
-        let shard = lines.next()?.strip_prefix("shard ")?;
-        let (i, n) = shard.split_once('/')?;
-        let shard = Shard::new(i.parse().ok()?, n.parse().ok()?).ok()?;
+        let (list, n) = lines.next()?.strip_prefix("shards ")?.rsplit_once(" of ")?;
+        let count: u32 = n.parse().ok()?;
+        let mut shards = Vec::new();
+        for item in list.split(", ") {
+            let (a, b) = match item.split_once("..") {
+                Some((a, b)) => (a.parse::<u32>().ok()?, b.parse::<u32>().ok()?),
+                None => (item.parse().ok()?, item.parse().ok()?),
+            };
+            if a > b || b >= count || shards.last().is_some_and(|&l| l >= a) {
+                return None;
+            }
+            shards.extend(a..=b);
+        }
         let work = lines.next()?.strip_prefix("work ")?.to_string();
         let scene_hash = lines.next()?.strip_prefix("scene-hash ")?.to_string();
         let fingerprint = lines.next()?.to_string();
         Some(Self {
-            shard,
+            shards,
+            count,
             work,
             scene_hash,
             fingerprint,
@@ -100,11 +134,11 @@ pub enum PartError {
         here: String,
         there: String,
     },
-    #[error("{file} and {other} are both shard {shard}: give each shard once")]
+    #[error("{file} and {other} both hold shard {shard}: give each shard once")]
     Duplicate {
         file: String,
         other: String,
-        shard: Shard,
+        shard: String,
     },
     #[error(
         "shards missing: {missing} of {count} ({have} given); render them (--shard I/{count}) or merge with --partial for a preview"
@@ -352,26 +386,25 @@ impl Merge {
                     format!("scene-hash {}", first.scene_hash),
                 ));
             }
-            if m.shard.count() != first.shard.count() {
-                return Err(differs(
-                    "shard count",
-                    m.shard.to_string(),
-                    first.shard.to_string(),
-                ));
+            if m.count != first.count {
+                return Err(differs("shard count", m.shards_text(), first.shards_text()));
             }
         } else {
             self.first = Some((m.clone(), file.to_string()));
-            self.seen = vec![None; m.shard.count() as usize];
+            self.seen = vec![None; m.count as usize];
         }
-        let i = m.shard.index() as usize;
-        if let Some(other) = &self.seen[i] {
-            return Err(PartError::Duplicate {
-                file: file.into(),
-                other: other.clone(),
-                shard: m.shard,
-            });
+        for &i in &m.shards {
+            if let Some(other) = &self.seen[i as usize] {
+                return Err(PartError::Duplicate {
+                    file: file.into(),
+                    other: other.clone(),
+                    shard: format!("{i}/{}", m.count),
+                });
+            }
         }
-        self.seen[i] = Some(file.to_string());
+        for &i in &m.shards {
+            self.seen[i as usize] = Some(file.to_string());
+        }
         match &mut self.film {
             None => self.film = Some(part.film),
             Some(f) => f.merge(&part.film),
@@ -389,6 +422,24 @@ impl Merge {
     /// The manifest of the first part.
     pub fn manifest(&self) -> Option<&Manifest> {
         self.first.as_ref().map(|(m, _)| m)
+    }
+
+    /// The parts merged so far as one part holding all their shards (a level of a tree of
+    /// merges: merging it with the parts of the other shards gives the same film).
+    pub fn finish_part(self) -> Result<Part, PartError> {
+        let shards: Vec<u32> = (0..self.seen.len() as u32)
+            .filter(|&i| self.seen[i as usize].is_some())
+            .collect();
+        let (first, _) = self.first.ok_or(PartError::Empty)?;
+        let film = self.film.ok_or(PartError::Empty)?;
+        Ok(Part {
+            manifest: Manifest {
+                work: format!("merged: shards {} of {}", ranges(&shards), first.count),
+                shards,
+                ..first
+            },
+            film,
+        })
     }
 
     /// The merged film: refused while a shard is missing, unless `partial` (a preview of the
@@ -448,12 +499,12 @@ mod tests {
         }
         film.splat_paths = 1000;
         Part {
-            manifest: Manifest {
+            manifest: Manifest::of_shard(
                 shard,
-                work: format!("pixel rows {}..{} of 6", band.start, band.end),
-                scene_hash: "00000000deadbeef".into(),
-                fingerprint: fp.into(),
-            },
+                format!("pixel rows {}..{} of 6", band.start, band.end),
+                "00000000deadbeef".into(),
+                fp.into(),
+            ),
             film,
         }
     }
@@ -557,6 +608,43 @@ mod tests {
     }
 
     #[test]
+    fn merged_parts_merge_again_to_the_same_film() {
+        let n = 7;
+        let one = |shards: &[u32]| {
+            let mut m = Merge::new();
+            for &i in shards {
+                m.add(part(i, n, FP), &format!("p{i}")).unwrap();
+            }
+            m
+        };
+        let flat = one(&(0..n).collect::<Vec<_>>()).finish(false).unwrap();
+        // Two levels: {0, 1, 2} and {4, 6} merged into parts (through their bytes), then with
+        // 3 and 5.
+        let a = one(&[2, 0, 1]).finish_part().unwrap();
+        let b = one(&[6, 4]).finish_part().unwrap();
+        assert_eq!(a.manifest.shards, vec![0, 1, 2]);
+        assert_eq!(b.manifest.shards_text(), "4, 6 of 7");
+        let a = Part::decode(&a.to_bytes(), "a").unwrap();
+        let b = Part::decode(&b.to_bytes(), "b").unwrap();
+        assert_eq!(a.manifest.shards_text(), "0..2 of 7");
+        let mut top = Merge::new();
+        top.add(part(5, n, FP), "p5").unwrap();
+        top.add(b, "b").unwrap();
+        top.add(part(3, n, FP), "p3").unwrap();
+        top.add(a.clone(), "a").unwrap();
+        let tree = top.finish(false).unwrap();
+        assert_eq!(tree.sum, flat.sum);
+        assert_eq!(tree.splat, flat.splat);
+        assert_eq!(tree.count, flat.count);
+        assert_eq!(tree.splat_paths, flat.splat_paths);
+        // A merged part overlapping a shard given again is refused.
+        let mut m = Merge::new();
+        m.add(a, "a").unwrap();
+        let e = m.add(part(1, n, FP), "p1").unwrap_err().to_string();
+        assert!(e.contains("p1 and a both hold shard 1/7"), "{e}");
+    }
+
+    #[test]
     fn parts_that_do_not_belong_together_are_refused_with_the_reason() {
         let add_after_first = |other: Part| {
             let mut m = Merge::new();
@@ -582,7 +670,7 @@ mod tests {
         bigger.film = Film::new(8, 7);
         assert!(add_after_first(bigger).contains("image size"));
         let e = add_after_first(part(0, 2, FP));
-        assert!(e.contains("both shard 0/2"), "{e}");
+        assert!(e.contains("both hold shard 0/2"), "{e}");
         // Missing shards: named, unless a partial merge is asked for.
         let mut m = Merge::new();
         for i in [0, 2, 5] {

@@ -18,12 +18,12 @@ fn film(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions) -> Film {
 /// A partial result of `film` as shard `shard` (the same manifest for every part).
 fn part(film: Film, shard: Shard) -> Part {
     Part {
-        manifest: Manifest {
+        manifest: Manifest::of_shard(
             shard,
-            work: String::new(),
-            scene_hash: "0".repeat(16),
-            fingerprint: "caustica test\nscene s\nintegrator k\noptions o".into(),
-        },
+            String::new(),
+            "0".repeat(16),
+            "caustica test\nscene s\nintegrator k\noptions o".into(),
+        ),
         film,
     }
 }
