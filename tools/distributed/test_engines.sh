@@ -272,6 +272,25 @@ else
     cat "$work"/submit/out.parts/logs/* 2>/dev/null | tail -n 20 | sed 's/^/    /'
 fi
 
+# A tree of merges: GROUP=2 with 5 shards submits group merges (3 groups) between the array and
+# the final merge, which reads only the groups.
+if GROUP=2 PATH="$work/bin:$PATH" bash "$slurm/submit.sh" "$SCENE" 5 "$work/group/out.exr" "${PATH_OPTS[@]}" >"$log" 2>&1; then
+    ids=$(tail -n1 "$log")
+    gparts=$work/group/out.parts
+    if [[ $(wc -w <<<"$ids") == 3 ]] &&
+        grep -q -- "--array=0-2 --dependency=afterok:${ids%% *} .*merge_group.sbatch" "$work/sbatch/calls" &&
+        [[ $(find "$gparts/groups" -maxdepth 1 -name 'group-*.cpart' | wc -l) == 3 ]]; then
+        ok "slurm: GROUP=2 submit.sh: 5 shards, 3 group merges after the array, the final merge after them"
+    else
+        not_ok "slurm: GROUP=2 submit.sh: ids '$ids', calls $(grep -o -- '--array=[^ ]* [^ ]*' "$work/sbatch/calls" | tr '\n' ' '), groups $(ls "$gparts/groups" 2>/dev/null | tr '\n' ' ')"
+    fi
+    same "slurm: GROUP=2 submit.sh (a two-level merge of 5 shards)" "$work/ref-path.exr" "$work/group/out.exr"
+else
+    not_ok "slurm: GROUP=2 submit.sh failed"
+    sed 's/^/    /' "$log" | tail -n 20
+    cat "$work"/group/out.parts/logs/* 2>/dev/null | tail -n 20 | sed 's/^/    /'
+fi
+
 echo "# (c) Kubernetes Indexed Job: the manifests' commands with the environment of their pods"
 k8s=$here/k8s
 # shard.sh and merge.sh directly, as the containers run them (light tracer, 2 shards).

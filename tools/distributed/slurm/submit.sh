@@ -16,9 +16,13 @@
 #   SHARDS              only these shard indices, as a Slurm array spec (e.g. 3,5 or 10-19): it
 #                       becomes --array=$SHARDS (the task id is the shard index), to run failed or
 #                       missing shards again; the merge then waits for them only
-#   SBATCH_ARGS         extra sbatch options for both jobs (e.g. "--partition=long --time=4:00:00")
+#   GROUP               merge in two levels, for many shards: an array job (merge_group.sbatch)
+#                       merges each GROUP consecutive parts into PARTS_DIR/groups/group-KKKK.cpart,
+#                       then the final merge reads the groups (each merge reads GROUP or N/GROUP
+#                       films instead of N; the same bytes; about sqrt(N) is a good GROUP)
+#   SBATCH_ARGS         extra sbatch options for every job (e.g. "--partition=long --time=4:00:00")
 #   SHARD_SBATCH_ARGS   extra sbatch options for the array only; MERGE_SBATCH_ARGS for the merge only
-# Prints the two job ids. Logs go to PARTS_DIR/logs/. If a shard fails for good the merge is
+# Prints the job ids (array, [group merges,] merge). Logs go to PARTS_DIR/logs/. If a shard fails for good the merge is
 # cancelled (--kill-on-invalid-dep=yes); `SHARDS=... submit.sh` with the same arguments runs the
 # missing shards and a new merge, and `MERGE_PARTIAL=1 sbatch merge.sbatch PARTS_DIR PREVIEW.exr`
 # previews what is there.
@@ -79,10 +83,27 @@ array_id=$(sbatch --parsable --array="$array" \
     "${common[@]+"${common[@]}"}" "${shard_extra[@]+"${shard_extra[@]}"}" \
     "$here/render_array.sbatch" "$scene" "$shards" "$parts" "$@")
 array_id=${array_id%%;*}
-merge_id=$(sbatch --parsable --dependency="afterok:$array_id" --kill-on-invalid-dep=yes \
+# With GROUP, a level of group merges between the shards and the final merge.
+after=$array_id merge_from=$parts group_id=""
+if [[ -n ${GROUP:-} ]]; then
+    if ! [[ $GROUP =~ ^[1-9][0-9]*$ ]]; then
+        echo "submit.sh: GROUP must be a positive integer, not '$GROUP'" >&2
+        exit 2
+    fi
+    groups=$(((shards + GROUP - 1) / GROUP))
+    rm -rf "$parts/groups"
+    group_id=$(sbatch --parsable --array="0-$((groups - 1))" \
+        --dependency="afterok:$array_id" --kill-on-invalid-dep=yes \
+        --output="$logs/group-%A_%a.out" \
+        "${common[@]+"${common[@]}"}" "${merge_extra[@]+"${merge_extra[@]}"}" \
+        "$here/merge_group.sbatch" "$parts" "$shards" "$GROUP")
+    group_id=${group_id%%;*}
+    after=$group_id merge_from=$parts/groups
+fi
+merge_id=$(sbatch --parsable --dependency="afterok:$after" --kill-on-invalid-dep=yes \
     --output="$logs/merge-%j.out" \
     "${common[@]+"${common[@]}"}" "${merge_extra[@]+"${merge_extra[@]}"}" \
-    "$here/merge.sbatch" "$parts" "$out" "${merge_opts[@]+"${merge_opts[@]}"}")
+    "$here/merge.sbatch" "$merge_from" "$out" "${merge_opts[@]+"${merge_opts[@]}"}")
 merge_id=${merge_id%%;*}
-echo "caustica: array job $array_id (shards $array of $shards) -> $parts; merge job $merge_id -> $out" >&2
-echo "$array_id $merge_id"
+echo "caustica: array job $array_id (shards $array of $shards) -> $parts;${group_id:+ group merges $group_id (groups of $GROUP) -> $parts/groups;} merge job $merge_id -> $out" >&2
+echo "$array_id${group_id:+ $group_id} $merge_id"
