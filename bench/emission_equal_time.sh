@@ -49,8 +49,8 @@ declare -A CROP=([glass-sphere]=112,128,56,40 [water-wave]=72,0,112,256
 mkdir -p "$OUT" "$WORK"
 csv="$WORK/results.csv"
 echo "scene,budget,method,seconds,rmse,mae,ssim,caustic_energy_ratio,mean_ratio,note" > "$csv"
-now() { date +%s.%N; }
-elapsed() { awk -v a="$1" -v b="$(now)" 'BEGIN { printf "%.3f", b - a }'; }
+# shellcheck source=bench/timing_lib.sh
+source bench/timing_lib.sh
 label() { # "pds:--spp 4 --emission uniform" -> "pds --spp 4 --emission uniform" (display)
   local i="${1%%:*}" a="${1#*:}"
   [ "$a" = "$1" ] && a=""

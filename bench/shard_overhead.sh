@@ -12,8 +12,8 @@ bin=$(pwd)/target/release/caustica
 out=docs/results/distributed; mkdir -p "$out"
 work=target/bench/shard-overhead; rm -rf "$work"; mkdir -p "$work"
 csv="$out/overhead.csv"
-now() { date +%s.%N; }
-elapsed() { awk -v a="$1" -v b="$(now)" 'BEGIN { printf "%.3f", b - a }'; }
+# shellcheck source=bench/timing_lib.sh
+source bench/timing_lib.sh
 renders=(
   "path|cornell-box --integrator path --spp 64 --width 256 --height 256"
   "lighttrace|caustic-box --integrator lighttrace --spp 32 --width 256 --height 256"

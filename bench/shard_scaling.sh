@@ -14,8 +14,8 @@ bin=$(pwd)/target/release/caustica
 out=docs/results/distributed; mkdir -p "$out"
 work=target/bench/shard-scaling; rm -rf "$work"; mkdir -p "$work"
 csv="$out/results.csv"
-now() { date +%s.%N; }
-elapsed() { awk -v a="$1" -v b="$(now)" 'BEGIN { printf "%.3f", b - a }'; }
+# shellcheck source=bench/timing_lib.sh
+source bench/timing_lib.sh
 # The render's own seconds, from its one-line summary ("... in 1.23 s ...").
 render_secs() { sed -n 's/.* in \([0-9.]*\) s[:, ].*/\1/p' "$1" | tail -1; }
 
@@ -82,7 +82,7 @@ for m in path pds pppm; do
   [[ " $methods " == *" $m "* ]] || continue
   # shellcheck disable=SC2086
   set -- ${ARGS[$m]}
-  for round in 1 2; do
+  for _ in 1 2; do
     t=$(now); "$bin" render "$@" --threads 1 -q -o "$work/w-$m-1.exr" > /dev/null 2>&1
     echo "$m,one process 1 thread,$(elapsed "$t")," >> "$wcsv"
     t=$(now); "$bin" render "$@" --threads 2 -q -o "$work/w-$m-2.exr" > /dev/null 2>&1

@@ -116,8 +116,8 @@ pub struct RenderArgs {
     /// Render only the W×H window whose top-left pixel is (X,Y) of the film (after
     /// --width/--height), like pbrt's --pixelbounds: the image is W×H and each pixel equals the
     /// uncropped render's with the same seed (every integrator; the light tracer and the photon
-    /// methods still trace the whole film's light paths and photons). X,Y,W,H: four non-negative integers, W and H at least 1, the window inside the
-    /// film.
+    /// methods still trace the whole film's light paths and photons). X,Y,W,H: four
+    /// non-negative integers, W and H at least 1, the window inside the film.
     #[arg(long, value_name = "X,Y,W,H", allow_hyphen_values = true)]
     pub crop: Option<String>,
     /// Write the image accumulated so far every S seconds (the progressive methods also write
@@ -835,7 +835,6 @@ fn render_one(
         .as_deref()
         .map(|c| caustica_render::CropWindow::parse(c, cam.width, cam.height))
         .transpose()?;
-    kind.check(&opts)?;
     let fingerprint = (kind.resumable() && out.shard.is_none())
         .then(|| caustica_render::driver::iteration_state::fingerprint(&scene, kind, &opts));
     if let Some(path) = &args.resume {
@@ -1001,16 +1000,13 @@ fn render_one(
                     "shard {shard} was interrupted: no partial result written (render it again; a shard's result depends only on its index)"
                 );
             }
-            let part = caustica_render::partial::Part {
-                manifest: caustica_render::partial::Manifest::of_shard(
-                    shard,
-                    rendered.shard.clone().unwrap_or_default(),
-                    settings.scene_hash()?,
-                    caustica_render::driver::iteration_state::fingerprint(&scene, kind, &opts),
-                ),
-                film: rendered.film.clone(),
-            };
-            let bytes = part.to_bytes();
+            let manifest = caustica_render::partial::Manifest::of_shard(
+                shard,
+                rendered.shard.clone().unwrap_or_default(),
+                settings.scene_hash()?,
+                caustica_render::driver::iteration_state::fingerprint(&scene, kind, &opts),
+            );
+            let bytes = caustica_render::partial::Part::encode(&manifest, &rendered.film);
             write_atomically(&out.image, |p| std::fs::write(p, &bytes))?;
             format!(
                 "shard {shard} ({}, {:.1} MB)",

@@ -3,6 +3,7 @@
 
 use anyhow::{Context, Result, bail};
 use caustica_render::Shard;
+use caustica_render::partial::{FNV_OFFSET, fnv1a};
 use std::path::{Path, PathBuf};
 
 /// The environment variables an array job sets to a task's index, in the order they are read
@@ -78,22 +79,13 @@ pub fn part_path(output: Option<&Path>, shard: Shard) -> Result<PathBuf> {
     )
 }
 
-/// FNV-1a (64-bit) of `bytes`, continuing from `h`.
-fn fnv1a(mut h: u64, bytes: &[u8]) -> u64 {
-    for &b in bytes {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
-
 /// What identifies the scene of a render beyond its name and counts (which the render's
 /// fingerprint holds): the bytes of its file (or the built-in name) and `changes`, the
 /// command-line settings that alter it (-D values, size, shutter, spectral mode), as 16 hex
 /// digits. Files the scene includes (meshes, volumes) are not read: their counts are in the
 /// fingerprint.
 pub fn scene_hash(scene: Option<&str>, changes: &str) -> Result<String> {
-    let mut h = 0xcbf2_9ce4_8422_2325;
+    let mut h = FNV_OFFSET;
     match scene {
         Some(s) if Path::new(s).is_file() => {
             let bytes = std::fs::read(s).with_context(|| format!("cannot read scene {s}"))?;

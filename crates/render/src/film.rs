@@ -4,7 +4,7 @@
 //! samples are averaged per pixel (each has weight 1 under filter importance sampling); splats
 //! from light tracing are summed and scaled by 1/N, N the number of light paths traced.
 //!
-//! The sums are [`ExactSum`]s: each addend is rounded once on its own and the additions are
+//! The sums are [`ExactSum`]s: each addend is truncated once on its own and the additions are
 //! exact, so a film is the same whatever order its samples, splat buffers, iterations or shards
 //! were added in. That is what makes `--shard` merges byte-identical to one render.
 //!
@@ -20,7 +20,7 @@ use crate::exact_sum::ExactSum;
 use crate::filter::Filter;
 use crate::shard::RowSet;
 
-/// Float accumulators of one image.
+/// The accumulators of one image (exact sums, [`ExactSum`]).
 #[derive(Clone, Debug)]
 pub struct Film {
     /// Size of the image held (the window's).

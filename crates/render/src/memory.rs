@@ -19,6 +19,9 @@ use crate::photon::plan::PhotonBudget;
 use crate::photon::tracer::Photon;
 use caustica_scene::Scene;
 use std::fmt;
+
+/// A film pixel: Σ L and the splat sum (3 exact sums each) and the sample count (u32).
+const FILM_PIXEL_BYTES: u64 = 2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4;
 use std::mem::size_of;
 
 /// k-d tree bytes per stored point (index and split data; measured: 17 for the photon map).
@@ -127,11 +130,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
             scene.camera.width as u64 * scene.camera.height as u64,
             |w| w.pixels(),
         );
-        m.add(
-            "pooled film",
-            pixels,
-            2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4,
-        );
+        m.add("pooled film", pixels, FILM_PIXEL_BYTES);
         return m;
     }
     let mut m = MemoryEstimate::default();
@@ -144,10 +143,9 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
             scene.camera.width as u64 * scene.camera.height as u64,
             |w| w.pixels(),
         );
-        let film = 2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4;
         // The pooled and the iteration's film, the visible points (records and tiles) with
         // their accumulators, and the statistics (R², N, τ) of every pixel.
-        m.add("films", pixels, 2 * film);
+        m.add("films", pixels, 2 * FILM_PIXEL_BYTES);
         m.add(
             "visible points",
             pixels.saturating_mul(opts.spp as u64),
@@ -161,12 +159,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         scene.camera.width as u64 * scene.camera.height as u64,
         |w| w.pixels(),
     );
-    // Film: sum, splat (3 × f64 each) and count (u32) per pixel.
-    m.add(
-        "film",
-        pixels,
-        2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4,
-    );
+    m.add("film", pixels, FILM_PIXEL_BYTES);
     if !kind.uses_photons() {
         return m;
     }
@@ -176,11 +169,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         // estimate for the triplet), each with its k-d tree entry and axis byte; the
         // iteration's film; the importon map (about two per camera path).
         let paths = p.progressive.paths_per_iteration;
-        m.add(
-            "iteration film",
-            pixels,
-            2 * size_of::<[crate::ExactSum; 3]>() as u64 + 4,
-        );
+        m.add("iteration film", pixels, FILM_PIXEL_BYTES);
         m.add(
             "cone map",
             paths.saturating_mul(9),

@@ -152,21 +152,35 @@ pub enum PartError {
     Empty,
 }
 
+/// The FNV-1a 64 offset basis: the start of [`fnv1a`].
+pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+const FNV_PRIME: u64 = 0x0000_0100_0000_01b3;
+
+/// FNV-1a (64-bit) of `bytes`, continuing from `h` ([`FNV_OFFSET`] to start): the state file's
+/// checksum and the scene hash of a part's manifest.
+pub fn fnv1a(mut h: u64, bytes: &[u8]) -> u64 {
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(FNV_PRIME);
+    }
+    h
+}
+
 /// FNV-1a over 64-bit little-endian words (the tail zero-padded), then the length: the checksum
-/// of a part (a word at a time, eight times the speed of the byte-wise hash of the state file).
+/// of a part (a word at a time, eight times the speed of the byte-wise [`fnv1a`]).
 fn checksum(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut h = FNV_OFFSET;
     let mut words = bytes.chunks_exact(8);
     for w in &mut words {
         h ^= u64::from_le_bytes(w.try_into().unwrap_or_default());
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        h = h.wrapping_mul(FNV_PRIME);
     }
     let mut tail = [0u8; 8];
     tail[..words.remainder().len()].copy_from_slice(words.remainder());
     h ^= u64::from_le_bytes(tail);
-    h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    h = h.wrapping_mul(FNV_PRIME);
     h ^= bytes.len() as u64;
-    h.wrapping_mul(0x0000_0100_0000_01b3)
+    h.wrapping_mul(FNV_PRIME)
 }
 
 /// The runs `first..end` of rows of a plane (of `width` pixels per row) that hold a non-zero
@@ -209,8 +223,12 @@ where
 impl Part {
     /// The file's bytes.
     pub fn to_bytes(&self) -> Vec<u8> {
-        let film = &self.film;
-        let manifest = self.manifest.to_text();
+        Self::encode(&self.manifest, &self.film)
+    }
+
+    /// The bytes of the part `manifest` describes, holding `film` (without copying the film).
+    pub fn encode(manifest: &Manifest, film: &Film) -> Vec<u8> {
+        let manifest = manifest.to_text();
         let w = film.width;
         let mut b = Vec::with_capacity(128 + manifest.len() + film.sum.len() * 100);
         b.extend_from_slice(MAGIC);

@@ -139,16 +139,6 @@ impl ShardUnit {
             }
         })
     }
-
-    /// How the unit reads in a manifest ("pixel rows", …).
-    pub fn name(self) -> &'static str {
-        match self {
-            ShardUnit::PixelRows => "pixel rows",
-            ShardUnit::LightPathChunks => "light-path chunks",
-            ShardUnit::SplatChunks => "splat chunks",
-            ShardUnit::Iterations => "iterations",
-        }
-    }
 }
 
 #[cfg(test)]

@@ -110,15 +110,6 @@ pub fn resume_pooled(
     Ok((first, fp))
 }
 
-fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
-
 impl IterationState {
     /// The state of a render (fingerprint `fingerprint`) whose pooled film `film` holds
     /// iterations 1 … `iterations` and which keeps no other statistics.
@@ -185,7 +176,7 @@ impl IterationState {
         for v in extra {
             b.extend_from_slice(&v.to_le_bytes());
         }
-        let sum = fnv1a(&b);
+        let sum = crate::partial::fnv1a(crate::partial::FNV_OFFSET, &b);
         b.extend_from_slice(&sum.to_le_bytes());
         b
     }
@@ -212,7 +203,7 @@ impl IterationState {
         }
         let (body, tail) = bytes.split_at(bytes.len() - 8);
         let want = u64::from_le_bytes(tail.try_into().map_err(|_| StateError::Corrupted)?);
-        if fnv1a(body) != want {
+        if crate::partial::fnv1a(crate::partial::FNV_OFFSET, body) != want {
             return Err(StateError::Corrupted);
         }
         let len = r.u64()? as usize;

@@ -524,9 +524,8 @@ pub fn render(
         IntegratorKind::LightTrace => {
             // Per pixel of the full film, cropped or not: the same paths, splats outside the
             // window dropped.
-            let total = opts.spp as u64 * cam.width as u64 * cam.height as u64;
             let stage = stage.labelled("tracing light paths");
-            let paths = light_path_range(total, opts.shard);
+            let paths = light_path_range(light_paths(scene, opts), opts.shard);
             render_paths(&mut film, paths, opts, &stage, |sampler, out, st| {
                 light_tracer::trace_light_path(scene, sampler, opts, &filter, out, st)
             })
@@ -572,6 +571,12 @@ pub fn render(
     })
 }
 
+/// The light paths of a light-tracer render: `spp` per pixel of the full film (as Mitsuba's
+/// `ptracer` counts them).
+fn light_paths(scene: &Scene, opts: &RenderOptions) -> u64 {
+    opts.spp as u64 * scene.camera.width as u64 * scene.camera.height as u64
+}
+
 /// The light paths of a light-tracer render of `total` paths that `shard` traces: whole chunks
 /// of the light-path driver, so every chunk's splat buffer is the unsharded render's.
 fn light_path_range(total: u64, shard: Option<Shard>) -> std::ops::Range<u64> {
@@ -595,7 +600,7 @@ fn shard_work(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions, shard: 
         let k = RowSet::of(shard).count(h as usize);
         match n {
             1 => format!("pixel rows 0..{h}"),
-            _ => format!("pixel rows {i}, {}, … every {n}th: {k} of {h}", i + n),
+            _ => format!("pixel rows {i}, {}, … (one in {n}): {k} of {h}", i + n),
         }
     };
     let height = opts
@@ -604,7 +609,7 @@ fn shard_work(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions, shard: 
     match unit {
         ShardUnit::PixelRows => rows(height),
         ShardUnit::LightPathChunks => {
-            let total = opts.spp as u64 * scene.camera.width as u64 * scene.camera.height as u64;
+            let total = light_paths(scene, opts);
             let chunks = total.div_ceil(LIGHT_CHUNK);
             let c = shard.range(chunks);
             let p = light_path_range(total, Some(shard));
@@ -624,7 +629,11 @@ fn shard_work(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions, shard: 
                 .max_iterations(opts)
                 .unwrap_or_default();
             let r = shard.range(total);
-            format!("iterations {}..={} of {total}", r.start + 1, r.end)
+            if r.is_empty() {
+                format!("no iteration (more shards than the {total} iterations)")
+            } else {
+                format!("iterations {}..={} of {total}", r.start + 1, r.end)
+            }
         }
     }
 }
