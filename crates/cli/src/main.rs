@@ -2,20 +2,10 @@
 
 #![forbid(unsafe_code)]
 
-mod compare_cmd;
-mod convert_cmd;
-mod eta;
-mod merge_cmd;
-mod pcf_args;
-mod photon_args;
-mod photons_cmd;
-mod render_cmd;
-mod shard_args;
-mod sweep_cmd;
-mod testbed_cmd;
-mod values;
-
 use anyhow::Result;
+use caustica_cli::{
+    compare_cmd, convert_cmd, merge_cmd, photons_cmd, render_cmd, sweep_cmd, testbed_cmd,
+};
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
