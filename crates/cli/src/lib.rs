@@ -11,6 +11,7 @@ pub mod merge_cmd;
 pub mod pcf_args;
 pub mod photon_args;
 pub mod photons_cmd;
+pub mod preview;
 pub mod render_cmd;
 pub mod shard_args;
 pub mod sweep_cmd;

@@ -140,14 +140,30 @@ pub struct RenderArgs {
     pub save_iterations: Option<IterationList>,
     /// Render the frames A to B of an animated scene (both included; integers, e.g. 0..24),
     /// the shutter opening at each (its length from --shutter or the scene). -o (and --png)
-    /// must then hold a frame field, %d or %0Nd (out_%04d.exr), and an animated PNG preview
-    /// of the sequence is written (see --preview). Every frame uses the same --seed.
+    /// must then hold a frame field, %d or %0Nd (out_%04d.exr), and an animated PNG of the
+    /// sequence is written (see --apng). Every frame uses the same --seed.
     #[arg(long, value_name = "A..B", allow_hyphen_values = true)]
     pub frames: Option<String>,
-    /// The animated PNG preview of a --frames sequence (played at the scene's frame rate, else
-    /// 25 fps, at --exposure). Default: -o with its frame field replaced by "preview", as .png.
-    #[arg(long)]
-    pub preview: Option<PathBuf>,
+    /// The animated PNG of a --frames sequence (played at the scene's frame rate, else 25 fps,
+    /// at --exposure). Default: -o with its frame field replaced by "preview", as .png.
+    #[arg(long, value_name = "PATH")]
+    pub apng: Option<PathBuf>,
+    /// Live preview: serve a page on http://127.0.0.1:PORT/ (default 8080; 0: any free port)
+    /// showing the image as it converges (refreshed every --preview-interval), with an exposure
+    /// slider, the pass, progress, time left and rate, and the summary at the end. The port is
+    /// bound before the render starts (in use: an error). With --frames it follows each frame.
+    /// Put it after the scene, or write --preview=PORT (docs/preview.md).
+    #[arg(long, value_name = "PORT", num_args = 0..=1, default_missing_value = "8080")]
+    pub preview: Option<u16>,
+    /// Stream the image to a running tev (https://github.com/Tom94/tev) at HOST:PORT (tev's
+    /// default is 127.0.0.1:14158) with its TCP protocol, every --preview-interval and at the
+    /// end; connected before the render starts (refused: an error).
+    #[arg(long, value_name = "HOST:PORT")]
+    pub tev: Option<String>,
+    /// Seconds between the snapshots of the image that --preview and --tev show (default 1;
+    /// each costs one conversion of the film, a few ms per megapixel, between passes).
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub preview_interval: Option<f64>,
     /// With --frames: keep the frames whose output file exists instead of rendering them again
     /// (to resume an interrupted sequence).
     #[arg(long)]
@@ -603,6 +619,9 @@ pub(crate) fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
     Ok(())
 }
 
+/// Set by Ctrl-C: the render stops after its current pass and writes what it has.
+static STOP: AtomicBool = AtomicBool::new(false);
+
 pub fn run(args: RenderArgs) -> Result<()> {
     args.settings.start_threads()?;
     if let Some(c) = args.checkpoint
@@ -638,15 +657,22 @@ pub fn run(args: RenderArgs) -> Result<()> {
         }
     };
     let sequence = args.frames.as_deref().map(parse_frames).transpose()?;
-    if sequence.is_none() && (args.preview.is_some() || args.skip_existing) {
-        bail!("--preview and --skip-existing go with --frames A..B");
+    if sequence.is_none() && (args.apng.is_some() || args.skip_existing) {
+        bail!("--apng and --skip-existing go with --frames A..B");
     }
+    let preview_interval = match args.preview_interval {
+        None => Duration::from_secs(1),
+        Some(_) if args.preview.is_none() && args.tev.is_none() => {
+            bail!("--preview-interval goes with --preview or --tev")
+        }
+        Some(s) if s.is_finite() && s > 0.0 && s <= 1e6 => Duration::from_secs_f64(s),
+        Some(s) => bail!("--preview-interval must be a positive number of seconds, got {s}"),
+    };
     if sequence.is_some() && args.resume.is_some() {
         bail!(
             "--resume continues one render, not a --frames sequence (each frame writes its own state file)"
         );
     }
-    static STOP: AtomicBool = AtomicBool::new(false);
     ctrlc::set_handler(|| {
         if STOP.swap(true, Ordering::SeqCst) {
             eprintln!("\ninterrupted twice: exiting without writing");
@@ -655,6 +681,29 @@ pub fn run(args: RenderArgs) -> Result<()> {
         eprintln!("\ninterrupted: finishing the current pass and writing the image (Ctrl-C again to abort)");
     })
     .context("cannot install the Ctrl-C handler")?;
+    // The preview's port is bound and tev connected before any work, so that a port in use or
+    // an absent tev stops the command before anything is rendered or written.
+    let live = crate::preview::Live::start(args.preview, args.tev.as_deref(), preview_interval)?;
+    let result = render_all(&args, part, shard, sequence, live.as_ref());
+    if let Some(l) = live {
+        l.end(result.as_ref().err().map(|e| format!("{e:#}")));
+    }
+    result?;
+    if STOP.load(Ordering::SeqCst) {
+        // The image so far is written; the exit status tells scripts the render is incomplete.
+        std::process::exit(130);
+    }
+    Ok(())
+}
+
+/// The render, or the `--frames` sequence, of `run`.
+fn render_all(
+    args: &RenderArgs,
+    part: Option<PathBuf>,
+    shard: Option<caustica_render::Shard>,
+    sequence: Option<(i64, i64)>,
+    live: Option<&crate::preview::Live>,
+) -> Result<()> {
     match sequence {
         None => {
             let out = Outputs {
@@ -668,13 +717,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
             if let Some(png) = &out.png {
                 check_writable(png)?;
             }
-            render_one(&args, &args.settings, &out, "", &STOP)?;
+            render_one(args, &args.settings, &out, "", &STOP, live)?;
         }
-        Some((first, last)) => run_sequence(&args, first, last, &STOP)?,
-    }
-    if STOP.load(Ordering::SeqCst) {
-        // The image so far is written; the exit status tells scripts the render is incomplete.
-        std::process::exit(130);
+        Some((first, last)) => run_sequence(args, first, last, &STOP, live)?,
     }
     Ok(())
 }
@@ -721,7 +766,13 @@ fn sequence_pattern(path: &Path, option: &str) -> Result<loader::frame_pattern::
 
 /// `--frames A..B`: one render per frame (the shutter opening at it), each written as soon as
 /// it is done, then the animated PNG preview of the frames rendered (also after Ctrl-C).
-fn run_sequence(args: &RenderArgs, first: i64, last: i64, stop: &'static AtomicBool) -> Result<()> {
+fn run_sequence(
+    args: &RenderArgs,
+    first: i64,
+    last: i64,
+    stop: &'static AtomicBool,
+    live: Option<&crate::preview::Live>,
+) -> Result<()> {
     if args.settings.frame.is_some() {
         bail!("--frame and --frames exclude each other (--frames sets the frame of each render)");
     }
@@ -732,7 +783,7 @@ fn run_sequence(args: &RenderArgs, first: i64, last: i64, stop: &'static AtomicB
         .as_deref()
         .map(|p| sequence_pattern(p, "--png"))
         .transpose()?;
-    let preview = match &args.preview {
+    let preview = match &args.apng {
         Some(p) => p.clone(),
         None => {
             let text = output.to_string_lossy().into_owned();
@@ -786,7 +837,7 @@ fn run_sequence(args: &RenderArgs, first: i64, last: i64, stop: &'static AtomicB
                 crate::eta::duration(per * (count - i) as f64)
             )
         };
-        let (img, scene_fps) = render_one(args, &settings, &out, &label, stop)?;
+        let (img, scene_fps) = render_one(args, &settings, &out, &label, stop, live)?;
         fps = fps.or(scene_fps);
         rendered += 1;
         frames.push(img);
@@ -817,6 +868,7 @@ fn render_one(
     out: &Outputs,
     label: &str,
     stop: &'static AtomicBool,
+    live: Option<&crate::preview::Live>,
 ) -> Result<(Image, Option<f32>)> {
     let scene = settings.load_scene()?;
     let Resolved {
@@ -827,7 +879,20 @@ fn render_one(
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    opts.checkpoint_interval = args.checkpoint.map(Duration::from_secs_f64);
+    // The film reaches the CLI at checkpoints (`on_checkpoint`); a live preview takes its
+    // snapshots there too, so it lowers the interval to its own and the files are then written
+    // only when --checkpoint's interval has passed (`gated`). The interval changes when the
+    // film is looked at, never what is added to it: the image is the same bytes.
+    let file_interval = args.checkpoint.map(Duration::from_secs_f64);
+    opts.checkpoint_interval = match (file_interval, live) {
+        (Some(f), Some(l)) => Some(f.min(l.interval)),
+        (None, Some(l)) => Some(l.interval),
+        (f, None) => f,
+    };
+    let gated = live.is_some() && file_interval.is_some();
+    if let Some(l) = live {
+        l.hub.start_render(&out.image.display().to_string(), label);
+    }
     opts.shard = out.shard;
     let cam = &scene.camera;
     opts.crop = args
@@ -906,11 +971,37 @@ fn render_one(
             _ => format!("{label}{} {:.0}%, {left}", p.pass, 100.0 * p.pass_fraction),
         };
         bar.set_message(msg);
+        if let Some(l) = live {
+            let eta = left.to_string();
+            l.hub
+                .progress(p.pass, p.pass_fraction, p.fraction, &eta, p.samples);
+        }
     };
     // A failing checkpoint is reported at once (each distinct failure once); the render goes on.
     let checkpoint_err = std::sync::Mutex::new(None::<String>);
+    let last_file = Mutex::new(Instant::now());
     let checkpoint = |film: &Film| {
-        if let Err(e) = write_outputs(&film.to_image(), out)
+        let img = film.to_image();
+        let file_due = match file_interval {
+            None => false,
+            Some(_) if !gated => true,
+            Some(iv) => last_file.lock().is_ok_and(|mut last| {
+                let due = last.elapsed() >= iv;
+                if due {
+                    *last = Instant::now();
+                }
+                due
+            }),
+        };
+        let written = if file_due {
+            write_outputs(&img, out)
+        } else {
+            Ok(())
+        };
+        if let Some(l) = live {
+            l.hub.publish(img);
+        }
+        if let Err(e) = written
             && let Ok(mut slot) = checkpoint_err.lock()
         {
             let msg = format!("{e:#}");
@@ -959,7 +1050,7 @@ fn render_one(
                 bar.suspend(|| eprintln!("warning: --save-iterations: {e:#}"));
             }
         }
-        let Some(iv) = opts.checkpoint_interval else {
+        let Some(iv) = file_interval else {
             return;
         };
         if let Ok(mut last) = last_state.lock()
@@ -1050,7 +1141,7 @@ fn render_one(
         .crop
         .map(|c| format!(" (crop {c} of {}x{})", cam.width, cam.height))
         .unwrap_or_default();
-    println!(
+    let summary = format!(
         "{}: {}{} {}x{}{crop}, {what} in {secs:.2} s{stopped}: {:.2} M samples/s, {:.2} M rays/s, {} NaN/Inf samples discarded -> {}",
         scene.name,
         kind.name(),
@@ -1062,5 +1153,10 @@ fn render_one(
         rendered.stats.nonfinite,
         out.image.display()
     );
+    println!("{summary}");
+    if let Some(l) = live {
+        l.hub.summary(&summary);
+        l.hub.publish(img.clone());
+    }
     Ok((img, scene.settings.fps))
 }

@@ -95,7 +95,7 @@ fn bad_sequences_fail_cleanly() {
             &["exclude"][..],
         ),
         (
-            vec!["--preview", "p.png", "-o", "plain.exr"],
+            vec!["--apng", "p.png", "-o", "plain.exr"],
             &["--frames"][..],
         ),
         (vec!["--shutter", "-1", "-o", "plain.exr"], &["shutter"][..]),
