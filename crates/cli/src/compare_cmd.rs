@@ -57,6 +57,21 @@ pub struct MetricArgs {
 impl MetricArgs {
     /// The crop rectangle and mask (read here) for `width`×`height` images, checked.
     pub fn region(&self, width: usize, height: usize) -> Result<Region> {
+        let mask = match &self.mask {
+            Some(m) => Some((read(m, "mask")?, m.display().to_string())),
+            None => None,
+        };
+        self.region_with(width, height, mask.as_ref().map(|(m, n)| (m, n.as_str())))
+    }
+
+    /// [`MetricArgs::region`] with the mask given as an image and the name its errors use
+    /// (`self.mask` is not read): the Python package's `compare`.
+    pub fn region_with(
+        &self,
+        width: usize,
+        height: usize,
+        mask: Option<(&Image, &str)>,
+    ) -> Result<Region> {
         let mut region = match &self.crop {
             Some(c) => {
                 // The same X,Y,W,H rule as `render --crop`, checked against the images.
@@ -70,10 +85,10 @@ impl MetricArgs {
             }
             None => Region::full(width, height),
         };
-        if let Some(m) = &self.mask {
+        if let Some((m, name)) = mask {
             region = region
-                .with_mask(&read(m, "mask")?)
-                .with_context(|| format!("mask {}", m.display()))?;
+                .with_mask(m)
+                .with_context(|| format!("mask {name}"))?;
         }
         Ok(region)
     }
