@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Tests of the Python package (python/): builds its wheel with maturin into a venv kept in
+# target/py-venv (maturin, NumPy and pytest from PyPI), installs it, and runs python/tests
+# against the `caustica` binary of the same build (CAUSTICA_BIN, default target/fast/caustica).
+#
+# The wheel is built with the `fast` profile into the workspace's target directory, so after
+# `cargo test --workspace --profile fast` (which builds the extension crate with the same
+# features) maturin only links it.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+venv=${PY_VENV:-target/py-venv}
+if ! "$venv/bin/python" -c "import maturin, numpy, pytest" >/dev/null 2>&1; then
+    python3 -m venv "$venv"
+    "$venv/bin/pip" install -q "maturin==1.16.0" "numpy==2.4.6" "pytest==9.2.0"
+fi
+cargo build -q --profile fast -p caustica-cli
+rm -rf target/wheels
+"$venv/bin/maturin" build -q --profile fast -m python/Cargo.toml -o target/wheels
+"$venv/bin/pip" install -q --force-reinstall --no-deps target/wheels/caustica-*.whl
+# From outside the source tree, so `import caustica` is the installed package.
+root=$PWD
+cd target
+CAUSTICA_BIN=${CAUSTICA_BIN:-$root/target/fast/caustica} "$root/$venv/bin/python" -m pytest -q -p no:cacheprovider "$root/python/tests" "$@"
