@@ -1,0 +1,2 @@
+//! Unit tests of the pbrt-v4 loader: every directive, and malformed input with its line and
+//! column.
