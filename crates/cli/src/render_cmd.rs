@@ -1155,7 +1155,7 @@ fn render_one(
     );
     println!("{summary}");
     if let Some(l) = live {
-        l.hub.summary(&summary);
+        l.hub.summary(&summary, stopped.is_empty());
         l.hub.publish(img.clone());
     }
     Ok((img, scene.settings.fps))

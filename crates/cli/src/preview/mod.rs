@@ -186,9 +186,17 @@ impl Hub {
         self.changed.notify_all();
     }
 
-    /// A render of the sequence has ended with this summary line.
-    pub fn summary(&self, line: &str) {
-        self.lock().snap.summaries.push(line.to_string());
+    /// A render of the sequence has ended with this summary line; `complete` unless it was
+    /// interrupted (a time budget ends a little early: the last report may say 99 %).
+    pub fn summary(&self, line: &str, complete: bool) {
+        let mut st = self.lock();
+        st.snap.summaries.push(line.to_string());
+        if complete {
+            st.snap.fraction = 1.0;
+            st.snap.pass_fraction = 1.0;
+        }
+        st.snap.eta.clear();
+        drop(st);
         self.changed.notify_all();
     }
 
@@ -368,7 +376,8 @@ mod tests {
         hub.start_render("out.exr", "frame 1 (1/2) ");
         hub.progress("camera pass", 0.5, 0.25, "ETA 3s", 10);
         hub.publish(Image::new(4, 3));
-        hub.summary("scene: path 4x3 -> \"out.exr\"");
+        assert!(hub.snapshot().to_json().contains("\"eta\":\"ETA 3s\""));
+        hub.summary("scene: path 4x3 -> \"out.exr\"", false);
         let j = hub.snapshot().to_json();
         for part in [
             "\"version\":1",
@@ -377,7 +386,7 @@ mod tests {
             "\"pass\":\"camera pass\"",
             "\"pass_percent\":50",
             "\"percent\":25",
-            "\"eta\":\"ETA 3s\"",
+            "\"eta\":\"\"",
             "\"summaries\":[\"scene: path 4x3 -> \\\"out.exr\\\"\"]",
             "\"done\":false",
         ] {

@@ -53,6 +53,8 @@ pub struct Served {
     pub any_request: AtomicBool,
     /// The newest image version sent in full.
     pub image_version: AtomicU64,
+    /// A status saying the render has ended was sent in full.
+    pub done_sent: AtomicBool,
 }
 
 /// The PNG last encoded: (version, exposure's bits, bytes), shared by the clients.
@@ -192,18 +194,18 @@ fn handle(mut stream: TcpStream, hub: &Hub, served: &Served, cache: &PngCache) -
             head,
             &[],
         ),
-        "/status" => respond(
-            &mut stream,
-            200,
-            json,
-            hub.snapshot().to_json().as_bytes(),
-            head,
-            &[],
-        ),
-        "/wait" => {
-            let after = req.param("after").and_then(|v| v.parse().ok()).unwrap_or(0);
-            let s = hub.wait(after, WAIT);
-            respond(&mut stream, 200, json, s.to_json().as_bytes(), head, &[])
+        "/status" | "/wait" => {
+            let s = if req.path == "/wait" {
+                let after = req.param("after").and_then(|v| v.parse().ok()).unwrap_or(0);
+                hub.wait(after, WAIT)
+            } else {
+                hub.snapshot()
+            };
+            respond(&mut stream, 200, json, s.to_json().as_bytes(), head, &[])?;
+            if s.done && !head {
+                served.done_sent.store(true, Ordering::SeqCst);
+            }
+            Ok(())
         }
         "/image.png" => {
             let exposure = req
@@ -304,13 +306,16 @@ fn respond(
 
 /// After the render: lets a watching page fetch the final status and image before the process
 /// exits. Returns at once if no request was ever answered, else once the final image (version
-/// `last`) has been sent or after `limit`.
+/// `last`) and a status saying "done" have been sent, or after `limit`.
 pub fn linger(served: &Served, last: u64, limit: Duration) {
     if !served.any_request.load(Ordering::SeqCst) {
         return;
     }
     let t = Instant::now();
-    while served.image_version.load(Ordering::SeqCst) < last && t.elapsed() < limit {
+    while (served.image_version.load(Ordering::SeqCst) < last
+        || !served.done_sent.load(Ordering::SeqCst))
+        && t.elapsed() < limit
+    {
         std::thread::sleep(Duration::from_millis(20));
     }
 }
