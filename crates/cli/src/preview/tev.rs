@@ -11,7 +11,7 @@
 //!   height (i32), then the channels' values one plane after the other (f32), for one tile of
 //!   [`TILE`]² pixels; every tile of the image at each snapshot and at the end.
 //!
-//! (Version 2 of UpdateImage sends all channels in one packet and is read by tev since 2019;
+//! (Version 2 of UpdateImage sends all channels in one packet and is read by tev since v1.17;
 //! version 3 only adds strides, which planar tiles do not need.)
 //!
 //! A thread of its own sends the newest snapshot of the [`Hub`] (skipping those it was too slow
@@ -135,7 +135,7 @@ impl Tev {
         for a in &addrs {
             match TcpStream::connect_timeout(a, Duration::from_secs(3)) {
                 Ok(stream) => {
-                    stream.set_write_timeout(Some(Duration::from_secs(30))).ok();
+                    stream.set_write_timeout(Some(Duration::from_secs(5))).ok();
                     stream.set_nodelay(true).ok();
                     return Ok(Tev {
                         stream,
