@@ -51,14 +51,14 @@ def main():
         for _ in range(ROUNDS):
             t = time.perf_counter()
             subprocess.run([CLI, "render", scene, *cli_args(kw), "-q", "-o", cli_out], check=True,
-                           stdout=subprocess.DEVNULL)
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             cli_t.append(time.perf_counter() - t)
             t = time.perf_counter()
             img, _ = caustica.render(caustica.load(scene), **kw)
             caustica.write(py_out, img)
             call_t.append(time.perf_counter() - t)
             t = time.perf_counter()
-            subprocess.run([sys.executable, "-c", script], check=True)
+            subprocess.run([sys.executable, "-c", script], check=True, stderr=subprocess.DEVNULL)
             proc_t.append(time.perf_counter() - t)
         same = all(np.array_equal(caustica.read(cli_out).view(np.uint32), caustica.read(p).view(np.uint32))
                    for p in (py_out, proc_out))

@@ -12,5 +12,6 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 "$venv/bin/pip" install -q "numpy==2.4.6"
 CARGO_TARGET_DIR=$PWD/target "$venv/bin/pip" install -q --force-reinstall --no-deps ./python
+root=$PWD
 cd target
-CAUSTICA=$PWD/release/caustica "$venv/bin/python" ../bench/python_overhead.py
+CAUSTICA=$root/target/release/caustica "$root/$venv/bin/python" "$root/bench/python_overhead.py"

@@ -41,13 +41,16 @@ pub fn read_image<'py>(
     let img = py
         .detach(|| caustica_cli::compare_cmd::read(&path, "image"))
         .map_err(to_py)?;
-    let mut bytes = Vec::with_capacity(img.data.len() * 12);
-    for px in &img.data {
-        for c in px {
-            bytes.extend_from_slice(&c.to_le_bytes());
-        }
-    }
-    Ok((PyByteArray::new(py, &bytes), img.width, img.height))
+    Ok((PyByteArray::new(py, &bytes(&img)), img.width, img.height))
+}
+
+/// An image as little-endian f32 RGB bytes, row-major from the top row (what `image` reads).
+pub fn bytes(img: &Image) -> Vec<u8> {
+    img.data
+        .iter()
+        .flatten()
+        .flat_map(|c| c.to_le_bytes())
+        .collect()
 }
 
 /// Writes f32 RGB bytes as EXR, PFM or PNG (by extension; PNG tone-mapped at `exposure` stops

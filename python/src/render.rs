@@ -138,12 +138,7 @@ pub fn render_image<'py>(
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let notes = notes(py, &loaded, kind, &opts, &resolved.warnings, &output)?;
     let img = output.film.to_image();
-    let mut bytes = Vec::with_capacity(img.data.len() * 12);
-    for px in &img.data {
-        for c in px {
-            bytes.extend_from_slice(&c.to_le_bytes());
-        }
-    }
+    let bytes = crate::images::bytes(&img);
     Ok((PyByteArray::new(py, &bytes), img.width, img.height, notes))
 }
 
