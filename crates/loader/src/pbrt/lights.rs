@@ -117,11 +117,27 @@ fn positive(lo: &Loader, ps: &mut Params, name: &str) -> Result<Option<f32>, Loa
     Ok(ps.float(name).map_err(|e| lo.perr(e))?.filter(|&x| x > 0.0))
 }
 
-fn push(lo: &mut Loader, light: Light, spectrum: Option<EmissionSpectrum>) {
+/// Adds `light` whose emitted value is `value`, which must be finite (a huge `scale` or
+/// `power` could overflow it).
+fn push(
+    lo: &mut Loader,
+    light: Light,
+    value: Spectrum,
+    spectrum: Option<EmissionSpectrum>,
+    (line, col): (usize, usize),
+) -> Result<(), LoadError> {
+    if !value.is_finite() {
+        return Err(lo.err(
+            line,
+            col,
+            "the light's value (times scale, power or illuminance) is not finite in single precision",
+        ));
+    }
     lo.b.add_light(light);
     if let Some(s) = spectrum {
         lo.b.set_light_spectrum(lo.b.lights().len() - 1, s);
     }
+    Ok(())
 }
 
 pub(super) fn light_source(
@@ -146,7 +162,13 @@ pub(super) fn light_source(
                 .map_err(|e| lo.perr(e))?
                 .unwrap_or(Vec3::ZERO);
             let pos = a.transform_point3(from);
-            push(lo, Light::Point(PointLight::new(pos, i * s)), spec);
+            push(
+                lo,
+                Light::Point(PointLight::new(pos, i * s)),
+                i * s,
+                spec,
+                (tl, tc),
+            )?;
         }
         "spot" => {
             let (i, spec) = light_spectrum(lo, ps, "I", line)?;
@@ -181,8 +203,10 @@ pub(super) fn light_source(
             push(
                 lo,
                 Light::Spot(SpotLight::new(p0, dir, i * s, cone, cone - delta)),
+                i * s,
                 spec,
-            );
+                (tl, tc),
+            )?;
         }
         "distant" => {
             let (l, spec) = light_spectrum(lo, ps, "L", line)?;
@@ -202,8 +226,10 @@ pub(super) fn light_source(
             push(
                 lo,
                 Light::Directional(DirectionalLight::new(dir, l * s)),
+                l * s,
                 spec,
-            );
+                (tl, tc),
+            )?;
         }
         "infinite" => {
             if let Some((f, fl, fc)) = ps.string("filename").map_err(|e| lo.perr(e))? {
@@ -224,8 +250,10 @@ pub(super) fn light_source(
             push(
                 lo,
                 Light::Environment(EnvironmentLight::constant(l * s)),
+                l * s,
                 spec,
-            );
+                (tl, tc),
+            )?;
         }
         "goniometric" | "projection" => {
             return Err(lo.err(tl, tc, format!("LightSource \"{ty}\" is not supported (supported: point, spot, distant, infinite)")));

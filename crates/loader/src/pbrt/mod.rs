@@ -34,6 +34,9 @@ use tokenizer::{Tok, Token, clip, tokenize};
 
 /// Maximum `Include`/`Import` depth.
 const MAX_INCLUDE_DEPTH: usize = 32;
+/// Most `Include`/`Import` directives a scene may run in all (a file including the next one
+/// twice, 32 deep, would otherwise mean 2³² parses).
+const MAX_INCLUDES: usize = 1 << 12;
 /// Maximum depth of the attribute stack (`AttributeBegin` without `End` in a loop of
 /// includes would otherwise grow without bound).
 const MAX_ATTRIBUTE_DEPTH: usize = 1 << 12;
@@ -146,6 +149,7 @@ pub(crate) struct Loader {
     objects: HashMap<String, Vec<ShapeRec>>,
     current_object: Option<ObjectDef>,
     instanced_triangles: usize,
+    includes: usize,
     unsupported: Vec<String>,
     approximations: Vec<String>,
     include_stack: Vec<PathBuf>,
@@ -280,6 +284,7 @@ impl Loader {
             objects: HashMap::new(),
             current_object: None,
             instanced_triangles: 0,
+            includes: 0,
             unsupported: Vec::new(),
             approximations: Vec::new(),
             include_stack: vec![canonical(path)],
@@ -867,6 +872,14 @@ impl Loader {
                 line,
                 col,
                 format!("includes nested deeper than {MAX_INCLUDE_DEPTH}"),
+            ));
+        }
+        self.includes += 1;
+        if self.includes > MAX_INCLUDES {
+            return Err(self.err(
+                line,
+                col,
+                format!("more than {MAX_INCLUDES} includes in all"),
             ));
         }
         let path = self.input_file(file, line, col)?;

@@ -91,6 +91,7 @@ pub(crate) struct Params {
 /// value (a bracketed list or one number, string or bare `true`/`false`).
 pub(crate) fn parse_params(toks: &[Token], i: &mut usize) -> Result<Params, PErr> {
     let mut out = Params::default();
+    let mut names = std::collections::HashSet::new();
     while let Some(t) = toks.get(*i) {
         let Tok::Str(decl) = &t.tok else { break };
         *i += 1;
@@ -119,7 +120,7 @@ pub(crate) fn parse_params(toks: &[Token], i: &mut usize) -> Result<Params, PErr
                 ),
             ));
         }
-        if out.list.iter().any(|p| p.name == name) {
+        if !names.insert(name) {
             return Err(PErr::at(
                 t.line,
                 t.col,

@@ -1010,3 +1010,39 @@ fn defines_on_pbrt_scenes_are_errors() {
         .unwrap();
     assert!(matches!(e, LoadError::File { .. }), "{e}");
 }
+
+#[test]
+fn includes_are_bounded_in_number_and_lights_must_stay_finite() {
+    let d = temp_dir("fan");
+    // Each file includes the next twice: 2^14 includes without a cycle.
+    for k in 0..14 {
+        std::fs::write(
+            d.join(format!("f{k}.pbrt")),
+            format!("Include \"f{0}.pbrt\"\nInclude \"f{0}.pbrt\"\n", k + 1),
+        )
+        .unwrap();
+    }
+    std::fs::write(d.join("f14.pbrt"), "Translate 0 0 0\n").unwrap();
+    let e = parse_pbrt(
+        &format!("{HEADER}Include \"f0.pbrt\"\n"),
+        &d.join("main.pbrt"),
+    )
+    .err()
+    .unwrap();
+    assert!(e.to_string().contains("more than 4096 includes"), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+    let (l, c, m) = err(&format!(
+        "{HEADER}LightSource \"point\" \"float power\" 3e38 \"float scale\" 1e10\n"
+    ));
+    assert_eq!((l, c), (3, 13));
+    assert!(m.contains("not finite"), "{m}");
+}
+
+#[test]
+fn many_parameters_parse_in_linear_time() {
+    let params: String = (0..20_000).map(|k| format!("\"float p{k}\" 1 ")).collect();
+    let t = std::time::Instant::now();
+    let b = world(&format!("Shape \"sphere\" {params}\n"));
+    assert!(t.elapsed().as_secs_f64() < 5.0);
+    assert!(warnings(&b).contains("\"float p19999\""));
+}
