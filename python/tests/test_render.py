@@ -169,3 +169,10 @@ def test_the_gil_is_released_during_a_render():
     inside = [x for x in ticks if start + 0.05 < x < end - 0.05]
     # Holding the GIL for the whole call would leave the other thread no tick at all inside it.
     assert len(inside) > 0.25 * (end - start - 0.1) / 0.002 * 0.1, len(inside)
+
+
+def test_a_pbrt_v4_scene_renders_as_its_mitsuba_version(root):
+    kw = dict(integrator="path", spp=2, width=24, seed=3)
+    a, _ = caustica.render(caustica.load(root / "scenes/pbrt-v4/cornell-box.pbrt"), **kw)
+    b, _ = caustica.render(caustica.load(root / "scenes/mitsuba/cornell-box.xml"), **kw)
+    assert a.any() and np.array_equal(a.view(np.uint32), b.view(np.uint32))
