@@ -160,8 +160,9 @@ pub struct RenderArgs {
     /// end; connected before the render starts (refused: an error).
     #[arg(long, value_name = "HOST:PORT")]
     pub tev: Option<String>,
-    /// Seconds between the snapshots of the image that --preview and --tev show (default 1;
-    /// each costs one conversion of the film, a few ms per megapixel, between passes).
+    /// Seconds between the snapshots of the image that --preview and --tev show (default 1).
+    /// A snapshot converts the film between passes (~55 ms per megapixel); snapshots are spaced
+    /// further apart when needed to keep them under 1 % of the render's time.
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub preview_interval: Option<f64>,
     /// With --frames: keep the frames whose output file exists instead of rendering them again
@@ -981,7 +982,6 @@ fn render_one(
     let checkpoint_err = std::sync::Mutex::new(None::<String>);
     let last_file = Mutex::new(Instant::now());
     let checkpoint = |film: &Film| {
-        let img = film.to_image();
         let file_due = match file_interval {
             None => false,
             Some(_) if !gated => true,
@@ -993,13 +993,23 @@ fn render_one(
                 due
             }),
         };
+        // A snapshot is skipped while the last one's cost is more than the preview's share of
+        // the time since (`Live::snapshot_due`): the conversion runs between passes.
+        let snapshot = live.filter(|l| file_due || l.snapshot_due());
+        if !file_due && snapshot.is_none() {
+            return;
+        }
+        let t = Instant::now();
+        let img = film.to_image();
+        let cost = t.elapsed();
         let written = if file_due {
             write_outputs(&img, out)
         } else {
             Ok(())
         };
-        if let Some(l) = live {
+        if let Some(l) = snapshot {
             l.hub.publish(img);
+            l.snapshot_taken(cost);
         }
         if let Err(e) = written
             && let Ok(mut slot) = checkpoint_err.lock()

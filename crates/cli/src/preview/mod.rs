@@ -218,7 +218,15 @@ pub struct Live {
     pub interval: Duration,
     served: Option<Arc<server::Served>>,
     tev: Option<std::thread::JoinHandle<()>>,
+    /// No snapshot before this instant (see [`Live::snapshot_due`]).
+    next_snapshot: Mutex<Instant>,
 }
+
+/// The share of the render's time that snapshots may take, at most: after a snapshot that took
+/// `d` (converting the film to an image, between passes, while the workers wait), the next one
+/// comes no sooner than `d / SNAPSHOT_SHARE` later. At 256² a conversion takes ~3.5 ms, so the
+/// interval decides; at 1 megapixel ~55 ms, so snapshots come every ~5.5 s at most.
+pub const SNAPSHOT_SHARE: f64 = 0.01;
 
 /// How long, at most, the process waits after the render for a watching page to fetch the
 /// final image.
@@ -253,7 +261,23 @@ impl Live {
             interval,
             served,
             tev,
+            next_snapshot: Mutex::new(Instant::now()),
         }))
+    }
+
+    /// Whether a snapshot may be taken now: the last one's cost is at most [`SNAPSHOT_SHARE`]
+    /// of the time since it.
+    pub fn snapshot_due(&self) -> bool {
+        self.next_snapshot
+            .lock()
+            .map_or(true, |t| Instant::now() >= *t)
+    }
+
+    /// A snapshot was taken; it cost `cost`.
+    pub fn snapshot_taken(&self, cost: Duration) {
+        if let Ok(mut t) = self.next_snapshot.lock() {
+            *t = Instant::now() + cost.div_f64(SNAPSHOT_SHARE);
+        }
     }
 
     /// The render (or sequence) has ended, with `error` if it failed: the page says so and may
