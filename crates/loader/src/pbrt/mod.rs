@@ -1,9 +1,9 @@
 //! Loader for pbrt-v4 scene files (`.pbrt`), the subset documented in `docs/pbrt.md`.
 //!
-//! The file is tokenized ([`tokenizer`]), then its directives run in order against pbrt's
-//! graphics state ([`graphics_state`]): transforms compose into the CTM, `AttributeBegin`/`End`
+//! The file is tokenized (`tokenizer.rs`), then its directives run in order against pbrt's
+//! graphics state (`graphics_state.rs`): transforms compose into the CTM, `AttributeBegin`/`End`
 //! save and restore it with the material and area light, and shapes, lights and the camera
-//! take the CTM in effect. Every directive's parameter list ([`params`]) is checked against its
+//! take the CTM in effect. Every directive's parameter list (`params.rs`) is checked against its
 //! declared types; parameters a converter does not take, and directives caustica ignores, are
 //! reported in ONE warning naming each with its line. Directives whose absence would change
 //! what the image means (unknown shape, material or light types, media, missing files) are
