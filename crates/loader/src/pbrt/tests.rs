@@ -1046,3 +1046,18 @@ fn many_parameters_parse_in_linear_time() {
     assert!(t.elapsed().as_secs_f64() < 5.0);
     assert!(warnings(&b).contains("\"float p19999\""));
 }
+
+#[test]
+fn emitting_meshes_face_their_vertex_normals_like_pbrt() {
+    // Winding faces +z, the normals −z: pbrt emits toward the normals.
+    let tri = "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ] \"normal N\" [ 0 0 -1 0 0 -1 0 0 -1 ]";
+    let b = world(&format!(
+        "AttributeBegin\nAreaLightSource \"diffuse\"\n{tri}\nAttributeEnd\n{tri}\n"
+    ));
+    assert_eq!(mesh(&b, 0).indices[0], [0, 2, 1], "the emitter is rewound");
+    assert_eq!(
+        mesh(&b, 1).indices[0],
+        [0, 1, 2],
+        "other meshes keep their winding"
+    );
+}
