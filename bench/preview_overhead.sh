@@ -31,9 +31,9 @@ csv="$work/overhead.csv"
 # shellcheck source=bench/timing_lib.sh
 source bench/timing_lib.sh
 renders=(
-  "path|cornell-box --integrator path --spp 16 --width 256 --height 256"
-  "pds|glass-sphere --integrator pds --spp 2 --light-paths 600000 --smoothing 4 --width 256 --height 256"
-  "pppm|caustic-box --integrator pppm --iterations 8 --photons-per-iteration 20000 --width 192 --height 192"
+  "path|cornell-box --integrator path --spp 48 --width 256 --height 256"
+  "pds|glass-sphere --integrator pds --spp 2 --light-paths 2000000 --smoothing 4 --width 256 --height 256"
+  "pppm|caustic-box --integrator pppm --iterations 16 --photons-per-iteration 20000 --width 192 --height 192"
 )
 
 # The page's loop: long-poll /wait, fetch the image at each new version, stop at "done" (or
