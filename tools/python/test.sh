@@ -14,7 +14,9 @@ if ! "$venv/bin/python" -c "import maturin, numpy, pytest" >/dev/null 2>&1; then
     python3 -m venv "$venv"
     "$venv/bin/pip" install -q "maturin==1.16.0" "numpy==2.4.6" "pytest==9.2.0"
 fi
-cargo build -q --profile fast -p caustica-cli
+# The binary with the features `cargo test --workspace` unifies (built by it already; a
+# `-p caustica-cli` build would unify fewer and compile the renderer again).
+cargo build -q --profile fast --workspace --bin caustica
 rm -rf target/wheels
 "$venv/bin/maturin" build -q --profile fast -m python/Cargo.toml -o target/wheels
 "$venv/bin/pip" install -q --force-reinstall --no-deps target/wheels/caustica-*.whl
