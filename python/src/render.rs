@@ -3,10 +3,10 @@
 use crate::errors::to_py;
 use crate::options;
 use crate::scene::PyScene;
-use caustica_cli::render_cmd::{Resolution, ShutterOverride, load_at, parse_defines};
+use caustica_cli::render_cmd::{Resolution, ShutterOverride, load_at};
 use caustica_render::{IntegratorKind, RenderControl, RenderOutput, render};
 use caustica_scene::Scene;
-use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict};
 use std::sync::Arc;
@@ -49,17 +49,13 @@ pub fn render_image<'py>(
         || settings.shutter.is_some()
         || settings.spectral;
     let loaded: Arc<Scene> = if overrides {
-        let defines = parse_defines(&settings.define).map_err(to_py)?;
-        let defines = if defines.is_empty() {
-            scene.defines.clone()
-        } else {
-            defines
-        };
+        // (`-D` is not a keyword of render(): the scene keeps the definitions it was loaded with.)
+        let defines = &scene.defines;
         let mut s = py
             .detach(|| {
                 load_at(
                     scene.source.as_deref(),
-                    &defines,
+                    defines,
                     Resolution {
                         width: settings.width,
                         height: settings.height,
@@ -133,8 +129,9 @@ pub fn render_image<'py>(
     if let Some(e) = interrupt {
         return Err(e);
     }
+    // (A panicking render thread would re-panic at the scope's end, before this.)
     let output = output
-        .ok_or_else(|| PyKeyboardInterrupt::new_err("the render thread ended without a result"))?
+        .ok_or_else(|| PyRuntimeError::new_err("the render thread ended without a result"))?
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let notes = notes(py, &loaded, kind, &opts, &resolved.warnings, &output)?;
     let img = output.film.to_image();

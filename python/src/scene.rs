@@ -50,7 +50,7 @@ impl PyScene {
     fn spp(&self) -> Option<u32> {
         self.scene.settings.spp
     }
-    /// The `<default>` parameters given to `load`, as a dict of strings.
+    /// The `<default>` parameters given to `load`, as (name, value) pairs of strings.
     #[getter]
     fn defaults(&self) -> Vec<(String, String)> {
         self.defines.clone()

@@ -40,7 +40,8 @@ def test_render_equals_the_cli_exr_bit_for_bit(cli, root, tmp_path, scene, args,
     image, notes = caustica.render(caustica.load(scene, **defaults), **kwargs)
     assert image.dtype == np.float32 and image.shape == expected.shape
     assert np.array_equal(image.view(np.uint32), expected.view(np.uint32))
-    assert notes["integrator"] == (kwargs.get("integrator") or notes["integrator"])
+    if "integrator" in kwargs:
+        assert notes["integrator"] == kwargs["integrator"]
     assert image.any()
 
 
@@ -115,9 +116,10 @@ def test_bad_values_are_valueerrors_with_the_cli_message(cli, tmp_path, args, kw
     (dict(define="x=1"), "define"),
 ])
 def test_wrong_argument_types_and_names_are_typeerrors_naming_them(kwargs, name):
+    given = dict(spp=1, width=8)
+    given.update(kwargs)
     with pytest.raises(TypeError) as e:
-        caustica.render(caustica.load("caustic-box"), spp=1, width=8, **{k: v for k, v in kwargs.items()})\
-            if "spp" not in kwargs else caustica.render(caustica.load("caustic-box"), width=8, **kwargs)
+        caustica.render(caustica.load("caustic-box"), **given)
     assert f"'{name}'" in str(e.value)
 
 
@@ -167,8 +169,9 @@ def test_the_gil_is_released_during_a_render():
     t.join()
     assert end - start > 0.3, "the render is too short to tell"
     inside = [x for x in ticks if start + 0.05 < x < end - 0.05]
-    # Holding the GIL for the whole call would leave the other thread no tick at all inside it.
-    assert len(inside) > 0.25 * (end - start - 0.1) / 0.002 * 0.1, len(inside)
+    # Holding the GIL for the whole call would leave the other thread no tick at all inside it;
+    # released, it ticks about every 2 ms (at least 10 even on a machine busy elsewhere).
+    assert len(inside) >= 10, len(inside)
 
 
 def test_a_pbrt_v4_scene_renders_as_its_mitsuba_version(root):

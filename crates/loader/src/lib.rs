@@ -11,6 +11,8 @@ pub mod mitsuba;
 pub mod obj;
 pub mod pbrt;
 pub mod ply;
+mod report;
+mod similarity;
 pub mod toml;
 pub mod vol;
 

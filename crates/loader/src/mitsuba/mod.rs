@@ -75,19 +75,12 @@ pub fn parse_mitsuba(
             },
         });
     }
-    if !lo.unsupported.is_empty() {
-        lo.b.warnings.push(format!(
-            "Mitsuba scene: ignored {} unsupported element(s): {}",
-            lo.unsupported.len(),
-            lo.unsupported.join("; ")
-        ));
-    }
-    if !lo.approximations.is_empty() {
-        lo.b.warnings.push(format!(
-            "Mitsuba scene: approximated: {}",
-            lo.approximations.join("; ")
-        ));
-    }
+    crate::report::push_warnings(
+        &mut lo.b,
+        "Mitsuba scene",
+        &lo.unsupported,
+        &lo.approximations,
+    );
     Ok(lo.b)
 }
 

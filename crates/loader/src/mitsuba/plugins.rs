@@ -1,10 +1,11 @@
 //! Conversion of Mitsuba plugins (BSDFs, shapes, emitters, sensor, integrator) to caustica's.
 
-use super::transform::{affine, is_rigid, uniform_scale};
+use super::transform::{affine, is_rigid};
 use super::{Doc, Loader, MAX_NESTING, Props};
 use crate::MAX_FILM_PIXELS;
 use crate::error::LoadError;
 use crate::media::{open_boundary_reason, open_boundary_warning};
+use crate::similarity::uniform_scale;
 use crate::{load_obj, load_ply};
 use caustica_core::{Affine3A, Spectrum, Vec2, Vec3, Vec3A};
 use caustica_scene::camera::{FovAxis, PerspectiveCamera};

@@ -126,14 +126,3 @@ pub(super) fn is_rigid(m: &Affine3A) -> bool {
     let m3 = Mat3::from(m.matrix3);
     (m3.transpose() * m3).abs_diff_eq(Mat3::IDENTITY, 1e-4)
 }
-
-/// Uniform scale factor of `m` (columns orthogonal with equal lengths), or `None`.
-pub(super) fn uniform_scale(m: &Affine3A) -> Option<f32> {
-    let m3 = Mat3::from(m.matrix3);
-    let s2 = m3.x_axis.length_squared();
-    if !(s2 > 0.0 && s2.is_finite()) {
-        return None;
-    }
-    let g = m3.transpose() * m3 * (1.0 / s2);
-    g.abs_diff_eq(Mat3::IDENTITY, 1e-4).then(|| s2.sqrt())
-}

@@ -1032,19 +1032,12 @@ impl Loader {
 
     fn finish(mut self) -> Result<SceneBuilder, LoadError> {
         camera::finish_camera(&mut self)?;
-        if !self.unsupported.is_empty() {
-            self.b.warnings.push(format!(
-                "pbrt scene: ignored {} unsupported item(s): {}",
-                self.unsupported.len(),
-                self.unsupported.join("; ")
-            ));
-        }
-        if !self.approximations.is_empty() {
-            self.b.warnings.push(format!(
-                "pbrt scene: approximated: {}",
-                self.approximations.join("; ")
-            ));
-        }
+        crate::report::push_warnings(
+            &mut self.b,
+            "pbrt scene",
+            &self.unsupported,
+            &self.approximations,
+        );
         Ok(self.b)
     }
 }

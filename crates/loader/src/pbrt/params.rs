@@ -396,21 +396,8 @@ impl Params {
     /// One float.
     pub fn float(&mut self, name: &str) -> Result<Option<f32>, PErr> {
         let pos = self.pos(name);
-        match self.floats(name)? {
-            None => Ok(None),
-            Some(v) if v.len() == 1 => Ok(Some(v[0])),
-            Some(v) => {
-                let (l, c) = pos.unwrap_or((0, 0));
-                Err(PErr::at(
-                    l,
-                    c,
-                    format!(
-                        "parameter '{name}' must be one float, got {} values",
-                        v.len()
-                    ),
-                ))
-            }
-        }
+        let v = self.floats(name)?;
+        single(name, "float", pos, v)
     }
 
     /// Integer array.
@@ -423,21 +410,8 @@ impl Params {
     /// One integer.
     pub fn int(&mut self, name: &str) -> Result<Option<i64>, PErr> {
         let pos = self.pos(name);
-        match self.ints(name)? {
-            None => Ok(None),
-            Some(v) if v.len() == 1 => Ok(Some(v[0])),
-            Some(v) => {
-                let (l, c) = pos.unwrap_or((0, 0));
-                Err(PErr::at(
-                    l,
-                    c,
-                    format!(
-                        "parameter '{name}' must be one integer, got {} values",
-                        v.len()
-                    ),
-                ))
-            }
-        }
+        let v = self.ints(name)?;
+        single(name, "integer", pos, v)
     }
 
     /// One bool.
@@ -596,5 +570,29 @@ impl Params {
             .filter(|p| !p.used)
             .map(|p| (format!("\"{} {}\"", p.ty, clip(&p.name)), p.line))
             .collect()
+    }
+}
+
+/// The one value of parameter `name` (`what` it holds, for the error at its declaration `pos`).
+fn single<T: Copy>(
+    name: &str,
+    what: &str,
+    pos: Option<(usize, usize)>,
+    values: Option<Vec<T>>,
+) -> Result<Option<T>, PErr> {
+    match values {
+        None => Ok(None),
+        Some(v) if v.len() == 1 => Ok(Some(v[0])),
+        Some(v) => {
+            let (l, c) = pos.unwrap_or((0, 0));
+            Err(PErr::at(
+                l,
+                c,
+                format!(
+                    "parameter '{name}' must be one {what}, got {} values",
+                    v.len()
+                ),
+            ))
+        }
     }
 }

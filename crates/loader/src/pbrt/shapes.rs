@@ -7,7 +7,8 @@ use super::graphics_state::Xf;
 use super::params::Params;
 use super::tokenizer::clip;
 use crate::error::LoadError;
-use caustica_core::{Affine3A, Mat3, Vec2, Vec3, Vec3A};
+use crate::similarity::uniform_scale;
+use caustica_core::{Affine3A, Vec2, Vec3, Vec3A};
 use caustica_scene::shape::{Disk, ShapeGeometry, Sphere, TriangleMesh};
 use glam::Vec4;
 
@@ -17,17 +18,6 @@ pub(crate) fn affine(x: &Xf) -> Option<Affine3A> {
         return None;
     }
     Some(Affine3A::from_mat4(x.m))
-}
-
-/// The uniform scale factor of `m` (orthogonal columns of equal length), or `None`.
-fn uniform_scale(m: &Affine3A) -> Option<f32> {
-    let m3 = Mat3::from(m.matrix3);
-    let s2 = m3.x_axis.length_squared();
-    if !(s2 > 0.0 && s2.is_finite()) {
-        return None;
-    }
-    let g = m3.transpose() * m3 * (1.0 / s2);
-    g.abs_diff_eq(Mat3::IDENTITY, 1e-4).then(|| s2.sqrt())
 }
 
 /// A sphere, disk or mesh of an object definition moved by an instance's transform `a`.
