@@ -544,11 +544,25 @@ fn a_time_budget_is_kept_by_every_integrator() {
             "-o",
             out.to_str().unwrap(),
         ]);
-        let secs = start.elapsed().as_secs_f64();
+        let wall = start.elapsed().as_secs_f64();
         assert!(o.status.success(), "{kind}: {}", stderr(&o));
-        eprintln!("{kind}: {secs:.2} s for --time 3");
-        // Process start-up, scene build and the EXR write are outside the renderer's clock.
-        assert!(secs < 3.3 + 0.3, "{kind}: {secs:.2} s for --time 3");
+        // The renderer's own clock, from the summary's "… in 3.08 s": it is what the budget
+        // bounds. The process's wall time adds start-up, scene build and the EXR write, and on
+        // CI's two cores shared with other test binaries, waits for a core; it is checked only
+        // loosely (a budget ignored would take minutes here).
+        let summary = String::from_utf8_lossy(&o.stdout);
+        let secs: f64 = summary
+            .split(" in ")
+            .nth(1)
+            .and_then(|t| t.split(" s").next())
+            .and_then(|t| t.trim().parse().ok())
+            .unwrap_or_else(|| panic!("{kind}: no render time in {summary:?}"));
+        eprintln!("{kind}: rendered in {secs:.2} s, process {wall:.2} s, for --time 3");
+        assert!(
+            secs < 3.3 + 0.3,
+            "{kind}: rendered in {secs:.2} s for --time 3"
+        );
+        assert!(wall < 3.0 + 5.0, "{kind}: process {wall:.2} s for --time 3");
         let img = Image::read(&out).unwrap();
         assert!(img.data.iter().any(|p| p[0] > 0.0), "{kind}: black image");
     }

@@ -84,14 +84,19 @@ pub fn run_chunk<P>(
 
 /// Chunks of the next wave toward `target` records when `found` records came from `emitted`
 /// paths so far: 16 chunks while nothing is found, then enough for the remaining records at the
-/// yield so far plus 5 %, between 1 and 256 chunks. Counts only, so the waves are the same on
-/// every machine.
+/// yield so far plus 5 %, between 1 and 256 chunks, and at most as many paths as were emitted
+/// before (waves at most double, so a time budget or Ctrl-C, checked between waves, is overrun
+/// by at most the time already spent, never by a sudden 2²⁰-path wave after a 2¹⁶-path one).
+/// Counts only, so the waves are the same on every machine; the records do not depend on the
+/// waves at all (the [`Cut`] is in path order).
 pub fn next_wave(target: usize, found: usize, emitted: u64) -> u64 {
     let wave = if found == 0 {
         16 * CHUNK
     } else {
         let per_path = found as f64 / emitted as f64;
-        (((target - found) as f64 / per_path * 1.05) as u64).clamp(CHUNK, 256 * CHUNK)
+        (((target - found) as f64 / per_path * 1.05) as u64)
+            .clamp(CHUNK, 256 * CHUNK)
+            .min(emitted.max(16 * CHUNK))
     };
     wave.div_ceil(CHUNK)
 }
@@ -446,6 +451,25 @@ mod tests {
         assert_eq!(rec, expected);
         assert_eq!(stats.samples, n);
         assert_eq!(waves, vec![RANGE_WAVE * CHUNK, n]);
+    }
+
+    #[test]
+    fn waves_at_most_double_so_a_budget_is_overrun_by_little() {
+        // A plentiful yield toward a huge target would ask for the 256-chunk maximum at once;
+        // the waves grow 16, 16, 32, 64, … chunks instead, each at most the paths so far.
+        let mut waves = Vec::new();
+        let mut emitted = 0;
+        let mut chunks = 0;
+        while chunks < 256 {
+            chunks = next_wave(10_000_000, emitted as usize / 2, emitted.max(1));
+            waves.push(chunks);
+            assert!(emitted == 0 || chunks * CHUNK <= emitted.max(16 * CHUNK));
+            emitted += chunks * CHUNK;
+        }
+        assert_eq!(waves, vec![16, 16, 32, 64, 128, 256]);
+        // Near the target the wave is what is missing (10 records at 990 per 2²⁰ paths, plus
+        // 5 %: 11 118 paths, 3 chunks), not the doubling bound.
+        assert_eq!(next_wave(1_000, 990, 1 << 20), 3);
     }
 
     #[test]
