@@ -1,15 +1,15 @@
 //! All shapes of a scene behind one BVH: closest-hit and shadow queries.
 //!
-//! Every primitive (mesh triangle, sphere, disk) is a leaf primitive of the same 4-wide BVH
-//! ([`WideBvh`]: obvhs's PLOC build collapsed to four children per node, boxes and triangles
-//! tested four at a time). The primitives are copied in BVH order into a compact array
+//! Every primitive (mesh triangle, sphere, disk) is a leaf primitive of the same wide BVH
+//! ([`WideBvh`]: obvhs's PLOC build collapsed to eight children per node with AVX2, four
+//! without; boxes tested eight or four at a time, triangles four at a time). The primitives are copied in BVH order into a compact array
 //! (triangles as their three vertices). Traversal only tracks `(t, primitive, b1, b2)`; the full
 //! [`SurfaceInteraction`] is computed once, for the closest hit.
 
+use crate::bvh::{BvhWidth, WideBvh, WideHit};
 use crate::intersection::{SurfaceInteraction, TriangleVertices};
 use crate::shape::mesh::{TriangleConstants, TriangleMesh, TriangleRay};
 use crate::shape::{Aabb, Disk, Shape, ShapeGeometry, Sphere};
-use crate::wide_bvh::{BoxRay, WideBvh, WideHit};
 use caustica_core::{Ray, Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -50,7 +50,7 @@ impl PrimGeom {
 /// The scene's shapes and their acceleration structure.
 pub struct Geometry {
     pub shapes: Vec<Shape>,
-    /// The 4-wide BVH over all primitives (empty when there are none).
+    /// The wide BVH over all primitives (empty when there are none).
     pub bvh: WideBvh,
     bounds: Aabb,
     /// Primitive geometry in BVH order (40 bytes each).
@@ -81,6 +81,12 @@ impl Geometry {
     /// skipped: triangles with out-of-range indices or non-finite vertices, spheres and disks
     /// with non-positive or non-finite radii (loaders report those; nothing here panics).
     pub fn build(shapes: Vec<Shape>) -> Self {
+        Self::build_with_width(shapes, BvhWidth::detect())
+    }
+
+    /// [`Self::build`] with BVH nodes of the given width (four where the CPU cannot run
+    /// eight): to test the fallback and compare the two on one machine.
+    pub fn build_with_width(shapes: Vec<Shape>, width: BvhWidth) -> Self {
         // (shape, primitive) of every candidate primitive, in shape order.
         let mut ids: Vec<(u32, u32)> = Vec::new();
         let mut moving_ids: Vec<(u32, u32)> = Vec::new();
@@ -138,7 +144,7 @@ impl Geometry {
                 _ => None,
             })
             .collect();
-        let bvh = WideBvh::build(&vboxes, &vtris);
+        let bvh = WideBvh::build_with_width(&vboxes, &vtris, width);
         // BVH order → index into `geoms` / `ids`.
         let order: Vec<u32> = bvh.order().iter().map(|&k| valid[k as usize]).collect();
         let prims: Vec<PrimGeom> = order
@@ -189,21 +195,21 @@ impl Geometry {
 
     /// The two prepared rays of a traversal, or `None` when nothing can be hit.
     #[inline(always)]
-    fn rays(&self, ray: &Ray) -> Option<(TriangleRay, BoxRay)> {
+    fn rays(&self, ray: &Ray) -> Option<TriangleRay> {
         if (self.prims.is_empty() && self.moving.ids.is_empty())
             || ray.t_max.is_nan()
             || ray.t_max <= 0.0
         {
             return None;
         }
-        Some((TriangleRay::new(ray.o, ray.d), BoxRay::new(ray.o, ray.d)))
+        Some(TriangleRay::new(ray.o, ray.d))
     }
 
     #[inline]
     fn closest(&self, ray: &Ray) -> Option<WideHit> {
-        let (tr, br) = self.rays(ray)?;
+        let tr = self.rays(ray)?;
         let (o, d) = (ray.o, ray.d);
-        let hit = self.bvh.closest(&tr, &br, ray.t_max, |k, t_max| {
+        let hit = self.bvh.closest(o, d, &tr, ray.t_max, |k, t_max| {
             self.prims[k as usize].intersect(&tr, o, d, t_max)
         });
         if self.moving.ids.is_empty() {
@@ -211,9 +217,12 @@ impl Geometry {
         }
         let t_max = hit.map_or(ray.t_max, |h| h.t);
         let base = self.prims.len() as u32;
-        match self.moving.bvh.closest(&tr, &br, t_max, |k, t_max| {
-            self.moving_intersect(k, &tr, ray.time, t_max)
-        }) {
+        match self
+            .moving
+            .bvh
+            .closest(ray.o, ray.d, &tr, t_max, |k, t_max| {
+                self.moving_intersect(k, &tr, ray.time, t_max)
+            }) {
             // Moving triangles are numbered after the static primitives.
             Some(h) => Some(WideHit {
                 prim: base + h.prim,
@@ -260,14 +269,14 @@ impl Geometry {
 
     /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let Some((tr, br)) = self.rays(ray) else {
+        let Some(tr) = self.rays(ray) else {
             return false;
         };
         let (o, d) = (ray.o, ray.d);
-        self.bvh.any(&tr, &br, ray.t_max, |k, t_max| {
+        self.bvh.any(o, d, &tr, ray.t_max, |k, t_max| {
             self.prims[k as usize].intersect(&tr, o, d, t_max)
         }) || (!self.moving.ids.is_empty()
-            && self.moving.bvh.any(&tr, &br, ray.t_max, |k, t_max| {
+            && self.moving.bvh.any(o, d, &tr, ray.t_max, |k, t_max| {
                 self.moving_intersect(k, &tr, ray.time, t_max)
             }))
     }

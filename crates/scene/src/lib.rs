@@ -1,7 +1,8 @@
 //! Scene description of caustica: everything a ray can meet.
 //!
 //! * [`shape`] — triangle meshes, spheres, disks; [`geometry`] puts all their primitives in one
-//!   4-wide BVH ([`wide_bvh`], built from the `obvhs` crate's binary tree) and answers closest-hit and shadow queries with a
+//!   wide BVH ([`bvh`]: eight children per node with AVX2, four with SSE, collapsed from the
+//!   `obvhs` crate's binary tree) and answers closest-hit and shadow queries with a
 //!   [`SurfaceInteraction`].
 //! * [`bsdf`] — scattering functions in the local shading frame; [`material`] builds a
 //!   [`bsdf::Bsdf`] at a hit from (textured) parameters; [`texture`] evaluates those.
@@ -31,6 +32,7 @@
 //!   declared two-sided.
 
 pub mod bsdf;
+pub mod bvh;
 pub mod camera;
 pub mod dispersion;
 pub mod error;
@@ -43,7 +45,6 @@ pub mod phase;
 pub mod scene;
 pub mod shape;
 pub mod texture;
-pub mod wide_bvh;
 
 pub use error::SceneError;
 pub use intersection::SurfaceInteraction;

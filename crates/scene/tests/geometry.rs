@@ -2,10 +2,19 @@
 
 use caustica_core::sampling::Pcg32;
 use caustica_core::{Affine3A, PI, Ray, Vec2, Vec3};
+use caustica_scene::bvh::BvhWidth;
 use caustica_scene::geometry::Geometry;
 use caustica_scene::intersection::NONE;
 use caustica_scene::shape::mesh::intersect_triangle;
 use caustica_scene::shape::{Disk, Shape, ShapeGeometry, Sphere, TriangleMesh};
+
+/// Every BVH width this CPU runs: the fallback (four) always, eight where AVX2 is present.
+fn widths() -> Vec<BvhWidth> {
+    [BvhWidth::Four, BvhWidth::Eight]
+        .into_iter()
+        .filter(|w| w.supported())
+        .collect()
+}
 
 fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
     (a - b).abs().max_element() <= tol
@@ -91,7 +100,15 @@ fn brute_force(shapes: &[Shape], ray: &Ray) -> Option<(f32, u32, u32)> {
 fn bvh_matches_brute_force_on_random_rays() {
     let mut rng = Pcg32::new(7, 1);
     let shapes = random_scene(&mut rng);
-    let geo = Geometry::build(shapes.clone());
+    for width in widths() {
+        random_rays_match_brute_force(&shapes, width, rng.clone());
+    }
+}
+
+fn random_rays_match_brute_force(shapes: &[Shape], width: BvhWidth, mut rng: Pcg32) {
+    let shapes = shapes.to_vec();
+    let geo = Geometry::build_with_width(shapes.clone(), width);
+    assert_eq!(geo.bvh.width(), width);
     assert_eq!(geo.primitive_count(), 800 + 50);
     let mut hits = 0;
     let mut occluded = 0;
@@ -146,7 +163,13 @@ fn large_mesh_bvh_matches_brute_force() {
         m.indices.push([3 * t, 3 * t + 1, 3 * t + 2]);
     }
     let shapes = vec![Shape::new(ShapeGeometry::Mesh(m), 0)];
-    let geo = Geometry::build(shapes.clone());
+    for width in widths() {
+        large_mesh_matches(&shapes, n, width, rng.clone());
+    }
+}
+
+fn large_mesh_matches(shapes: &[Shape], n: u32, width: BvhWidth, mut rng: Pcg32) {
+    let geo = Geometry::build_with_width(shapes.to_vec(), width);
     assert_eq!(geo.primitive_count(), n as usize);
     // Every primitive appears exactly once in the BVH order.
     let mut seen = vec![false; n as usize];
@@ -157,9 +180,9 @@ fn large_mesh_bvh_matches_brute_force() {
     assert!(seen.iter().all(|&s| s));
     for i in 0..300 {
         let ray = Ray::new(rand_vec(&mut rng, -25.0, 25.0), rand_dir(&mut rng));
-        let e = brute_force(&shapes, &ray).map(|h| (h.1, h.2));
+        let e = brute_force(shapes, &ray).map(|h| (h.1, h.2));
         let g = geo.intersect(&ray).map(|s| (s.shape, s.prim));
-        assert_eq!(e, g, "ray {i}");
+        assert_eq!(e, g, "{width:?}, ray {i}");
         assert_eq!(geo.occluded(&ray), e.is_some());
     }
 }
@@ -183,10 +206,15 @@ fn build_is_independent_of_thread_count() {
             .num_threads(threads)
             .build()
             .expect("thread pool")
-            .install(|| Geometry::build(shapes.clone()))
+            .install(|| {
+                widths()
+                    .into_iter()
+                    .map(|w| Geometry::build_with_width(shapes.clone(), w).bvh)
+                    .collect::<Vec<_>>()
+            })
     };
     let (a, b, c) = (build(1), build(2), build(4));
-    assert!(a.bvh == b.bvh && a.bvh == c.bvh);
+    assert!(a == b && a == c);
 }
 
 #[test]
@@ -204,14 +232,20 @@ fn coincident_triangles_match_brute_force() {
         m.indices.push([3 * t, 3 * t + 1, 3 * t + 2]);
     }
     let shapes = vec![Shape::new(ShapeGeometry::Mesh(m), 0)];
-    let geo = Geometry::build(shapes.clone());
+    for width in widths() {
+        coincident_match(&shapes, width);
+    }
+}
+
+fn coincident_match(shapes: &[Shape], width: BvhWidth) {
+    let geo = Geometry::build_with_width(shapes.to_vec(), width);
     let mut rng = Pcg32::new(5, 9);
     let mut hits = 0;
     for i in 0..500 {
         let o = Vec3::new(0.0, 0.0, 3.0) + rand_vec(&mut rng, -1.0, 1.0);
         let d = (rand_vec(&mut rng, -1.2, 1.2).with_z(0.0) - o).normalize();
         let ray = Ray::new(o, d);
-        let e = brute_force(&shapes, &ray).map(|h| h.0);
+        let e = brute_force(shapes, &ray).map(|h| h.0);
         let g = geo.hit_distance(&ray);
         match (e, g) {
             (Some(a), Some(b)) => assert!((a - b).abs() <= 1e-5 * a, "ray {i}: {a} vs {b}"),
@@ -568,9 +602,15 @@ fn closed_sphere(n: u32) -> TriangleMesh {
 fn closed_mesh_does_not_leak() {
     // Rays from inside a closed mesh must all hit it from the inside (ng · d > 0), including
     // rays aimed exactly at shared vertices and through the pole fans.
+    for width in widths() {
+        closed_mesh_holds(width);
+    }
+}
+
+fn closed_mesh_holds(width: BvhWidth) {
     let mesh = closed_sphere(64);
     let targets = mesh.positions.clone();
-    let geo = Geometry::build(vec![Shape::new(ShapeGeometry::Mesh(mesh), 0)]);
+    let geo = Geometry::build_with_width(vec![Shape::new(ShapeGeometry::Mesh(mesh), 0)], width);
     let mut rng = Pcg32::new(5, 9);
     let mut rays: Vec<Ray> = (0..20_000)
         .map(|_| Ray::new(rand_vec(&mut rng, -0.3, 0.3), rand_dir(&mut rng)))
@@ -591,7 +631,12 @@ fn closed_mesh_does_not_leak() {
         }
         assert!(geo.occluded(ray) || geo.intersect(ray).is_none());
     }
-    assert_eq!(leaks, 0, "{leaks} of {} rays escaped", rays.len());
+    assert_eq!(
+        leaks,
+        0,
+        "{width:?}: {leaks} of {} rays escaped",
+        rays.len()
+    );
 }
 
 #[test]
@@ -619,4 +664,63 @@ fn tiny_scenes_and_short_hits_are_found() {
         let ray = Ray::with_t_max(o, -Vec3::Z, 0.9e-5);
         assert!(geo.hit_distance(&ray).is_none() && !geo.occluded(&ray));
     }
+}
+
+#[test]
+fn both_bvh_widths_give_bit_identical_hits() {
+    // The 8-wide (AVX2) layout and the 4-wide fallback test the same boxes and the same
+    // triangles with the same operations; only the visiting order differs. On a closed mesh
+    // with rays from inside and outside, some aimed exactly at vertices (where hits tie), the
+    // full hit records must agree bit for bit.
+    if !BvhWidth::Eight.supported() {
+        eprintln!("no AVX2: only the fallback runs on this CPU");
+        return;
+    }
+    let mesh = closed_sphere(256);
+    let targets = mesh.positions.clone();
+    let shapes = vec![
+        Shape::new(ShapeGeometry::Mesh(mesh), 0),
+        Shape::new(
+            ShapeGeometry::Sphere(Sphere {
+                center: Vec3::new(0.0, 0.0, 2.5),
+                radius: 0.5,
+            }),
+            1,
+        ),
+    ];
+    let four = Geometry::build_with_width(shapes.clone(), BvhWidth::Four);
+    let eight = Geometry::build_with_width(shapes, BvhWidth::Eight);
+    assert!(eight.bvh.node_count() < four.bvh.node_count());
+    let mut rng = Pcg32::new(21, 4);
+    let mut rays: Vec<Ray> = (0..20_000)
+        .map(|i| {
+            let o = rand_vec(&mut rng, -4.0, 4.0) * if i % 2 == 0 { 0.1 } else { 1.0 };
+            let t_max = if i % 5 == 0 { 1.0 } else { f32::INFINITY };
+            Ray::with_t_max(o, rand_dir(&mut rng), t_max)
+        })
+        .collect();
+    rays.extend(targets.iter().step_by(7).map(|v| {
+        let o = Vec3::new(0.01, -0.02, 0.03);
+        Ray::new(o, (*v - o).normalize())
+    }));
+    let key = |g: &Geometry, r: &Ray| {
+        g.intersect(r).map(|s| {
+            (
+                s.t.to_bits(),
+                s.shape,
+                s.prim,
+                s.p.to_array().map(f32::to_bits),
+                s.uv.to_array().map(f32::to_bits),
+            )
+        })
+    };
+    let mut hits = 0;
+    for (i, r) in rays.iter().enumerate() {
+        let k = key(&four, r);
+        assert_eq!(k, key(&eight, r), "ray {i}");
+        assert_eq!(four.occluded(r), eight.occluded(r), "ray {i}");
+        assert_eq!(four.hit_distance(r).map(f32::to_bits), k.map(|k| k.0));
+        hits += k.is_some() as u32;
+    }
+    assert!(hits > 12_000, "hits {hits}"); // 14 228 of 20 037
 }

@@ -1,0 +1,188 @@
+//! Collapses obvhs's binary tree into a wide one: every subtree of at most four primitives
+//! becomes one leaf [`Packet`], and a node of width `W` takes its binary children, repeatedly
+//! replacing the child of largest surface area by that child's two children until it has `W`.
+
+use super::packet::{EMPTY, PACKET_LANES, Packet};
+use super::traverse::{LEAF, WideNode};
+use caustica_core::Vec3;
+
+/// The wide tree's parts: inner nodes (the root first), packets, and BVH order → index of the
+/// primitive in the build input.
+pub(super) struct Collapsed<N> {
+    pub nodes: Vec<N>,
+    pub packets: Vec<Packet>,
+    pub order: Vec<u32>,
+}
+
+/// Collapses `bvh2` (leaves of one primitive or more) into nodes of `W` children.
+pub(super) fn collapse<N: WideNode<W>, const W: usize>(
+    bvh2: &obvhs::bvh2::Bvh2,
+    triangles: &[Option<[Vec3; 3]>],
+) -> Collapsed<N> {
+    let count = subtree_counts(bvh2);
+    let first = first_in_order(bvh2, &count);
+    let mut c = Collapse {
+        bvh2,
+        triangles,
+        out: Collapsed {
+            nodes: Vec::new(),
+            packets: Vec::new(),
+            order: vec![EMPTY; count[0] as usize],
+        },
+        count,
+        first,
+    };
+    c.run::<W>();
+    c.out
+}
+
+/// Primitives in the subtree of each binary node, by an explicit post-order walk (trees may
+/// be deep).
+fn subtree_counts(bvh2: &obvhs::bvh2::Bvh2) -> Vec<u32> {
+    let nodes = &bvh2.nodes;
+    let mut count = vec![0u32; nodes.len()];
+    let mut stack = vec![(0usize, false)];
+    while let Some((i, children_done)) = stack.pop() {
+        let n = &nodes[i];
+        if n.is_leaf() {
+            count[i] = n.prim_count;
+        } else if children_done {
+            let c = n.first_index as usize;
+            count[i] = count[c] + count[c + 1];
+        } else {
+            let c = n.first_index as usize;
+            stack.extend([(i, true), (c, false), (c + 1, false)]);
+        }
+    }
+    count
+}
+
+/// The BVH order of the first primitive under each binary node: primitives are numbered in
+/// the binary tree's depth-first order (first child first), which does not depend on the
+/// width of the collapsed tree. Packets are whole binary subtrees, so each holds consecutive
+/// numbers, in lane order.
+fn first_in_order(bvh2: &obvhs::bvh2::Bvh2, count: &[u32]) -> Vec<u32> {
+    let nodes = &bvh2.nodes;
+    let mut first = vec![0u32; nodes.len()];
+    let mut stack = vec![0usize];
+    while let Some(i) = stack.pop() {
+        let n = &nodes[i];
+        if !n.is_leaf() {
+            let c = n.first_index as usize;
+            first[c] = first[i];
+            first[c + 1] = first[i] + count[c];
+            stack.extend([c, c + 1]);
+        }
+    }
+    first
+}
+
+struct Collapse<'a, N> {
+    bvh2: &'a obvhs::bvh2::Bvh2,
+    triangles: &'a [Option<[Vec3; 3]>],
+    /// Primitives under each binary node.
+    count: Vec<u32>,
+    /// BVH order of the first primitive under each binary node.
+    first: Vec<u32>,
+    out: Collapsed<N>,
+}
+
+impl<N> Collapse<'_, N> {
+    fn run<const W: usize>(&mut self)
+    where
+        N: WideNode<W>,
+    {
+        // The root is always a node (a lone packet goes in its first lane).
+        let mut work = vec![(0usize, EMPTY, 0usize)];
+        while let Some((b, parent, lane)) = work.pop() {
+            let child = if self.count[b] as usize <= PACKET_LANES && parent != EMPTY {
+                self.packet(b)
+            } else {
+                let id = self.out.nodes.len() as u32;
+                let kids = self.children(b, W);
+                self.out.nodes.push(N::empty());
+                // Reverse order so lane 0's subtree is laid out first (depth first).
+                for (l, &k) in kids.iter().enumerate().rev() {
+                    work.push((k, id, l));
+                }
+                id
+            };
+            if parent != EMPTY {
+                let bb = self.bvh2.nodes[b].aabb();
+                self.out.nodes[parent as usize].set_lane(
+                    lane,
+                    Vec3::from(bb.min),
+                    Vec3::from(bb.max),
+                    child,
+                );
+            }
+        }
+    }
+
+    /// The binary nodes that become the children of a wide node replacing binary node `b`.
+    fn children(&self, b: usize, width: usize) -> Vec<usize> {
+        let nodes = &self.bvh2.nodes;
+        let mut kids = vec![b];
+        while kids.len() < width {
+            // Open the largest child that cannot be a packet; else the largest inner child.
+            let pick = |must_open: bool| {
+                kids.iter()
+                    .enumerate()
+                    .filter(|&(_, &k)| {
+                        !nodes[k].is_leaf() && (!must_open || self.count[k] as usize > PACKET_LANES)
+                    })
+                    .max_by(|a, b| {
+                        let (ha, hb) = (
+                            nodes[*a.1].aabb().half_area(),
+                            nodes[*b.1].aabb().half_area(),
+                        );
+                        ha.total_cmp(&hb).then(b.0.cmp(&a.0))
+                    })
+                    .map(|(i, _)| i)
+            };
+            let Some(i) = pick(true).or_else(|| if kids.len() == 1 { pick(false) } else { None })
+            else {
+                break;
+            };
+            let c = nodes[kids[i]].first_index as usize;
+            kids.splice(i..=i, [c, c + 1]);
+        }
+        kids
+    }
+
+    /// A packet of every primitive under binary node `b` (at most four).
+    fn packet(&mut self, b: usize) -> u32 {
+        let nodes = &self.bvh2.nodes;
+        let mut pk = Packet::EMPTY_PACKET;
+        let mut lane = 0;
+        let mut stack = vec![b];
+        while let Some(i) = stack.pop() {
+            let n = &nodes[i];
+            if !n.is_leaf() {
+                stack.extend([n.first_index as usize + 1, n.first_index as usize]);
+                continue;
+            }
+            let first = n.first_index as usize;
+            for &input in &self.bvh2.primitive_indices[first..first + n.prim_count as usize] {
+                let k = self.first[b] + lane as u32;
+                self.out.order[k as usize] = input;
+                pk.prim[lane] = k;
+                match self.triangles[input as usize] {
+                    Some(tri) => {
+                        for (vk, p) in tri.iter().enumerate() {
+                            for a in 0..3 {
+                                pk.v[vk][a][lane] = p[a];
+                            }
+                        }
+                        pk.tri_mask |= 1 << lane;
+                    }
+                    None => pk.other_mask |= 1 << lane,
+                }
+                lane += 1;
+            }
+        }
+        let id = self.out.packets.len() as u32;
+        self.out.packets.push(pk);
+        LEAF | id
+    }
+}

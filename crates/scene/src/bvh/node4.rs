@@ -1,0 +1,157 @@
+//! Inner nodes of four children, their boxes tested at once with SSE (glam's `Vec4`): the
+//! layout every CPU runs, and the fallback where AVX2 is missing.
+
+use super::traverse::{ROBUST, WideNode};
+use caustica_core::Vec3;
+use glam::Vec4;
+
+/// An inner node: the boxes of its four children, one lane per child. Aligned to a cache
+/// line, so its 112 bytes never straddle three.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+pub(super) struct Node4 {
+    /// `bounds[axis][0]` holds the minima of the four boxes along `axis`, `[1]` the maxima.
+    /// Unused lanes hold the empty box (+∞, −∞), which no ray hits.
+    bounds: [[Vec4; 2]; 3],
+    child: [u32; 4],
+}
+
+/// A ray prepared for the slab tests: origin, reciprocal direction (components of magnitude
+/// below 1e-20 replaced by ±1e-20, so the reciprocal stays finite) and, per axis, which of a
+/// box's two planes it meets first.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ray4 {
+    o: [Vec4; 3],
+    inv: [Vec4; 3],
+    near: [usize; 3],
+}
+
+/// The reciprocal of a direction component, kept finite (see [`Ray4`]).
+#[inline(always)]
+pub(super) fn safe_inverse(x: f32) -> f32 {
+    let x = if x.abs() < 1e-20 {
+        1e-20f32.copysign(x)
+    } else {
+        x
+    };
+    1.0 / x
+}
+
+impl WideNode<4> for Node4 {
+    type Ray = Ray4;
+
+    #[inline(always)]
+    fn ray(o: Vec3, d: Vec3) -> Ray4 {
+        let i = [safe_inverse(d.x), safe_inverse(d.y), safe_inverse(d.z)];
+        Ray4 {
+            o: [Vec4::splat(o.x), Vec4::splat(o.y), Vec4::splat(o.z)],
+            inv: [Vec4::splat(i[0]), Vec4::splat(i[1]), Vec4::splat(i[2])],
+            near: [
+                (i[0] < 0.0) as usize,
+                (i[1] < 0.0) as usize,
+                (i[2] < 0.0) as usize,
+            ],
+        }
+    }
+
+    fn empty() -> Self {
+        Self {
+            bounds: [[Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY)]; 3],
+            child: [super::packet::EMPTY; 4],
+        }
+    }
+
+    fn set_lane(&mut self, lane: usize, min: Vec3, max: Vec3, child: u32) {
+        for a in 0..3 {
+            self.bounds[a][0][lane] = min[a];
+            self.bounds[a][1][lane] = max[a];
+        }
+        self.child[lane] = child;
+    }
+
+    #[inline(always)]
+    fn child(&self, lane: usize) -> u32 {
+        self.child[lane & 3]
+    }
+
+    /// SSE2 is part of x86_64 (and glam is scalar elsewhere): nothing for the caller to check.
+    #[inline(always)]
+    unsafe fn hit(&self, r: &Ray4, t_max: f32) -> (u32, [f32; 4]) {
+        let slab = |a: usize| {
+            let n = r.near[a] & 1;
+            let b = &self.bounds[a];
+            ((b[n] - r.o[a]) * r.inv[a], (b[n ^ 1] - r.o[a]) * r.inv[a])
+        };
+        let (x0, x1) = slab(0);
+        let (y0, y1) = slab(1);
+        let (z0, z1) = slab(2);
+        let t0 = x0.max(y0).max(z0.max(Vec4::ZERO));
+        let t1 = x1.min(y1).min(z1.min(Vec4::splat(t_max))) * ROBUST;
+        (t0.cmple(t1).bitmask(), t0.to_array())
+    }
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+
+    /// Lanes of `node` hit by the ray `(o, d)` within `t_max`, and the entry distances.
+    pub(in crate::bvh) fn hits<N: WideNode<W>, const W: usize>(
+        node: &N,
+        o: Vec3,
+        d: Vec3,
+        t_max: f32,
+    ) -> (u32, [f32; W]) {
+        // SAFETY: only called with node kinds the test has checked the CPU supports.
+        unsafe { node.hit(&N::ray(o, d), t_max) }
+    }
+
+    /// The slab test's cases, for any node width (the 8-wide test runs it too).
+    pub(in crate::bvh) fn slab_cases<N: WideNode<W>, const W: usize>() {
+        // Axis-parallel rays (zero direction components) just inside and just outside box
+        // faces, rays stopped early, a ray starting inside a box, and rays that miss.
+        let mut node = N::empty();
+        let boxes = [
+            (Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 1.0)),
+            (Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 1.0)),
+            (Vec3::new(0.0, 5.0, 0.0), Vec3::new(1.0, 6.0, 1.0)),
+        ];
+        for (l, (lo, hi)) in boxes.iter().enumerate() {
+            node.set_lane(l, *lo, *hi, l as u32);
+        }
+        // Along +x just inside the top edges of boxes 0 and 1, and just outside them. (A ray
+        // lying exactly in a face plane may miss: `Geometry` pads every box by a few ulps.)
+        let inside = 1.0 - 1e-6;
+        let o = Vec3::new(-1.0, inside, inside);
+        let inf = f32::INFINITY;
+        assert_eq!(hits(&node, o, Vec3::X, inf).0, 0b011);
+        let o2 = Vec3::new(-1.0, 1.0 + 1e-6, inside);
+        assert_eq!(hits(&node, o2, Vec3::X, inf).0, 0);
+        // The first ray (entering box 0 at t = 1, box 1 at t = 3) stopped earlier.
+        assert_eq!(hits(&node, o, Vec3::X, 3.5).0, 0b011);
+        assert_eq!(hits(&node, o, Vec3::X, 2.5).0, 0b001);
+        assert_eq!(hits(&node, o, Vec3::X, 0.5).0, 0);
+        let (_, t0) = hits(&node, o, Vec3::X, inf);
+        assert_eq!((t0[0], t0[1]), (1.0, 3.0));
+        // Along −y at x = 0.5, z = 0.5 from above box 2: boxes 2 and 0.
+        let o = Vec3::new(0.5, 10.0, 0.5);
+        assert_eq!(hits(&node, o, -Vec3::Y, inf).0, 0b101);
+        // Starting inside box 0, going −z: box 0 only (entry distance clamped to 0).
+        let (mask, t0) = hits(&node, Vec3::new(0.5, 0.5, 0.5), -Vec3::Z, inf);
+        assert_eq!(mask, 0b001);
+        assert_eq!(t0[0], 0.0);
+        // Missing everything; the empty lanes are never hit.
+        assert_eq!(hits(&node, Vec3::new(-1.0, 3.0, 0.5), Vec3::X, inf).0, 0);
+        // A box in the last lane is found like any other.
+        node.set_lane(W - 1, Vec3::new(0.0, 0.0, 10.0), Vec3::ONE * 11.0, 7);
+        let (mask, t0) = hits(&node, Vec3::new(10.5, 10.5, 0.5), Vec3::Z, inf);
+        assert_eq!(mask, 1 << (W - 1));
+        assert_eq!(t0[W - 1], 9.5);
+        assert_eq!(node.child(W - 1), 7);
+    }
+
+    #[test]
+    fn slab_test_finds_the_boxes_a_ray_passes_through_and_no_others() {
+        slab_cases::<Node4, 4>();
+    }
+}

@@ -1,0 +1,174 @@
+//! Inner nodes of eight children, their boxes tested at once with AVX (x86_64 only). Used
+//! where the CPU has AVX2 ([`super::BvhWidth::detect`]); the operations are those of
+//! [`super::node4`]'s SSE test, lane for lane and in the same order, so a box is hit or missed
+//! identically by both.
+
+use super::node4::safe_inverse;
+use super::traverse::{ROBUST, WideNode};
+use caustica_core::Vec3;
+use std::arch::x86_64::*;
+
+/// An inner node: the boxes of its eight children, one lane per child: 224 bytes, aligned to
+/// a cache line (so four whole lines).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+pub(super) struct Node8 {
+    /// `bounds[axis][0]` holds the minima of the eight boxes along `axis`, `[1]` the maxima.
+    /// Unused lanes hold the empty box (+∞, −∞), which no ray hits. Each row of eight is
+    /// 32-byte aligned (the struct is 64-byte aligned and rows are 32 bytes), for aligned loads.
+    bounds: [[[f32; 8]; 2]; 3],
+    child: [u32; 8],
+}
+
+/// A ray prepared for the slab tests, as [`super::node4::Ray4`] (broadcast to eight lanes in
+/// the test, where the compiler hoists the broadcasts out of the traversal loop).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ray8 {
+    o: [f32; 3],
+    inv: [f32; 3],
+    near: [usize; 3],
+}
+
+impl WideNode<8> for Node8 {
+    type Ray = Ray8;
+
+    #[inline(always)]
+    fn ray(o: Vec3, d: Vec3) -> Ray8 {
+        let inv = [safe_inverse(d.x), safe_inverse(d.y), safe_inverse(d.z)];
+        Ray8 {
+            o: o.to_array(),
+            inv,
+            near: [
+                (inv[0] < 0.0) as usize,
+                (inv[1] < 0.0) as usize,
+                (inv[2] < 0.0) as usize,
+            ],
+        }
+    }
+
+    fn empty() -> Self {
+        Self {
+            bounds: [[[f32::INFINITY; 8], [f32::NEG_INFINITY; 8]]; 3],
+            child: [super::packet::EMPTY; 8],
+        }
+    }
+
+    fn set_lane(&mut self, lane: usize, min: Vec3, max: Vec3, child: u32) {
+        for a in 0..3 {
+            self.bounds[a][0][lane] = min[a];
+            self.bounds[a][1][lane] = max[a];
+        }
+        self.child[lane] = child;
+    }
+
+    #[inline(always)]
+    fn child(&self, lane: usize) -> u32 {
+        self.child[lane & 7]
+    }
+
+    /// # Safety
+    /// The CPU must support AVX (every CPU with AVX2 does; [`super::WideBvh`] builds 8-wide
+    /// nodes only after detecting AVX2).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    unsafe fn hit(&self, r: &Ray8, t_max: f32) -> (u32, [f32; 8]) {
+        // Each slab as in `Node4::hit`: (plane − o) · inv, the near plane by the ray's octant.
+        // The rows are 32-byte aligned (see `bounds`), so the aligned loads are sound; the
+        // `& 1` keeps the plane index in bounds.
+        let b = &self.bounds;
+        let (n0, n1, n2) = (r.near[0] & 1, r.near[1] & 1, r.near[2] & 1);
+        let (ox, oy, oz) = (
+            _mm256_set1_ps(r.o[0]),
+            _mm256_set1_ps(r.o[1]),
+            _mm256_set1_ps(r.o[2]),
+        );
+        let (ix, iy, iz) = (
+            _mm256_set1_ps(r.inv[0]),
+            _mm256_set1_ps(r.inv[1]),
+            _mm256_set1_ps(r.inv[2]),
+        );
+        // SAFETY: every row `b[a][k]` is an `[f32; 8]` at a 32-byte aligned address (the node
+        // is 64-byte aligned, rows are 32 bytes long and start at offsets 0, 32, …, 160).
+        // (A macro, not a closure, so the intrinsic is inlined with this function's features.)
+        macro_rules! load {
+            ($row:expr) => {
+                unsafe { _mm256_load_ps($row.as_ptr()) }
+            };
+        }
+        let x0 = _mm256_mul_ps(_mm256_sub_ps(load!(b[0][n0]), ox), ix);
+        let x1 = _mm256_mul_ps(_mm256_sub_ps(load!(b[0][n0 ^ 1]), ox), ix);
+        let y0 = _mm256_mul_ps(_mm256_sub_ps(load!(b[1][n1]), oy), iy);
+        let y1 = _mm256_mul_ps(_mm256_sub_ps(load!(b[1][n1 ^ 1]), oy), iy);
+        let z0 = _mm256_mul_ps(_mm256_sub_ps(load!(b[2][n2]), oz), iz);
+        let z1 = _mm256_mul_ps(_mm256_sub_ps(load!(b[2][n2 ^ 1]), oz), iz);
+        // max/min with the same operand order as glam's SSE `Vec4::max`/`min` (`maxps a, b`).
+        let t0 = _mm256_max_ps(
+            _mm256_max_ps(x0, y0),
+            _mm256_max_ps(z0, _mm256_setzero_ps()),
+        );
+        let t1 = _mm256_mul_ps(
+            _mm256_min_ps(
+                _mm256_min_ps(x1, y1),
+                _mm256_min_ps(z1, _mm256_set1_ps(t_max)),
+            ),
+            _mm256_set1_ps(ROBUST),
+        );
+        let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t0, t1)) as u32;
+        let mut out = [0.0f32; 8];
+        // SAFETY: `out` holds eight f32; the unaligned store needs no alignment.
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), t0) };
+        (mask, out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slab_test_finds_the_boxes_a_ray_passes_through_and_no_others() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("no AVX2 on this CPU: the 8-wide node is not used here");
+            return;
+        }
+        super::super::node4::tests::slab_cases::<Node8, 8>();
+    }
+
+    #[test]
+    fn eight_lanes_decide_like_four() {
+        // The 8-wide test against two 4-wide ones on random boxes and rays, bit for bit.
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        use super::super::node4::Node4;
+        use caustica_core::sampling::Pcg32;
+        let mut rng = Pcg32::new(3, 9);
+        let mut v = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - 2.0;
+        let mut hits = 0;
+        for i in 0..20_000 {
+            let mut n8 = Node8::empty();
+            let mut n4 = [Node4::empty(), Node4::empty()];
+            for l in 0..8 {
+                let (a, b) = (v(), v());
+                n8.set_lane(l, a.min(b), a.max(b), l as u32);
+                n4[l / 4].set_lane(l % 4, a.min(b), a.max(b), l as u32);
+            }
+            let o = v() * 2.0;
+            let mut d = v().normalize();
+            if i % 7 == 0 {
+                d.x = 0.0; // axis-parallel in x
+            }
+            let t_max = if i % 3 == 0 { 1.5 } else { f32::INFINITY };
+            let (m8, t8) = super::super::node4::tests::hits(&n8, o, d, t_max);
+            let (ma, ta) = super::super::node4::tests::hits(&n4[0], o, d, t_max);
+            let (mb, tb) = super::super::node4::tests::hits(&n4[1], o, d, t_max);
+            assert_eq!(m8, ma | mb << 4, "case {i}");
+            for l in 0..8 {
+                let t4 = if l < 4 { ta[l] } else { tb[l - 4] };
+                assert_eq!(t8[l].to_bits(), t4.to_bits(), "case {i} lane {l}");
+            }
+            hits += m8.count_ones();
+        }
+        assert!(hits > 2_000, "{hits}"); // 3 662 of 160 000 lanes with this seed
+    }
+}

@@ -1,0 +1,186 @@
+//! The two traversals (closest hit, any hit), written once for every node width.
+
+use super::WideHit;
+use super::packet::Packet;
+use super::stack::{STACK, Stack, StackBuf};
+use crate::shape::mesh::TriangleRay;
+use caustica_core::Vec3;
+use std::mem::MaybeUninit;
+
+/// Child references with this bit set are packets (leaves); the others are nodes.
+pub(super) const LEAF: u32 = 1 << 31;
+
+/// 1 + 2γ₃ (pbrt-v4, ε = 2⁻²⁴): the factor on a slab test's far distance that makes it
+/// conservative under rounding.
+pub(super) const ROBUST: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
+/// An inner node of `W` children whose boxes one ray tests at once.
+pub(super) trait WideNode<const W: usize>: Sized {
+    /// A ray prepared for [`Self::hit`].
+    type Ray;
+    fn ray(o: Vec3, d: Vec3) -> Self::Ray;
+    /// A node whose lanes are all empty (no ray hits them).
+    fn empty() -> Self;
+    /// Lane `lane` holds the box `[min, max]` of child `child`.
+    fn set_lane(&mut self, lane: usize, min: Vec3, max: Vec3, child: u32);
+    fn child(&self, lane: usize) -> u32;
+    /// The lanes whose boxes the ray meets within `[0, t_max]` (bit `l` for lane `l`), and
+    /// the entry distances (clamped to 0).
+    ///
+    /// # Safety
+    /// The CPU must support the instructions of the node's kind (none beyond x86_64 for four
+    /// lanes; AVX for eight).
+    unsafe fn hit(&self, ray: &Self::Ray, t_max: f32) -> (u32, [f32; W]);
+}
+
+/// The closest hit with `t ∈ (0, t_max)`: triangles tested here, every other primitive `k`
+/// (BVH order) by `other(k, t)`, which returns `(t, b1, b2)` of a hit closer than `t`. Visits
+/// the hit children near to far and skips stacked entries farther than the closest hit so far.
+/// Of triangles hit at exactly the least distance (a ray through a vertex or an edge they
+/// share), the one first in BVH order wins, so the result does not depend on the order of the
+/// visit, and the two node widths, which share the BVH order, agree bit for bit.
+///
+/// # Safety
+/// As [`WideNode::hit`]. `nodes` is non-empty, and child references index into `nodes` and
+/// `packets` (the builder's invariant; indexing is checked anyway).
+#[inline(always)]
+pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
+    nodes: &[N],
+    packets: &[Packet],
+    tr: &TriangleRay,
+    br: &N::Ray,
+    mut t_max: f32,
+    mut other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
+) -> Option<WideHit> {
+    let mut best = None;
+    let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
+    let mut stack = Stack::new(&mut buf);
+    let mut cur = 0u32;
+    loop {
+        if cur & LEAF == 0 {
+            let node = &nodes[cur as usize];
+            // SAFETY: the caller's contract.
+            let (mut mask, t0) = unsafe { node.hit(br, t_max) };
+            if mask != 0 {
+                let first = mask.trailing_zeros() as usize % W;
+                mask &= mask - 1;
+                if mask == 0 {
+                    cur = node.child(first);
+                    continue;
+                }
+                // Two or more children: visit the nearest, stack the rest far to near.
+                let mut hits = [(t0[first], node.child(first)); W];
+                let mut n = 1;
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize % W;
+                    mask &= mask - 1;
+                    let e = (t0[l], node.child(l));
+                    let mut j = n;
+                    while j > 0 && hits[j - 1].0 > e.0 {
+                        hits[j] = hits[j - 1];
+                        j -= 1;
+                    }
+                    hits[j % W] = e;
+                    n += 1;
+                }
+                for &e in hits[1..n].iter().rev() {
+                    stack.push(e);
+                }
+                cur = hits[0].1;
+                continue;
+            }
+        } else {
+            let pk = &packets[(cur & !LEAF) as usize];
+            let tie_below = best.map_or(0, |h: WideHit| h.prim);
+            if let Some((t, l, b1, b2)) = pk.closest_triangle(tr, t_max, tie_below) {
+                t_max = t;
+                best = Some(WideHit {
+                    t,
+                    prim: pk.prim[l],
+                    b1,
+                    b2,
+                });
+            }
+            let mut others = pk.other_mask;
+            while others != 0 {
+                let l = others.trailing_zeros() as usize & 3;
+                others &= others - 1;
+                if let Some((t, b1, b2)) = other(pk.prim[l], t_max) {
+                    t_max = t;
+                    best = Some(WideHit {
+                        t,
+                        prim: pk.prim[l],
+                        b1,
+                        b2,
+                    });
+                }
+            }
+        }
+        // Next stacked child that may still hold a closer hit.
+        loop {
+            match stack.pop() {
+                None => return best,
+                Some((t, c)) if t <= t_max * ROBUST => {
+                    cur = c;
+                    break;
+                }
+                Some(_) => {}
+            }
+        }
+    }
+}
+
+/// True if any primitive is hit with `t ∈ (0, t_max)`; `other` as for [`closest`] (only
+/// whether it returns a hit matters). Stops at the first hit.
+///
+/// # Safety
+/// As [`closest`].
+#[inline(always)]
+pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
+    nodes: &[N],
+    packets: &[Packet],
+    tr: &TriangleRay,
+    br: &N::Ray,
+    t_max: f32,
+    mut other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
+) -> bool {
+    let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
+    let mut stack = Stack::new(&mut buf);
+    let mut cur = 0u32;
+    loop {
+        if cur & LEAF == 0 {
+            let node = &nodes[cur as usize];
+            // SAFETY: the caller's contract.
+            let (mut mask, _) = unsafe { node.hit(br, t_max) };
+            if mask != 0 {
+                let first = mask.trailing_zeros() as usize % W;
+                mask &= mask - 1;
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize % W;
+                    mask &= mask - 1;
+                    stack.push((0.0, node.child(l)));
+                }
+                cur = node.child(first);
+                continue;
+            }
+        } else {
+            let pk = &packets[(cur & !LEAF) as usize];
+            if pk.closest_triangle(tr, t_max, 0).is_some() {
+                return true;
+            }
+            let mut others = pk.other_mask;
+            while others != 0 {
+                let l = others.trailing_zeros() as usize & 3;
+                others &= others - 1;
+                if other(pk.prim[l], t_max).is_some() {
+                    return true;
+                }
+            }
+        }
+        match stack.pop() {
+            None => return false,
+            Some((_, c)) => cur = c,
+        }
+    }
+}
