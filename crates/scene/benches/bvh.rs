@@ -10,98 +10,16 @@
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use caustica_core::sampling::Pcg32;
-use caustica_core::{PI, Ray, Vec3};
 use caustica_scene::geometry::Geometry;
-use caustica_scene::shape::{Aabb, Shape, ShapeGeometry, TriangleMesh};
+use caustica_scene::shape::{Shape, ShapeGeometry, TriangleMesh};
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3A;
 
-/// A sphere displaced by a few sinusoids, tessellated into `2·nphi·(ntheta − 1)` triangles.
-fn displaced_sphere(nphi: u32, ntheta: u32) -> TriangleMesh {
-    let mut m = TriangleMesh::default();
-    for j in 0..=ntheta {
-        let theta = PI * j as f32 / ntheta as f32;
-        for i in 0..nphi {
-            let phi = 2.0 * PI * i as f32 / nphi as f32;
-            let r = 1.0
-                + 0.08 * (7.0 * theta).sin() * (9.0 * phi).cos()
-                + 0.03 * (31.0 * theta + 13.0 * phi).sin()
-                + 0.01 * (97.0 * theta).sin() * (61.0 * phi).sin();
-            m.positions.push(
-                r * Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                ),
-            );
-        }
-    }
-    let idx = |i: u32, j: u32| j * nphi + i % nphi;
-    for j in 0..ntheta {
-        for i in 0..nphi {
-            let (a, b, c, d) = (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1));
-            if j != 0 {
-                m.indices.push([a, c, b]);
-            }
-            if j != ntheta - 1 {
-                m.indices.push([a, d, c]);
-            }
-        }
-    }
-    m
-}
-
-/// Pinhole camera rays (w×h) looking at the mesh from outside.
-fn camera_rays(w: u32, h: u32) -> Vec<Ray> {
-    let eye = Vec3::new(0.3, -3.2, 0.8);
-    let fwd = (Vec3::ZERO - eye).normalize();
-    let right = fwd.cross(Vec3::Z).normalize();
-    let up = right.cross(fwd);
-    let tan = (40.0f32.to_radians() * 0.5).tan();
-    let mut rays = Vec::with_capacity((w * h) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            let sx = (2.0 * (x as f32 + 0.5) / w as f32 - 1.0) * tan;
-            let sy = (1.0 - 2.0 * (y as f32 + 0.5) / h as f32) * tan * h as f32 / w as f32;
-            rays.push(Ray::new(eye, (fwd + right * sx + up * sy).normalize()));
-        }
-    }
-    rays
-}
-
-fn rand_point(rng: &mut Pcg32, b: &Aabb) -> Vec3 {
-    let u = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-    b.min + u * (b.max - b.min)
-}
-
-fn rand_dir(rng: &mut Pcg32) -> Vec3 {
-    let z = 1.0 - 2.0 * rng.next_f32();
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * rng.next_f32();
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
-/// Random origins inside the bounds, uniformly random directions.
-fn incoherent_rays(n: usize, b: &Aabb, seed: u64) -> Vec<Ray> {
-    let mut rng = Pcg32::new(seed, 0);
-    (0..n)
-        .map(|_| Ray::new(rand_point(&mut rng, b), rand_dir(&mut rng)))
-        .collect()
-}
-
-/// Segments between two random points inside the bounds.
-fn shadow_rays(n: usize, b: &Aabb, seed: u64) -> Vec<Ray> {
-    let mut rng = Pcg32::new(seed, 1);
-    (0..n)
-        .map(|_| {
-            let (p, q) = (rand_point(&mut rng, b), rand_point(&mut rng, b));
-            let d = q - p;
-            let len = d.length();
-            Ray::with_t_max(p, d / len, len)
-        })
-        .collect()
-}
+/// The mesh and ray generators, shared with `bench/embree` (the Embree comparison).
+mod workload;
+use workload::{
+    INCOHERENT_SEED, SHADOW_SEED, camera_rays, displaced_sphere, incoherent_rays, shadow_rays,
+};
 
 fn obvhs_tris(m: &TriangleMesh) -> Vec<obvhs::triangle::Triangle> {
     m.indices
@@ -148,8 +66,8 @@ fn benches(c: &mut Criterion) {
         .collect();
 
     let primary = camera_rays(512, 512);
-    let random = incoherent_rays(200_000, &bounds, 1);
-    let shadows = shadow_rays(200_000, &bounds, 2);
+    let random = incoherent_rays(200_000, &bounds, INCOHERENT_SEED);
+    let shadows = shadow_rays(200_000, &bounds, SHADOW_SEED);
 
     // Sanity: both BVHs agree on hit distances of the incoherent rays.
     let mut agree = 0;
