@@ -267,6 +267,68 @@ impl Geometry {
         self.closest(ray).map(|h| h.t)
     }
 
+    /// The closest hit of every ray of `rays`, in order: the same records as [`Self::intersect`]
+    /// gives one by one, bit for bit, but rays are traced eight at a time through the 8-wide
+    /// BVH, so a node or packet is fetched once for eight rays. Worth it for coherent rays (a
+    /// tile of camera rays); rays that differ from their packet's first in the dominant axis
+    /// of their direction, scenes with moving meshes and 4-wide BVHs go one by one.
+    pub fn intersect_stream(&self, rays: &[Ray], out: &mut Vec<Option<SurfaceInteraction>>) {
+        out.clear();
+        out.reserve(rays.len());
+        if !self.moving.ids.is_empty() {
+            out.extend(rays.iter().map(|r| self.intersect(r)));
+            return;
+        }
+        for chunk in rays.chunks(8) {
+            let lanes = self.packet_lanes(chunk);
+            let (hits, taken) = self.bvh.closest_packet(&lanes, |i, k, t_max| {
+                let (o, d, _, tr) = lanes[i]?;
+                self.prims[k as usize].intersect(&tr, o, d, t_max)
+            });
+            for (i, ray) in chunk.iter().enumerate() {
+                out.push(if taken >> i & 1 == 1 {
+                    hits[i].map(|h| self.interaction(ray, h))
+                } else {
+                    self.intersect(ray)
+                });
+            }
+        }
+    }
+
+    /// Whether each ray of `rays` is blocked before its `t_max`, in order: [`Self::occluded`]
+    /// for each, traced eight at a time as in [`Self::intersect_stream`].
+    pub fn occluded_stream(&self, rays: &[Ray], out: &mut Vec<bool>) {
+        out.clear();
+        out.reserve(rays.len());
+        if !self.moving.ids.is_empty() {
+            out.extend(rays.iter().map(|r| self.occluded(r)));
+            return;
+        }
+        for chunk in rays.chunks(8) {
+            let lanes = self.packet_lanes(chunk);
+            let (hit, taken) = self.bvh.any_packet(&lanes, |i, k, t_max| {
+                let (o, d, _, tr) = lanes[i]?;
+                self.prims[k as usize].intersect(&tr, o, d, t_max)
+            });
+            for (i, ray) in chunk.iter().enumerate() {
+                out.push(if taken >> i & 1 == 1 {
+                    hit >> i & 1 == 1
+                } else {
+                    self.occluded(ray)
+                });
+            }
+        }
+    }
+
+    /// The packet lanes of up to eight rays (`None` for rays that can hit nothing).
+    fn packet_lanes(&self, rays: &[Ray]) -> [Option<crate::bvh::PacketRay>; 8] {
+        let mut lanes = [None; 8];
+        for (lane, ray) in lanes.iter_mut().zip(rays) {
+            *lane = self.rays(ray).map(|tr| (ray.o, ray.d, ray.t_max, tr));
+        }
+        lanes
+    }
+
     /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
         let Some(tr) = self.rays(ray) else {

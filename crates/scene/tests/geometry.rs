@@ -724,3 +724,78 @@ fn both_bvh_widths_give_bit_identical_hits() {
     }
     assert!(hits > 12_000, "hits {hits}"); // 14 228 of 20 037
 }
+
+#[test]
+fn ray_streams_give_each_ray_its_own_hit() {
+    // Eight rays at a time through the 8-wide tree (or one by one where it cannot): coherent
+    // camera-like rays, rays of mixed dominant axes in one packet (left to the one-ray path),
+    // rays aimed at shared vertices (ties), short rays, rays that can hit nothing (t_max ≤ 0,
+    // NaN), a sphere among the triangles, and a count not a multiple of eight.
+    let mesh = closed_sphere(128);
+    let targets = mesh.positions.clone();
+    let shapes = vec![
+        Shape::new(ShapeGeometry::Mesh(mesh), 0),
+        Shape::new(
+            ShapeGeometry::Sphere(Sphere {
+                center: Vec3::new(0.2, 0.1, 0.0),
+                radius: 0.3,
+            }),
+            1,
+        ),
+    ];
+    let mut rng = Pcg32::new(8, 2);
+    let mut rays = Vec::new();
+    for y in 0..40 {
+        for x in 0..40 {
+            let d = Vec3::new(x as f32 / 20.0 - 1.0, y as f32 / 20.0 - 1.0, 2.0).normalize();
+            rays.push(Ray::new(Vec3::new(0.0, 0.0, -4.0), d));
+        }
+    }
+    for i in 0..3000 {
+        let t_max = match i % 7 {
+            0 => 0.5,
+            1 => f32::NAN,
+            2 => -1.0,
+            _ => f32::INFINITY,
+        };
+        rays.push(Ray::with_t_max(
+            rand_vec(&mut rng, -0.5, 0.5),
+            rand_dir(&mut rng),
+            t_max,
+        ));
+    }
+    rays.extend(targets.iter().step_by(3).map(|v| {
+        let o = Vec3::new(0.01, -0.02, 0.03);
+        Ray::new(o, (*v - o).normalize())
+    }));
+    rays.push(Ray::new(Vec3::ZERO, Vec3::X));
+    for width in widths() {
+        let geo = Geometry::build_with_width(shapes.clone(), width);
+        let mut hits = Vec::new();
+        geo.intersect_stream(&rays, &mut hits);
+        let mut occluded = Vec::new();
+        geo.occluded_stream(&rays, &mut occluded);
+        assert_eq!((hits.len(), occluded.len()), (rays.len(), rays.len()));
+        let key = |s: &caustica_scene::SurfaceInteraction| {
+            (
+                s.t.to_bits(),
+                s.shape,
+                s.prim,
+                s.p.to_array().map(f32::to_bits),
+                s.uv.to_array().map(f32::to_bits),
+            )
+        };
+        let mut n = 0;
+        for (i, r) in rays.iter().enumerate() {
+            let one = geo.intersect(r);
+            assert_eq!(
+                hits[i].as_ref().map(key),
+                one.as_ref().map(key),
+                "{width:?} ray {i}"
+            );
+            assert_eq!(occluded[i], geo.occluded(r), "{width:?} ray {i}");
+            n += one.is_some() as u32;
+        }
+        assert!(n > 3000, "hits {n}");
+    }
+}

@@ -15,6 +15,8 @@ mod node4;
 #[cfg(target_arch = "x86_64")]
 mod node8;
 mod packet;
+#[cfg(target_arch = "x86_64")]
+mod ray8;
 mod stack;
 mod traverse;
 
@@ -239,6 +241,53 @@ impl WideBvh {
             // SAFETY: as in `closest`.
             #[cfg(target_arch = "x86_64")]
             Nodes::Eight(n) => unsafe { any8(n, &self.packets, tr, o, d, t_max, other) },
+        }
+    }
+}
+
+/// A ray of a packet of eight: origin, direction, `t_max` and the prepared triangle ray.
+pub type PacketRay = (Vec3, Vec3, f32, TriangleRay);
+
+impl WideBvh {
+    /// The closest hits of up to eight rays traced together (`lanes[i]`, `None` for an empty
+    /// lane), each exactly the hit [`Self::closest`] gives it; `other(i, k, t)` tests
+    /// non-triangle primitive `k` for ray `i`. Returns the hits and the mask of the lanes
+    /// traced: rays whose triangle-test axis permutation differs from the first ray's, and all
+    /// rays where nodes are 4-wide, are left to the caller (bit clear).
+    pub fn closest_packet(
+        &self,
+        lanes: &[Option<PacketRay>],
+        other: impl FnMut(usize, u32, f32) -> Option<(f32, f32, f32)>,
+    ) -> ([Option<WideHit>; 8], u32) {
+        match &self.nodes {
+            #[cfg(target_arch = "x86_64")]
+            Nodes::Eight(n) if !n.is_empty() => {
+                let (rays, taken) = ray8::Rays8::new(lanes);
+                // SAFETY: eight-wide nodes exist only where AVX2 was detected; the builder's
+                // child references index into `n` and `self.packets`.
+                let hits = unsafe { ray8::closest8(n, &self.packets, &rays, other) };
+                (hits, taken)
+            }
+            _ => ([None; 8], 0),
+        }
+    }
+
+    /// Whether each of up to eight rays is blocked before its `t_max`, as [`Self::any`]; the
+    /// lanes as for [`Self::closest_packet`]. Returns the occluded mask and the traced mask.
+    pub fn any_packet(
+        &self,
+        lanes: &[Option<PacketRay>],
+        other: impl FnMut(usize, u32, f32) -> Option<(f32, f32, f32)>,
+    ) -> (u32, u32) {
+        match &self.nodes {
+            #[cfg(target_arch = "x86_64")]
+            Nodes::Eight(n) if !n.is_empty() => {
+                let (rays, taken) = ray8::Rays8::new(lanes);
+                // SAFETY: as in `closest_packet`.
+                let hit = unsafe { ray8::any8(n, &self.packets, &rays, other) };
+                (hit, taken)
+            }
+            _ => (0, 0),
         }
     }
 }

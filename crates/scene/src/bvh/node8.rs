@@ -29,6 +29,19 @@ pub(super) struct Ray8 {
     near: [usize; 3],
 }
 
+impl Node8 {
+    /// The box of lane `lane`: `(min, max)`.
+    #[inline(always)]
+    pub(super) fn lane_box(&self, lane: usize) -> ([f32; 3], [f32; 3]) {
+        let l = lane & 7;
+        let b = &self.bounds;
+        (
+            [b[0][0][l], b[1][0][l], b[2][0][l]],
+            [b[0][1][l], b[1][1][l], b[2][1][l]],
+        )
+    }
+}
+
 impl WideNode<8> for Node8 {
     type Ray = Ray8;
 

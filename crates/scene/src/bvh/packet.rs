@@ -149,7 +149,7 @@ impl Packet {
 
     /// Vertex `k` of the triangle in lane `l`.
     #[inline]
-    fn vertex(&self, k: usize, l: usize) -> Vec3 {
+    pub(super) fn vertex(&self, k: usize, l: usize) -> Vec3 {
         let p = &self.v[k];
         Vec3::new(p[0][l], p[1][l], p[2][l])
     }

@@ -1,0 +1,505 @@
+//! Eight rays traced together through the 8-wide tree (AVX2, x86_64): each node's boxes and
+//! each packet's triangles are fetched once for the eight rays, which pays where rays are
+//! coherent (camera rays, a tile's eye paths), the tree being far larger than the caches.
+//!
+//! Every ray gets exactly the hit the one-ray traversal gives it: the box test is the
+//! one-ray test's arithmetic lane by lane (the near plane chosen per ray by its direction's
+//! signs), the triangle test is the watertight test's operations lane by lane (rays exactly
+//! on an edge fall back to the scalar test, as there), and ties at equal distance go to the
+//! first primitive in BVH order, as there. Only the order of the visit differs, which the tie
+//! rule makes invisible. The rays of a packet must share the triangle test's axis permutation
+//! (the dominant axis of their directions); the caller traces the others one by one.
+
+use super::WideHit;
+use super::node8::Node8;
+use super::packet::{EMPTY, Packet};
+use super::stack::{STACK, Stack, StackBuf};
+use super::traverse::{LEAF, ROBUST, WideNode};
+use crate::shape::mesh::TriangleRay;
+use caustica_core::Vec3;
+use std::arch::x86_64::*;
+use std::mem::MaybeUninit;
+
+/// Eight rays as structure of arrays, prepared for the box and triangle tests.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+pub(super) struct Rays8 {
+    o: [[f32; 8]; 3],
+    /// Reciprocal directions, as [`super::node4::safe_inverse`] makes them.
+    inv: [[f32; 8]; 3],
+    /// All bits set in lane `i` of axis `a` if ray `i`'s reciprocal direction is negative
+    /// there (its near plane is the box's maximum).
+    neg: [[f32; 8]; 3],
+    sx: [f32; 8],
+    sy: [f32; 8],
+    sz: [f32; 8],
+    t_max: [f32; 8],
+    /// The shared axis permutation of the triangle test.
+    k: [usize; 3],
+    /// Lanes holding a ray of the packet.
+    active: u32,
+    /// The lanes' prepared rays, for the scalar fallback on edges.
+    tr: [Option<TriangleRay>; 8],
+}
+
+impl Rays8 {
+    /// A packet of the rays `(o, d, t_max, prepared triangle ray)` of `lanes` (at most eight)
+    /// whose triangle test permutation equals the first one's; returns the packet and the
+    /// mask of the lanes it took.
+    pub(super) fn new(lanes: &[Option<(Vec3, Vec3, f32, TriangleRay)>]) -> (Self, u32) {
+        let mut r = Rays8 {
+            o: [[0.0; 8]; 3],
+            inv: [[1.0; 8]; 3],
+            neg: [[0.0; 8]; 3],
+            sx: [0.0; 8],
+            sy: [0.0; 8],
+            sz: [0.0; 8],
+            t_max: [0.0; 8],
+            k: [0, 1, 2],
+            active: 0,
+            tr: [None; 8],
+        };
+        let mut first: Option<[usize; 3]> = None;
+        for (i, lane) in lanes.iter().enumerate().take(8) {
+            let Some((o, d, t_max, tr)) = lane else {
+                continue;
+            };
+            let k = [tr.kx, tr.ky, tr.kz];
+            if *first.get_or_insert(k) != k {
+                continue;
+            }
+            let inv = [
+                super::node4::safe_inverse(d.x),
+                super::node4::safe_inverse(d.y),
+                super::node4::safe_inverse(d.z),
+            ];
+            for a in 0..3 {
+                r.o[a][i] = o[a];
+                r.inv[a][i] = inv[a];
+                r.neg[a][i] = if inv[a] < 0.0 {
+                    f32::from_bits(u32::MAX)
+                } else {
+                    0.0
+                };
+            }
+            (r.sx[i], r.sy[i], r.sz[i]) = (tr.sx, tr.sy, tr.sz);
+            r.t_max[i] = *t_max;
+            r.tr[i] = Some(*tr);
+            r.active |= 1 << i;
+        }
+        if let Some(k) = first {
+            r.k = k;
+        }
+        let taken = r.active;
+        (r, taken)
+    }
+}
+
+/// Loads eight lanes (unaligned).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn load(a: &[f32; 8]) -> __m256 {
+    // SAFETY: `a` is eight readable f32; the unaligned load needs no alignment.
+    unsafe { _mm256_loadu_ps(a.as_ptr()) }
+}
+
+/// Stores eight lanes.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn store(v: __m256) -> [f32; 8] {
+    let mut out = [0.0f32; 8];
+    // SAFETY: `out` is eight writable f32; the unaligned store needs no alignment.
+    unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
+    out
+}
+
+/// The closest hit of each ray of `rays` (lanes not in `rays.active` get `None`); `other(i,
+/// k, t)` tests non-triangle primitive `k` (BVH order) for the ray in lane `i`, as
+/// [`super::traverse::closest`]'s `other` does.
+///
+/// # Safety
+/// The CPU supports AVX2; `nodes` is non-empty and its child references index into `nodes`
+/// and `packets` (indexing is checked anyway).
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn closest8(
+    nodes: &[Node8],
+    packets: &[Packet],
+    rays: &Rays8,
+    mut other: impl FnMut(usize, u32, f32) -> Option<(f32, f32, f32)>,
+) -> [Option<WideHit>; 8] {
+    let active = rays.active;
+    let mut t_best = load(&rays.t_max);
+    // Per ray: the primitive of its closest hit so far (0 before any: no tie can win), its
+    // barycentrics, and whether it has a hit.
+    let mut prim = [0u32; 8];
+    let mut b1 = [0.0f32; 8];
+    let mut b2 = [0.0f32; 8];
+    let mut found = 0u32;
+    let (o, inv, neg) = (
+        [load(&rays.o[0]), load(&rays.o[1]), load(&rays.o[2])],
+        [load(&rays.inv[0]), load(&rays.inv[1]), load(&rays.inv[2])],
+        [load(&rays.neg[0]), load(&rays.neg[1]), load(&rays.neg[2])],
+    );
+    let robust = _mm256_set1_ps(ROBUST);
+    let zero = _mm256_setzero_ps();
+    let inf = _mm256_set1_ps(f32::INFINITY);
+    let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
+    let mut stack = Stack::new(&mut buf);
+    let mut cur = 0u32;
+    loop {
+        if cur & LEAF == 0 {
+            let node = &nodes[cur as usize];
+            let mut hits = [(0.0f32, 0u32); 8];
+            let mut n = 0;
+            for c in 0..8 {
+                let child = node.child(c);
+                if child == EMPTY {
+                    break;
+                }
+                let (lo, hi) = node.lane_box(c);
+                // The one-ray slab test for eight rays: (plane − o) · inv per axis, near and
+                // far planes chosen per ray by its direction's sign.
+                let mut near = [zero; 3];
+                let mut far = [zero; 3];
+                for a in 0..3 {
+                    let tl = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(lo[a]), o[a]), inv[a]);
+                    let th = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(hi[a]), o[a]), inv[a]);
+                    near[a] = _mm256_blendv_ps(tl, th, neg[a]);
+                    far[a] = _mm256_blendv_ps(th, tl, neg[a]);
+                }
+                let t0 = _mm256_max_ps(
+                    _mm256_max_ps(near[0], near[1]),
+                    _mm256_max_ps(near[2], zero),
+                );
+                let t1 = _mm256_mul_ps(
+                    _mm256_min_ps(_mm256_min_ps(far[0], far[1]), _mm256_min_ps(far[2], t_best)),
+                    robust,
+                );
+                let le = _mm256_cmp_ps::<_CMP_LE_OS>(t0, t1);
+                let m = _mm256_movemask_ps(le) as u32 & active;
+                if m == 0 {
+                    continue;
+                }
+                // The child's key: the least entry distance of the rays that enter it.
+                let key = hmin(_mm256_blendv_ps(inf, t0, le), m);
+                let mut j = n;
+                while j > 0 && hits[j - 1].0 > key {
+                    hits[j] = hits[j - 1];
+                    j -= 1;
+                }
+                hits[j % 8] = (key, child);
+                n += 1;
+            }
+            if n > 0 {
+                for &e in hits[1..n].iter().rev() {
+                    stack.push(e);
+                }
+                cur = hits[0].1;
+                continue;
+            }
+        } else {
+            let pk = &packets[(cur & !LEAF) as usize];
+            let mut tris = pk.tri_mask;
+            while tris != 0 {
+                let l = tris.trailing_zeros() as usize & 3;
+                tris &= tris - 1;
+                let p = pk.prim[l];
+                let mut on_edge = 0;
+                let accept = triangle8(pk, l, rays, t_best, &mut on_edge);
+                // Rays exactly on an edge: the scalar test, as the one-ray traversal does.
+                let mut edge = on_edge & active;
+                let tb = store(t_best);
+                let mut t_new = tb;
+                while edge != 0 {
+                    let i = edge.trailing_zeros() as usize & 7;
+                    edge &= edge - 1;
+                    let Some(tr) = rays.tr[i] else { continue };
+                    let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
+                    if let Some((t, u1, u2)) = tr.intersect(tb[i].next_up(), v[0], v[1], v[2])
+                        && (t < tb[i] || (found >> i & 1 == 1 && p < prim[i]))
+                    {
+                        t_new[i] = t;
+                        prim[i] = p;
+                        (b1[i], b2[i]) = (u1, u2);
+                        found |= 1 << i;
+                    }
+                }
+                let (t, v1, v2, less, equal) = accept;
+                // Ties (equal distance) win only against a later primitive of a ray's own.
+                let mut take = less & active & !on_edge;
+                let mut ties = equal & active & !on_edge & found;
+                while ties != 0 {
+                    let i = ties.trailing_zeros() as usize & 7;
+                    ties &= ties - 1;
+                    if p < prim[i] {
+                        take |= 1 << i;
+                    }
+                }
+                let mut bits = take;
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize & 7;
+                    bits &= bits - 1;
+                    t_new[i] = t[i];
+                    prim[i] = p;
+                    (b1[i], b2[i]) = (v1[i], v2[i]);
+                }
+                found |= take;
+                t_best = load(&t_new);
+            }
+            let mut others = pk.other_mask;
+            while others != 0 {
+                let l = others.trailing_zeros() as usize & 3;
+                others &= others - 1;
+                let mut tb = store(t_best);
+                let mut lanes = active;
+                while lanes != 0 {
+                    let i = lanes.trailing_zeros() as usize & 7;
+                    lanes &= lanes - 1;
+                    if let Some((t, u1, u2)) = other(i, pk.prim[l], tb[i]) {
+                        tb[i] = t;
+                        prim[i] = pk.prim[l];
+                        (b1[i], b2[i]) = (u1, u2);
+                        found |= 1 << i;
+                    }
+                }
+                t_best = load(&tb);
+            }
+        }
+        // Next stacked child some ray may still find a closer hit in.
+        let reach = _mm256_mul_ps(hmax_active(t_best, active), robust);
+        let reach = _mm_cvtss_f32(_mm256_castps256_ps128(reach));
+        loop {
+            match stack.pop() {
+                None => {
+                    let tb = store(t_best);
+                    let mut out = [None; 8];
+                    for (i, slot) in out.iter_mut().enumerate() {
+                        if found >> i & 1 == 1 {
+                            *slot = Some(WideHit {
+                                t: tb[i],
+                                prim: prim[i],
+                                b1: b1[i],
+                                b2: b2[i],
+                            });
+                        }
+                    }
+                    return out;
+                }
+                Some((key, c)) if key <= reach => {
+                    cur = c;
+                    break;
+                }
+                Some(_) => {}
+            }
+        }
+    }
+}
+
+/// Whether each ray of `rays` (lanes in `rays.active`) hits anything before its `t_max`;
+/// `other` as for [`closest8`] (only whether it returns a hit matters).
+///
+/// # Safety
+/// As [`closest8`].
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn any8(
+    nodes: &[Node8],
+    packets: &[Packet],
+    rays: &Rays8,
+    mut other: impl FnMut(usize, u32, f32) -> Option<(f32, f32, f32)>,
+) -> u32 {
+    let mut active = rays.active;
+    let mut occluded = 0u32;
+    let t_max = load(&rays.t_max);
+    let (o, inv, neg) = (
+        [load(&rays.o[0]), load(&rays.o[1]), load(&rays.o[2])],
+        [load(&rays.inv[0]), load(&rays.inv[1]), load(&rays.inv[2])],
+        [load(&rays.neg[0]), load(&rays.neg[1]), load(&rays.neg[2])],
+    );
+    let robust = _mm256_set1_ps(ROBUST);
+    let zero = _mm256_setzero_ps();
+    let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
+    let mut stack = Stack::new(&mut buf);
+    let mut cur = 0u32;
+    loop {
+        if cur & LEAF == 0 {
+            let node = &nodes[cur as usize];
+            let mut next = EMPTY;
+            for c in 0..8 {
+                let child = node.child(c);
+                if child == EMPTY {
+                    break;
+                }
+                let (lo, hi) = node.lane_box(c);
+                let mut near = [zero; 3];
+                let mut far = [zero; 3];
+                for a in 0..3 {
+                    let tl = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(lo[a]), o[a]), inv[a]);
+                    let th = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(hi[a]), o[a]), inv[a]);
+                    near[a] = _mm256_blendv_ps(tl, th, neg[a]);
+                    far[a] = _mm256_blendv_ps(th, tl, neg[a]);
+                }
+                let t0 = _mm256_max_ps(
+                    _mm256_max_ps(near[0], near[1]),
+                    _mm256_max_ps(near[2], zero),
+                );
+                let t1 = _mm256_mul_ps(
+                    _mm256_min_ps(_mm256_min_ps(far[0], far[1]), _mm256_min_ps(far[2], t_max)),
+                    robust,
+                );
+                let m = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t0, t1)) as u32 & active;
+                if m != 0 {
+                    if next == EMPTY {
+                        next = child;
+                    } else {
+                        stack.push((0.0, child));
+                    }
+                }
+            }
+            if next != EMPTY {
+                cur = next;
+                continue;
+            }
+        } else {
+            let pk = &packets[(cur & !LEAF) as usize];
+            let mut tris = pk.tri_mask;
+            while tris != 0 && active != 0 {
+                let l = tris.trailing_zeros() as usize & 3;
+                tris &= tris - 1;
+                let mut on_edge = 0;
+                let (_, _, _, less, _) = triangle8(pk, l, rays, t_max, &mut on_edge);
+                let mut hit = less & active & !on_edge;
+                let mut edge = on_edge & active;
+                let tm = &rays.t_max;
+                while edge != 0 {
+                    let i = edge.trailing_zeros() as usize & 7;
+                    edge &= edge - 1;
+                    let Some(tr) = rays.tr[i] else { continue };
+                    let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
+                    if tr.intersect(tm[i], v[0], v[1], v[2]).is_some() {
+                        hit |= 1 << i;
+                    }
+                }
+                occluded |= hit;
+                active &= !hit;
+            }
+            let mut others = pk.other_mask;
+            while others != 0 && active != 0 {
+                let l = others.trailing_zeros() as usize & 3;
+                others &= others - 1;
+                let mut lanes = active;
+                while lanes != 0 {
+                    let i = lanes.trailing_zeros() as usize & 7;
+                    lanes &= lanes - 1;
+                    if other(i, pk.prim[l], rays.t_max[i]).is_some() {
+                        occluded |= 1 << i;
+                        active &= !(1 << i);
+                    }
+                }
+            }
+            if active == 0 {
+                return occluded;
+            }
+        }
+        match stack.pop() {
+            None => return occluded,
+            Some((_, c)) => cur = c,
+        }
+    }
+}
+
+/// The watertight test of triangle `l` of `pk` against the eight rays, lane by lane the
+/// scalar test's operations: `(t, b1, b2, t < t_best, t = t_best)` (the masks for hits with
+/// `t > 0` inside the triangle), and in `on_edge` the rays exactly on an edge (an edge
+/// function exactly zero), which the caller decides with the scalar test.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn triangle8(
+    pk: &Packet,
+    l: usize,
+    rays: &Rays8,
+    t_best: __m256,
+    on_edge: &mut u32,
+) -> ([f32; 8], [f32; 8], [f32; 8], u32, u32) {
+    let [kx, ky, kz] = rays.k.map(|k| k & 3);
+    let (ox, oy, oz) = (
+        load(&rays.o[kx % 3]),
+        load(&rays.o[ky % 3]),
+        load(&rays.o[kz % 3]),
+    );
+    let (sx, sy, sz) = (load(&rays.sx), load(&rays.sy), load(&rays.sz));
+    // Translate, permute, shear, as `TriangleRay::intersect` does per ray.
+    let vert = |k: usize| {
+        let p = &pk.v[k];
+        let (px, py, pz) = (
+            _mm256_set1_ps(p[kx][l]),
+            _mm256_set1_ps(p[ky][l]),
+            _mm256_set1_ps(p[kz][l]),
+        );
+        let z = _mm256_sub_ps(pz, oz);
+        (
+            _mm256_sub_ps(_mm256_sub_ps(px, ox), _mm256_mul_ps(sx, z)),
+            _mm256_sub_ps(_mm256_sub_ps(py, oy), _mm256_mul_ps(sy, z)),
+            z,
+        )
+    };
+    let (ax, ay, az) = vert(0);
+    let (bx, by, bz) = vert(1);
+    let (cx, cy, cz) = vert(2);
+    let u = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
+    let v = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
+    let w = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
+    let zero = _mm256_setzero_ps();
+    let eq0 = |x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero);
+    let lt0 = |x| _mm256_cmp_ps::<_CMP_LT_OS>(x, zero);
+    let gt0 = |x| _mm256_cmp_ps::<_CMP_GT_OS>(x, zero);
+    *on_edge = _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(eq0(u), eq0(v)), eq0(w))) as u32;
+    let neg = _mm256_or_ps(_mm256_or_ps(lt0(u), lt0(v)), lt0(w));
+    let pos = _mm256_or_ps(_mm256_or_ps(gt0(u), gt0(v)), gt0(w));
+    let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
+    let inv = _mm256_div_ps(_mm256_set1_ps(1.0), det);
+    let sum = _mm256_add_ps(
+        _mm256_add_ps(_mm256_mul_ps(u, az), _mm256_mul_ps(v, bz)),
+        _mm256_mul_ps(w, cz),
+    );
+    let t = _mm256_mul_ps(_mm256_mul_ps(sz, sum), inv);
+    let inside = _mm256_andnot_ps(
+        _mm256_and_ps(neg, pos),
+        _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_NEQ_UQ>(det, zero),
+            _mm256_cmp_ps::<_CMP_GT_OS>(t, zero),
+        ),
+    );
+    let less = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_LT_OS>(t, t_best));
+    let equal = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_EQ_OQ>(t, t_best));
+    (
+        store(t),
+        store(_mm256_mul_ps(v, inv)),
+        store(_mm256_mul_ps(w, inv)),
+        _mm256_movemask_ps(less) as u32,
+        _mm256_movemask_ps(equal) as u32,
+    )
+}
+
+/// The least of the lanes of `v` in `mask` (the others hold +∞ already).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn hmin(v: __m256, _mask: u32) -> f32 {
+    let m = _mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
+    let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    let m = _mm_min_ss(m, _mm_shuffle_ps::<0b01>(m, m));
+    _mm_cvtss_f32(m)
+}
+
+/// The greatest lane of `v` among `active` (in every lane of the result).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn hmax_active(v: __m256, active: u32) -> __m256 {
+    let lanes = store(v);
+    let mut m = f32::NEG_INFINITY;
+    for (i, &x) in lanes.iter().enumerate() {
+        if active >> i & 1 == 1 {
+            m = m.max(x);
+        }
+    }
+    _mm256_set1_ps(m)
+}
