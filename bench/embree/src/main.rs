@@ -154,7 +154,8 @@ enum Row {
     Caustica,
     /// `Geometry::hit_distance` (t only; no shadow variant).
     CausticaT,
-    /// Hook for a future caustica packet / stream query: printed as n/a until it exists.
+    /// `Geometry::intersect_stream` / `occluded_stream`: eight rays at a time through the
+    /// 8-wide BVH, fed in packet order. Where a set has no such query its cells print n/a.
     CausticaPackets,
     Embree1,
     Embree8,
@@ -177,7 +178,9 @@ impl Row {
                 "caustica `Geometry::intersect` → SurfaceInteraction (shadow: `occluded`), single rays"
             }
             Row::CausticaT => "caustica `Geometry::hit_distance` (t only), single rays",
-            Row::CausticaPackets => "caustica packets / streams (none yet)",
+            Row::CausticaPackets => {
+                "caustica `Geometry::intersect_stream` / `occluded_stream`, 8 rays at a time"
+            }
             Row::Embree1 => "Embree `rtcIntersect1` / `rtcOccluded1`, single rays",
             Row::Embree8 => "Embree `rtcIntersect8` / `rtcOccluded8`, 8-ray packets",
             Row::Embree1M => "Embree `rtcIntersect1M` / `rtcOccluded1M`, streams of 256",
@@ -210,12 +213,32 @@ fn query<'a>(row: Row, set: &'a RaySet, geo: &'a Geometry, scene: &'a Scene) -> 
             }
         }),
         (Row::CausticaT, true) => return None,
-        // HOOK: once caustica has a packet (or stream) query, time it here beside Embree's
-        // packets: same grouping (`set.packets`, 4×2 pixel tiles for the camera rays,
-        // consecutive rays otherwise; `set.lanes(p)` gives a packet's rays), writing `out` in
-        // ray order like the other queries, and the row's cells, ratios and agreement check
-        // fill in by themselves.
-        (Row::CausticaPackets, _) => return None,
+        // caustica's packet queries, beside Embree's packets: the rays in packet order
+        // (`set.order`: 4×2 pixel tiles for the camera rays, consecutive rays otherwise), so
+        // each chunk of eight the stream takes is one of Embree's packets. Reordering is set-up
+        // (a renderer generates its rays in tile order); results go back to ray order. A new
+        // caustica packet or stream query gets a `Row` and an arm here, and its cells, ratios
+        // and agreement check fill in by themselves.
+        (Row::CausticaPackets, false) => {
+            let rays: Vec<Ray> = set.order.iter().map(|&i| set.rays[i as usize]).collect();
+            let mut res = Vec::new();
+            Box::new(move |out| {
+                geo.intersect_stream(&rays, &mut res);
+                for (&i, h) in set.order.iter().zip(&res) {
+                    out[i as usize] = h.as_ref().map(|s| s.t);
+                }
+            })
+        }
+        (Row::CausticaPackets, true) => {
+            let rays: Vec<Ray> = set.order.iter().map(|&i| set.rays[i as usize]).collect();
+            let mut res = Vec::new();
+            Box::new(move |out| {
+                geo.occluded_stream(&rays, &mut res);
+                for (&i, &occ) in set.order.iter().zip(&res) {
+                    out[i as usize] = occ.then_some(0.0);
+                }
+            })
+        }
         (Row::Embree1, false) => Box::new(move |out| {
             for (o, r) in out.iter_mut().zip(&set.rays) {
                 *o = scene.intersect1(coh, r);
@@ -699,6 +722,10 @@ fn main() {
     for (c, cname) in [
         (Row::Caustica, "`intersect` (shadow: `occluded`)"),
         (Row::CausticaT, "`hit_distance`"),
+        (
+            Row::CausticaPackets,
+            "`intersect_stream` (`occluded_stream`)",
+        ),
     ] {
         for (e, ename) in [
             (Row::Embree1, "Embree single"),
@@ -781,13 +808,14 @@ fn main() {
     );
     let _ = writeln!(
         w,
-        "| ray set | rays | caustica hits | `hit_distance` = `intersect`.t | Embree hits | \
+        "| ray set | rays | caustica hits | `hit_distance` = `intersect`.t | \
+         `intersect_stream` = `intersect` | Embree hits | \
          agree rtcIntersect1 | agree rtcIntersect8 | agree rtcIntersect1M | hit/miss differ¹ | t differs¹ | max rel. t diff.¹ | ≥ {:.1} % |",
         100.0 * AGREE_MIN
     );
     let _ = writeln!(
         w,
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
     );
     let mut all_ok = true;
     let mut disagreements = Vec::new();
@@ -803,10 +831,13 @@ fn main() {
                     .count()
             })
         };
-        let same_t = find(Row::CausticaT, si).map_or("—".into(), |j| {
-            let k = c.iter().zip(&j.out).filter(|(a, b)| a == b).count();
-            format!("{k}")
-        });
+        let same = |row: Row| {
+            find(row, si).map_or("—".into(), |j| {
+                let k = c.iter().zip(&j.out).filter(|(a, b)| a == b).count();
+                format!("{k}")
+            })
+        };
+        let (same_t, same_stream) = (same(Row::CausticaT), same(Row::CausticaPackets));
         let e1 = &find(Row::Embree1, si).expect("Embree job").out;
         let hm = c
             .iter()
@@ -846,7 +877,7 @@ fn main() {
         let pct = |k: usize| format!("{k} ({:.3} %)", 100.0 * k as f64 / n as f64);
         let _ = writeln!(
             w,
-            "| {} | {n} | {} | {same_t} | {} | {} | {} | {} | {hm} | {td} | {} | {} |",
+            "| {} | {n} | {} | {same_t} | {same_stream} | {} | {} | {} | {} | {hm} | {td} | {} | {} |",
             set.name,
             hits(c),
             hits(e1),
