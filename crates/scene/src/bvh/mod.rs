@@ -1,5 +1,6 @@
 //! The BVH every query of a scene goes through: a wide tree whose nodes test four or eight
-//! child boxes at once, with leaves ([`packet`]) of up to four primitives tested at once.
+//! child boxes at once, with leaves of up to eight primitives, held as runs of packets
+//! ([`packet`]) of up to four primitives tested at once.
 //!
 //! The tree comes from the `obvhs` crate's binary PLOC build (with reinsertion, single
 //! threaded, so it is the same whatever the thread count), collapsed ([`collapse`]) to the

@@ -14,7 +14,7 @@ use super::WideHit;
 use super::node8::Node8;
 use super::packet::{EMPTY, Packet};
 use super::stack::{STACK, Stack, StackBuf};
-use super::traverse::{LEAF, ROBUST, WideNode};
+use super::traverse::{LEAF, ROBUST, WideNode, leaf_packets};
 use crate::shape::mesh::TriangleRay;
 use caustica_core::Vec3;
 use std::arch::x86_64::*;
@@ -198,71 +198,72 @@ pub(super) unsafe fn closest8(
                 continue;
             }
         } else {
-            let pk = &packets[(cur & !LEAF) as usize];
-            let mut tris = pk.tri_mask;
-            while tris != 0 {
-                let l = tris.trailing_zeros() as usize & 3;
-                tris &= tris - 1;
-                let p = pk.prim[l];
-                let mut on_edge = 0;
-                let accept = triangle8(pk, l, rays, t_best, &mut on_edge);
-                // Rays exactly on an edge: the scalar test, as the one-ray traversal does.
-                let mut edge = on_edge & active;
-                let tb = store(t_best);
-                let mut t_new = tb;
-                while edge != 0 {
-                    let i = edge.trailing_zeros() as usize & 7;
-                    edge &= edge - 1;
-                    let Some(tr) = rays.tr[i] else { continue };
-                    let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
-                    if let Some((t, u1, u2)) = tr.intersect(tb[i].next_up(), v[0], v[1], v[2])
-                        && (t < tb[i] || (found >> i & 1 == 1 && p < prim[i]))
-                    {
-                        t_new[i] = t;
+            for pk in leaf_packets(packets, cur) {
+                let mut tris = pk.tri_mask;
+                while tris != 0 {
+                    let l = tris.trailing_zeros() as usize & 3;
+                    tris &= tris - 1;
+                    let p = pk.prim[l];
+                    let mut on_edge = 0;
+                    let accept = triangle8(pk, l, rays, t_best, &mut on_edge);
+                    // Rays exactly on an edge: the scalar test, as the one-ray traversal does.
+                    let mut edge = on_edge & active;
+                    let tb = store(t_best);
+                    let mut t_new = tb;
+                    while edge != 0 {
+                        let i = edge.trailing_zeros() as usize & 7;
+                        edge &= edge - 1;
+                        let Some(tr) = rays.tr[i] else { continue };
+                        let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
+                        if let Some((t, u1, u2)) = tr.intersect(tb[i].next_up(), v[0], v[1], v[2])
+                            && (t < tb[i] || (found >> i & 1 == 1 && p < prim[i]))
+                        {
+                            t_new[i] = t;
+                            prim[i] = p;
+                            (b1[i], b2[i]) = (u1, u2);
+                            found |= 1 << i;
+                        }
+                    }
+                    let (t, v1, v2, less, equal) = accept;
+                    // Ties (equal distance) win only against a later primitive of a ray's own.
+                    let mut take = less & active & !on_edge;
+                    let mut ties = equal & active & !on_edge & found;
+                    while ties != 0 {
+                        let i = ties.trailing_zeros() as usize & 7;
+                        ties &= ties - 1;
+                        if p < prim[i] {
+                            take |= 1 << i;
+                        }
+                    }
+                    let mut bits = take;
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize & 7;
+                        bits &= bits - 1;
+                        t_new[i] = t[i];
                         prim[i] = p;
-                        (b1[i], b2[i]) = (u1, u2);
-                        found |= 1 << i;
+                        (b1[i], b2[i]) = (v1[i], v2[i]);
                     }
+                    found |= take;
+                    t_best = load(&t_new);
                 }
-                let (t, v1, v2, less, equal) = accept;
-                // Ties (equal distance) win only against a later primitive of a ray's own.
-                let mut take = less & active & !on_edge;
-                let mut ties = equal & active & !on_edge & found;
-                while ties != 0 {
-                    let i = ties.trailing_zeros() as usize & 7;
-                    ties &= ties - 1;
-                    if p < prim[i] {
-                        take |= 1 << i;
+                let mut others = pk.other_mask;
+                while others != 0 {
+                    let l = others.trailing_zeros() as usize & 3;
+                    others &= others - 1;
+                    let mut tb = store(t_best);
+                    let mut lanes = active;
+                    while lanes != 0 {
+                        let i = lanes.trailing_zeros() as usize & 7;
+                        lanes &= lanes - 1;
+                        if let Some((t, u1, u2)) = other(i, pk.prim[l], tb[i]) {
+                            tb[i] = t;
+                            prim[i] = pk.prim[l];
+                            (b1[i], b2[i]) = (u1, u2);
+                            found |= 1 << i;
+                        }
                     }
+                    t_best = load(&tb);
                 }
-                let mut bits = take;
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize & 7;
-                    bits &= bits - 1;
-                    t_new[i] = t[i];
-                    prim[i] = p;
-                    (b1[i], b2[i]) = (v1[i], v2[i]);
-                }
-                found |= take;
-                t_best = load(&t_new);
-            }
-            let mut others = pk.other_mask;
-            while others != 0 {
-                let l = others.trailing_zeros() as usize & 3;
-                others &= others - 1;
-                let mut tb = store(t_best);
-                let mut lanes = active;
-                while lanes != 0 {
-                    let i = lanes.trailing_zeros() as usize & 7;
-                    lanes &= lanes - 1;
-                    if let Some((t, u1, u2)) = other(i, pk.prim[l], tb[i]) {
-                        tb[i] = t;
-                        prim[i] = pk.prim[l];
-                        (b1[i], b2[i]) = (u1, u2);
-                        found |= 1 << i;
-                    }
-                }
-                t_best = load(&tb);
             }
         }
         // Next stacked child some ray may still find a closer hit in.
@@ -360,39 +361,40 @@ pub(super) unsafe fn any8(
                 continue;
             }
         } else {
-            let pk = &packets[(cur & !LEAF) as usize];
-            let mut tris = pk.tri_mask;
-            while tris != 0 && active != 0 {
-                let l = tris.trailing_zeros() as usize & 3;
-                tris &= tris - 1;
-                let mut on_edge = 0;
-                let (_, _, _, less, _) = triangle8(pk, l, rays, t_max, &mut on_edge);
-                let mut hit = less & active & !on_edge;
-                let mut edge = on_edge & active;
-                let tm = &rays.t_max;
-                while edge != 0 {
-                    let i = edge.trailing_zeros() as usize & 7;
-                    edge &= edge - 1;
-                    let Some(tr) = rays.tr[i] else { continue };
-                    let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
-                    if tr.intersect(tm[i], v[0], v[1], v[2]).is_some() {
-                        hit |= 1 << i;
+            for pk in leaf_packets(packets, cur) {
+                let mut tris = pk.tri_mask;
+                while tris != 0 && active != 0 {
+                    let l = tris.trailing_zeros() as usize & 3;
+                    tris &= tris - 1;
+                    let mut on_edge = 0;
+                    let (_, _, _, less, _) = triangle8(pk, l, rays, t_max, &mut on_edge);
+                    let mut hit = less & active & !on_edge;
+                    let mut edge = on_edge & active;
+                    let tm = &rays.t_max;
+                    while edge != 0 {
+                        let i = edge.trailing_zeros() as usize & 7;
+                        edge &= edge - 1;
+                        let Some(tr) = rays.tr[i] else { continue };
+                        let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
+                        if tr.intersect(tm[i], v[0], v[1], v[2]).is_some() {
+                            hit |= 1 << i;
+                        }
                     }
+                    occluded |= hit;
+                    active &= !hit;
                 }
-                occluded |= hit;
-                active &= !hit;
-            }
-            let mut others = pk.other_mask;
-            while others != 0 && active != 0 {
-                let l = others.trailing_zeros() as usize & 3;
-                others &= others - 1;
-                let mut lanes = active;
-                while lanes != 0 {
-                    let i = lanes.trailing_zeros() as usize & 7;
-                    lanes &= lanes - 1;
-                    if other(i, pk.prim[l], rays.t_max[i]).is_some() {
-                        occluded |= 1 << i;
-                        active &= !(1 << i);
+                let mut others = pk.other_mask;
+                while others != 0 && active != 0 {
+                    let l = others.trailing_zeros() as usize & 3;
+                    others &= others - 1;
+                    let mut lanes = active;
+                    while lanes != 0 {
+                        let i = lanes.trailing_zeros() as usize & 7;
+                        lanes &= lanes - 1;
+                        if other(i, pk.prim[l], rays.t_max[i]).is_some() {
+                            occluded |= 1 << i;
+                            active &= !(1 << i);
+                        }
                     }
                 }
             }

@@ -7,8 +7,29 @@ use crate::shape::mesh::TriangleRay;
 use caustica_core::Vec3;
 use std::mem::MaybeUninit;
 
-/// Child references with this bit set are packets (leaves); the others are nodes.
+/// Child references with this bit set are leaves: a run of packets; the others are nodes.
 pub(super) const LEAF: u32 = 1 << 31;
+/// A leaf reference's bits 28–30: the number of packets in its run, less one.
+const RUN_SHIFT: u32 = 28;
+/// A leaf reference's low bits: its first packet.
+const FIRST_MASK: u32 = (1 << RUN_SHIFT) - 1;
+/// Most packets in one leaf.
+pub(super) const MAX_RUN: usize = 1 << (31 - RUN_SHIFT);
+
+/// The reference of the leaf made of packets `first .. first + n` (`1 ≤ n ≤ MAX_RUN`, `first`
+/// below 2²⁸: the builder's invariants).
+pub(super) fn leaf_ref(first: usize, n: usize) -> u32 {
+    debug_assert!((1..=MAX_RUN).contains(&n) && first <= FIRST_MASK as usize);
+    LEAF | ((n as u32 - 1) << RUN_SHIFT) | first as u32
+}
+
+/// The packets of leaf reference `leaf`.
+#[inline(always)]
+pub(super) fn leaf_packets(packets: &[Packet], leaf: u32) -> &[Packet] {
+    let first = (leaf & FIRST_MASK) as usize;
+    let n = ((leaf >> RUN_SHIFT) & (MAX_RUN as u32 - 1)) as usize + 1;
+    packets.get(first..first + n).unwrap_or(&[])
+}
 
 /// 1 + 2γ₃ (pbrt-v4, ε = 2⁻²⁴): the factor on a slab test's far distance that makes it
 /// conservative under rounding.
@@ -91,22 +112,9 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
                 continue;
             }
         } else {
-            let pk = &packets[(cur & !LEAF) as usize];
-            let tie_below = best.map_or(0, |h: WideHit| h.prim);
-            if let Some((t, l, b1, b2)) = pk.closest_triangle(tr, t_max, tie_below) {
-                t_max = t;
-                best = Some(WideHit {
-                    t,
-                    prim: pk.prim[l],
-                    b1,
-                    b2,
-                });
-            }
-            let mut others = pk.other_mask;
-            while others != 0 {
-                let l = others.trailing_zeros() as usize & 3;
-                others &= others - 1;
-                if let Some((t, b1, b2)) = other(pk.prim[l], t_max) {
+            for pk in leaf_packets(packets, cur) {
+                let tie_below = best.map_or(0, |h: WideHit| h.prim);
+                if let Some((t, l, b1, b2)) = pk.closest_triangle(tr, t_max, tie_below) {
                     t_max = t;
                     best = Some(WideHit {
                         t,
@@ -114,6 +122,20 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
                         b1,
                         b2,
                     });
+                }
+                let mut others = pk.other_mask;
+                while others != 0 {
+                    let l = others.trailing_zeros() as usize & 3;
+                    others &= others - 1;
+                    if let Some((t, b1, b2)) = other(pk.prim[l], t_max) {
+                        t_max = t;
+                        best = Some(WideHit {
+                            t,
+                            prim: pk.prim[l],
+                            b1,
+                            b2,
+                        });
+                    }
                 }
             }
         }
@@ -165,16 +187,17 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
                 continue;
             }
         } else {
-            let pk = &packets[(cur & !LEAF) as usize];
-            if pk.closest_triangle(tr, t_max, 0).is_some() {
-                return true;
-            }
-            let mut others = pk.other_mask;
-            while others != 0 {
-                let l = others.trailing_zeros() as usize & 3;
-                others &= others - 1;
-                if other(pk.prim[l], t_max).is_some() {
+            for pk in leaf_packets(packets, cur) {
+                if pk.closest_triangle(tr, t_max, 0).is_some() {
                     return true;
+                }
+                let mut others = pk.other_mask;
+                while others != 0 {
+                    let l = others.trailing_zeros() as usize & 3;
+                    others &= others - 1;
+                    if other(pk.prim[l], t_max).is_some() {
+                        return true;
+                    }
                 }
             }
         }
