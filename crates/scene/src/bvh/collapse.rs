@@ -78,11 +78,13 @@ fn first_in_order(bvh2: &obvhs::bvh2::Bvh2, count: &[u32]) -> Vec<u32> {
     first
 }
 
-/// Most primitives in one leaf: a subtree of at most eight primitives becomes a leaf (a run
-/// of up to [`MAX_RUN`] packets: every maximal subtree of at most four is one packet). Against
-/// leaves of one packet (four primitives) this removes the tree's last level of nodes (106 059
-/// → 58 600 eight-wide nodes on the benchmark's 1 M triangles) and traced 2–14 % more rays per
-/// second there (docs/performance.md).
+/// Most primitives in one leaf: a subtree of at most eight primitives reached as a child
+/// becomes a leaf (a run of up to [`MAX_RUN`] packets: every maximal subtree of at most four is
+/// one packet). A node still opens every child of more than four primitives while it has free
+/// lanes, so runs of two packets are left only where a node is full. Against leaves of one
+/// packet this removes the tree's last level of nodes (106 059 → 58 600 eight-wide nodes on
+/// the benchmark's 1 M triangles) and traced 2–14 % more rays per second there
+/// (docs/performance.md).
 const LEAF_PRIMS: usize = 8;
 const _: () = assert!(LEAF_PRIMS <= MAX_RUN);
 

@@ -422,12 +422,8 @@ fn triangle8(
     t_best: __m256,
     on_edge: &mut u32,
 ) -> ([f32; 8], [f32; 8], [f32; 8], u32, u32) {
-    let [kx, ky, kz] = rays.k.map(|k| k & 3);
-    let (ox, oy, oz) = (
-        load(&rays.o[kx % 3]),
-        load(&rays.o[ky % 3]),
-        load(&rays.o[kz % 3]),
-    );
+    let [kx, ky, kz] = rays.k.map(|k| k.min(2));
+    let (ox, oy, oz) = (load(&rays.o[kx]), load(&rays.o[ky]), load(&rays.o[kz]));
     let (sx, sy, sz) = (load(&rays.sx), load(&rays.sy), load(&rays.sz));
     // Translate, permute, shear, as `TriangleRay::intersect` does per ray.
     let vert = |k: usize| {
