@@ -36,6 +36,43 @@ pub(super) fn leaf_packets(packets: &[Packet], leaf: u32) -> &[Packet] {
 pub(super) const ROBUST: f32 =
     1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
+/// Asks the CPU to bring node or leaf `child` into the cache: its node's lines, or its run's
+/// packets' lines. Called for every child a ray enters, when the node is tested, so that the
+/// loads of the children visited later overlap the work on the nearest one (on incoherent
+/// rays through a tree far larger than the caches, +27 % rays per second on the benchmark's
+/// random rays, +7 % on diffuse bounces, nothing on camera rays: docs/performance.md). A hint:
+/// it reads no memory architecturally and never faults.
+#[inline(always)]
+fn prefetch_child<N>(nodes: &[N], packets: &[Packet], child: u32) {
+    let (p, bytes): (*const i8, usize) = if child & LEAF == 0 {
+        (
+            nodes.as_ptr().wrapping_add(child as usize).cast(),
+            std::mem::size_of::<N>(),
+        )
+    } else {
+        let run = ((child >> RUN_SHIFT) & (MAX_RUN as u32 - 1)) as usize + 1;
+        (
+            packets
+                .as_ptr()
+                .wrapping_add((child & FIRST_MASK) as usize)
+                .cast(),
+            run.min(2) * std::mem::size_of::<Packet>(),
+        )
+    };
+    #[cfg(target_arch = "x86_64")]
+    for line in (0..bytes).step_by(64) {
+        // SAFETY: `prefetcht0` (SSE, in the x86_64 baseline) only hints the cache: it reads no
+        // memory architecturally and cannot fault, whatever the address; the address is
+        // formed with `wrapping_add`, so no out-of-bounds pointer arithmetic happens either.
+        unsafe {
+            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+            _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(line));
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (p, bytes);
+}
+
 /// An inner node of `W` children whose boxes one ray tests at once.
 pub(super) trait WideNode<const W: usize>: Sized {
     /// A ray prepared for [`Self::hit`].
@@ -90,7 +127,15 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
                     cur = node.child(first);
                     continue;
                 }
-                // Two or more children: visit the nearest, stack the rest far to near.
+                // Two or more children: visit the nearest, stack the rest far to near; ask for
+                // all of them from memory now.
+                prefetch_child(nodes, packets, node.child(first));
+                let mut m = mask;
+                while m != 0 {
+                    let l = m.trailing_zeros() as usize % W;
+                    m &= m - 1;
+                    prefetch_child(nodes, packets, node.child(l));
+                }
                 let mut hits = [(t0[first], node.child(first)); W];
                 let mut n = 1;
                 while mask != 0 {
@@ -181,6 +226,7 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize % W;
                     mask &= mask - 1;
+                    prefetch_child(nodes, packets, node.child(l));
                     stack.push((0.0, node.child(l)));
                 }
                 cur = node.child(first);
