@@ -18,6 +18,7 @@ mkdir -p "$out" "$work"
 renders=(
     "cornell-box --integrator path --spp 64 --max-depth 8 --sampler independent"
     "glass-sphere --integrator lighttrace --spp 256"
+    "glass-sphere --integrator pm --photons 1000000 --global-photons 100000 --spp 1"
     "water-wave --integrator pm --photons 200000 --spp 4"
     "water-wave --integrator pds --photons 200000 --spp 4"
 )
