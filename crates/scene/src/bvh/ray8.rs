@@ -113,6 +113,53 @@ fn store(v: __m256) -> [f32; 8] {
     out
 }
 
+/// The eight rays' origins, reciprocal directions and plane choices in registers.
+#[derive(Clone, Copy)]
+struct Slabs {
+    o: [__m256; 3],
+    inv: [__m256; 3],
+    neg: [__m256; 3],
+}
+
+impl Slabs {
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn new(rays: &Rays8) -> Self {
+        Self {
+            o: [load(&rays.o[0]), load(&rays.o[1]), load(&rays.o[2])],
+            inv: [load(&rays.inv[0]), load(&rays.inv[1]), load(&rays.inv[2])],
+            neg: [load(&rays.neg[0]), load(&rays.neg[1]), load(&rays.neg[2])],
+        }
+    }
+
+    /// The one-ray slab test for eight rays against the box `[lo, hi]`: `(plane − o) · inv`
+    /// per axis, near and far planes chosen per ray by its direction's sign, the far distance
+    /// capped at `t_far` and grown by `1 + 2γ₃`. Returns the entry distances and the mask of
+    /// the rays that enter (all bits of a lane set).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn test(&self, lo: [f32; 3], hi: [f32; 3], t_far: __m256) -> (__m256, __m256) {
+        let zero = _mm256_setzero_ps();
+        let mut near = [zero; 3];
+        let mut far = [zero; 3];
+        for a in 0..3 {
+            let tl = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(lo[a]), self.o[a]), self.inv[a]);
+            let th = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(hi[a]), self.o[a]), self.inv[a]);
+            near[a] = _mm256_blendv_ps(tl, th, self.neg[a]);
+            far[a] = _mm256_blendv_ps(th, tl, self.neg[a]);
+        }
+        let t0 = _mm256_max_ps(
+            _mm256_max_ps(near[0], near[1]),
+            _mm256_max_ps(near[2], zero),
+        );
+        let t1 = _mm256_mul_ps(
+            _mm256_min_ps(_mm256_min_ps(far[0], far[1]), _mm256_min_ps(far[2], t_far)),
+            _mm256_set1_ps(ROBUST),
+        );
+        (t0, _mm256_cmp_ps::<_CMP_LE_OS>(t0, t1))
+    }
+}
+
 /// The closest hit of each ray of `rays` (lanes not in `rays.active` get `None`); `other(i,
 /// k, t)` tests non-triangle primitive `k` (BVH order) for the ray in lane `i`, as
 /// [`super::traverse::closest`]'s `other` does.
@@ -135,13 +182,8 @@ pub(super) unsafe fn closest8(
     let mut b1 = [0.0f32; 8];
     let mut b2 = [0.0f32; 8];
     let mut found = 0u32;
-    let (o, inv, neg) = (
-        [load(&rays.o[0]), load(&rays.o[1]), load(&rays.o[2])],
-        [load(&rays.inv[0]), load(&rays.inv[1]), load(&rays.inv[2])],
-        [load(&rays.neg[0]), load(&rays.neg[1]), load(&rays.neg[2])],
-    );
+    let slabs = Slabs::new(rays);
     let robust = _mm256_set1_ps(ROBUST);
-    let zero = _mm256_setzero_ps();
     let inf = _mm256_set1_ps(f32::INFINITY);
     let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
@@ -157,25 +199,7 @@ pub(super) unsafe fn closest8(
                     break;
                 }
                 let (lo, hi) = node.lane_box(c);
-                // The one-ray slab test for eight rays: (plane − o) · inv per axis, near and
-                // far planes chosen per ray by its direction's sign.
-                let mut near = [zero; 3];
-                let mut far = [zero; 3];
-                for a in 0..3 {
-                    let tl = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(lo[a]), o[a]), inv[a]);
-                    let th = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(hi[a]), o[a]), inv[a]);
-                    near[a] = _mm256_blendv_ps(tl, th, neg[a]);
-                    far[a] = _mm256_blendv_ps(th, tl, neg[a]);
-                }
-                let t0 = _mm256_max_ps(
-                    _mm256_max_ps(near[0], near[1]),
-                    _mm256_max_ps(near[2], zero),
-                );
-                let t1 = _mm256_mul_ps(
-                    _mm256_min_ps(_mm256_min_ps(far[0], far[1]), _mm256_min_ps(far[2], t_best)),
-                    robust,
-                );
-                let le = _mm256_cmp_ps::<_CMP_LE_OS>(t0, t1);
+                let (t0, le) = slabs.test(lo, hi, t_best);
                 let m = _mm256_movemask_ps(le) as u32 & active;
                 if m == 0 {
                     continue;
@@ -311,13 +335,7 @@ pub(super) unsafe fn any8(
     let mut active = rays.active;
     let mut occluded = 0u32;
     let t_max = load(&rays.t_max);
-    let (o, inv, neg) = (
-        [load(&rays.o[0]), load(&rays.o[1]), load(&rays.o[2])],
-        [load(&rays.inv[0]), load(&rays.inv[1]), load(&rays.inv[2])],
-        [load(&rays.neg[0]), load(&rays.neg[1]), load(&rays.neg[2])],
-    );
-    let robust = _mm256_set1_ps(ROBUST);
-    let zero = _mm256_setzero_ps();
+    let slabs = Slabs::new(rays);
     let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
     let mut cur = 0u32;
@@ -331,23 +349,8 @@ pub(super) unsafe fn any8(
                     break;
                 }
                 let (lo, hi) = node.lane_box(c);
-                let mut near = [zero; 3];
-                let mut far = [zero; 3];
-                for a in 0..3 {
-                    let tl = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(lo[a]), o[a]), inv[a]);
-                    let th = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(hi[a]), o[a]), inv[a]);
-                    near[a] = _mm256_blendv_ps(tl, th, neg[a]);
-                    far[a] = _mm256_blendv_ps(th, tl, neg[a]);
-                }
-                let t0 = _mm256_max_ps(
-                    _mm256_max_ps(near[0], near[1]),
-                    _mm256_max_ps(near[2], zero),
-                );
-                let t1 = _mm256_mul_ps(
-                    _mm256_min_ps(_mm256_min_ps(far[0], far[1]), _mm256_min_ps(far[2], t_max)),
-                    robust,
-                );
-                let m = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t0, t1)) as u32 & active;
+                let (_, le) = slabs.test(lo, hi, t_max);
+                let m = _mm256_movemask_ps(le) as u32 & active;
                 if m != 0 {
                     if next == EMPTY {
                         next = child;
