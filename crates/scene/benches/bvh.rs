@@ -1,7 +1,8 @@
 //! BVH benchmarks on a procedurally displaced sphere of ~1M triangles:
 //! build time, closest-hit throughput for coherent (pinhole camera) and incoherent rays,
-//! shadow-ray throughput of [`Geometry`] (our 4-wide BVH, collapsed from obvhs's binary PLOC
-//! tree, with four-at-a-time watertight triangle tests), against raw `obvhs` on its own triangles
+//! shadow-ray throughput of [`Geometry`] (our wide BVH, eight or four children per node by
+//! [`caustica_scene::bvh::BvhWidth::detect`], collapsed from obvhs's binary PLOC tree, with
+//! four-at-a-time watertight triangle tests), against raw `obvhs` on its own triangles
 //! (its CWBVH from `build_cwbvh_from_tris` and its own triangle test) as the reference.
 //!
 //! Run: `cargo bench -p caustica-scene --bench bvh`. Traversal benchmarks are single-threaded;

@@ -183,7 +183,6 @@ pub(super) unsafe fn closest8(
     let mut b2 = [0.0f32; 8];
     let mut found = 0u32;
     let slabs = Slabs::new(rays);
-    let robust = _mm256_set1_ps(ROBUST);
     let inf = _mm256_set1_ps(f32::INFINITY);
     let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
@@ -205,7 +204,7 @@ pub(super) unsafe fn closest8(
                     continue;
                 }
                 // The child's key: the least entry distance of the rays that enter it.
-                let key = hmin(_mm256_blendv_ps(inf, t0, le), m);
+                let key = hmin(_mm256_blendv_ps(inf, t0, le));
                 let mut j = n;
                 while j > 0 && hits[j - 1].0 > key {
                     hits[j] = hits[j - 1];
@@ -291,8 +290,7 @@ pub(super) unsafe fn closest8(
             }
         }
         // Next stacked child some ray may still find a closer hit in.
-        let reach = _mm256_mul_ps(hmax_active(t_best, active), robust);
-        let reach = _mm_cvtss_f32(_mm256_castps256_ps128(reach));
+        let reach = hmax_active(t_best, active) * ROBUST;
         loop {
             match stack.pop() {
                 None => {
@@ -481,26 +479,23 @@ fn triangle8(
     )
 }
 
-/// The least of the lanes of `v` in `mask` (the others hold +∞ already).
+/// The least lane of `v` (lanes not to count hold +∞ already).
 #[inline]
 #[target_feature(enable = "avx2")]
-fn hmin(v: __m256, _mask: u32) -> f32 {
+fn hmin(v: __m256) -> f32 {
     let m = _mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
     let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
     let m = _mm_min_ss(m, _mm_shuffle_ps::<0b01>(m, m));
     _mm_cvtss_f32(m)
 }
 
-/// The greatest lane of `v` among `active` (in every lane of the result).
+/// The greatest lane of `v` among `active`.
 #[inline]
 #[target_feature(enable = "avx2")]
-fn hmax_active(v: __m256, active: u32) -> __m256 {
-    let lanes = store(v);
-    let mut m = f32::NEG_INFINITY;
-    for (i, &x) in lanes.iter().enumerate() {
-        if active >> i & 1 == 1 {
-            m = m.max(x);
-        }
-    }
-    _mm256_set1_ps(m)
+fn hmax_active(v: __m256, active: u32) -> f32 {
+    store(v)
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| active >> i & 1 == 1)
+        .fold(f32::NEG_INFINITY, |m, (_, &x)| m.max(x))
 }
