@@ -110,6 +110,6 @@ pub use medium::{
 };
 pub use ray_differential::{RayDiff, normalize_differential};
 pub use reflection::{reflect, reflection_jacobians};
-pub use refraction::{refract, refract_direction, refraction_jacobians};
+pub use refraction::{refract, refract_direction, refract_dispersive, refraction_jacobians};
 pub use surface::{FlatTriangle, PhongTriangle, SurfaceHit, TriangleMotion};
 pub use transfer::{Transferred, transfer_to_fixed_plane, transfer_to_plane};

@@ -44,6 +44,25 @@ pub fn refract<const N: usize>(
     dnormal: &[Vec3; N],
     eta: f32,
 ) -> Result<RayDiff<N>, DiffError> {
+    refract_dispersive(ray, normal, dnormal, eta, &[0.0; N])
+}
+
+/// [`refract`] through a dispersive interface: the relative IOR `η` depends on the parameters
+/// too, `deta[i] = ∂η/∂θᵢ` (the appendix takes η constant before eq. B.21; with wavelength as a
+/// parameter it is not, issue 22). Differentiating eq. B.19b–B.20b in η as well:
+///
+/// * `∂μ/∂η = Vᵀ N − η (1 − (Vᵀ N)²) / √ξ` (from `∂ξ/∂η = −2 η (1 − (Vᵀ N)²)`);
+/// * `∂W/∂η = V − N ∂μ/∂η`;
+///
+/// so eq. B.21b becomes `dW = η dV − N dμ − μ dN + (∂W/∂η) dη` (and `dQ` is still unchanged,
+/// eq. B.19a). Columns with `deta[i] = 0` are computed exactly as by [`refract`].
+pub fn refract_dispersive<const N: usize>(
+    ray: &RayDiff<N>,
+    normal: Vec3,
+    dnormal: &[Vec3; N],
+    eta: f32,
+    deta: &[f32; N],
+) -> Result<RayDiff<N>, DiffError> {
     let v = ray.v;
     // Orientation convention of eq. B.30: Vᵀ N < 0.
     let sign = if v.dot(normal) > 0.0 { -1.0 } else { 1.0 };
@@ -58,10 +77,17 @@ pub fn refract<const N: usize>(
     let w = eta * v - mu * n; // eq. B.19b
     // The factor η (1 + η Vᵀ N / √ξ) shared by both terms of eq. B.22d and by eq. B.23.
     let g = eta * (1.0 + eta * vn / sqrt_xi);
+    // ∂W/∂η for dispersive columns (see [`refract_dispersive`]).
+    let dw_deta = v - n * (vn - eta * (1.0 - vn * vn) / sqrt_xi);
     let dw = std::array::from_fn(|i| {
         let (dv, dn) = (ray.dv[i], sign * dnormal[i]);
         let dmu = g * (n.dot(dv) + v.dot(dn)); // eq. B.22d
-        eta * dv - n * dmu - mu * dn // eq. B.21b
+        let dw = eta * dv - n * dmu - mu * dn; // eq. B.21b
+        if deta[i] != 0.0 {
+            dw + dw_deta * deta[i]
+        } else {
+            dw
+        }
     });
     RayDiff::new(ray.p, w, ray.dp, dw).finite_or_err() // eq. B.19a: Q and dQ unchanged
 }

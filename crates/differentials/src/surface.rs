@@ -93,6 +93,13 @@ impl<const N: usize> SurfaceHit<N> {
     pub fn refract(&self, eta: f32) -> Result<RayDiff<N>, DiffError> {
         refraction::refract(&self.ray, self.normal, &self.dnormal, eta)
     }
+
+    /// [`Self::refract`] where `eta` also depends on the parameters, `deta[i] = ∂η/∂θᵢ`
+    /// (a dispersive interface with wavelength as a parameter,
+    /// [`refraction::refract_dispersive`]).
+    pub fn refract_dispersive(&self, eta: f32, deta: &[f32; N]) -> Result<RayDiff<N>, DiffError> {
+        refraction::refract_dispersive(&self.ray, self.normal, &self.dnormal, eta, deta)
+    }
 }
 
 /// A flat triangle with vertices `q` (m): the surface of B.3.1.
