@@ -90,18 +90,11 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Switches spectral mode on or off. Participating media are not spectral yet: a scene
-    /// with media is refused in spectral mode. Reflectance texels outside [0, 1] (image
-    /// textures may hold any value), which the upsampling clamps, are counted in a warning
-    /// added to `warnings`.
+    /// Switches spectral mode on or off. Reflectance texels outside [0, 1] (image textures may
+    /// hold any value), which the upsampling clamps, are counted in a warning added to
+    /// `warnings`. Participating media need nothing here: their σ_a, σ_s are upsampled as
+    /// unbounded spectra where a path meets them (`Medium::coefficients`).
     pub fn set_spectral(&mut self, on: bool) -> Result<(), SceneError> {
-        if on && !self.media.is_empty() {
-            return Err(SceneError::Invalid(
-                "spectral mode does not support participating media yet; render this scene \
-                 without --spectral"
-                    .into(),
-            ));
-        }
         self.spectral = on;
         if on {
             let outside: usize = self

@@ -83,6 +83,7 @@ pub fn trace_light_path(
                                     start.medium,
                                     sampler,
                                     stats,
+                                    &start.channels,
                                 );
                                 if !tr.is_black() {
                                     let w = n.dot(cs.wi).abs()
@@ -112,8 +113,14 @@ pub fn trace_light_path(
                             if !f.is_black() && v.same_side_consistent(lv.wo, cs.wi, wi_local) {
                                 let shadow = v.si.spawn_ray_to(cs.lens_p);
                                 let medium = v.si.medium_toward(shadow.d, lv.medium);
-                                let tr =
-                                    shadow_transmittance(scene, &shadow, medium, sampler, stats);
+                                let tr = shadow_transmittance(
+                                    scene,
+                                    &shadow,
+                                    medium,
+                                    sampler,
+                                    stats,
+                                    &v.channels,
+                                );
                                 if !tr.is_black() {
                                     let corr = v.shading_normal_correction(
                                         lv.wo,
@@ -140,10 +147,18 @@ pub fn trace_light_path(
                             && out.reaches(filter, cs.raster)
                         {
                             let shadow = mv.ray_to(cs.lens_p);
-                            let tr =
-                                shadow_transmittance(scene, &shadow, mv.medium, sampler, stats);
+                            let tr = shadow_transmittance(
+                                scene,
+                                &shadow,
+                                mv.medium,
+                                sampler,
+                                stats,
+                                &mv.channels,
+                            );
                             if !tr.is_black() {
-                                let c = lm.beta * mv.phase.eval(mv.wo, cs.wi) * cs.weight * tr;
+                                let c = mv
+                                    .channels
+                                    .to_rgb(lm.beta * mv.phase.eval(mv.wo, cs.wi) * cs.weight * tr);
                                 splat(out, cs.raster, c, stats);
                             }
                         }

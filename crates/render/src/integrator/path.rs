@@ -146,7 +146,7 @@ pub fn radiance_with(
                 if depth >= opts.limits.max_depth || beta.is_black() {
                     break;
                 }
-                let mv = MediumVertex::new(scene, p, &ray, m);
+                let mv = MediumVertex::new(scene, p, &ray, m, &ch);
                 l += beta * sample_direct_at(scene, Scatterer::Medium(&mv), sampler, stats, true);
                 prev_direct_by_rule = false;
                 let u = sampler.next_2d();

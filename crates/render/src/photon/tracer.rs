@@ -228,7 +228,9 @@ pub(crate) fn trace_one(
             let lv = match event {
                 LightEvent::Vertex(lv) => lv,
                 LightEvent::Medium(lm) if self.kind == MapKind::Volume => {
-                    if !lm.beta.is_finite() {
+                    // Linear sRGB, as surface photons (the identity in RGB mode).
+                    let flux = lm.v.channels.to_rgb(lm.beta);
+                    if !flux.is_finite() {
                         stats.nonfinite += 1;
                         return;
                     }
@@ -236,7 +238,7 @@ pub(crate) fn trace_one(
                         p: lm.v.p,
                         wi: lm.v.wo,
                         n: Vec3::ZERO,
-                        flux: lm.beta,
+                        flux,
                         depth: lm.depth.min(u16::MAX as u32) as u16,
                         caustic: lm.after_specular_chain,
                     });

@@ -66,7 +66,8 @@ pub fn sample_direct_at(
     } else {
         at.ray_toward(ls.wi)
     };
-    let tr = shadow_transmittance(scene, &shadow, medium, sampler, stats);
+    let ch = at.channels();
+    let tr = shadow_transmittance(scene, &shadow, medium, sampler, stats, &ch);
     if tr.is_black() {
         return Spectrum::ZERO;
     }
@@ -75,5 +76,5 @@ pub fn sample_direct_at(
     } else {
         power_heuristic(pmf * ls.pdf, at.pdf(ls.wi, TransportMode::Radiance))
     };
-    f * tr * scene.light_emission(li, ls.weight, &at.channels()) * (mis / pmf)
+    f * tr * scene.light_emission(li, ls.weight, &ch) * (mis / pmf)
 }

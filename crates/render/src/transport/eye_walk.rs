@@ -15,7 +15,7 @@ use crate::stats::RenderStats;
 use crate::transport::medium::{MediumSpan, Segment, trace_transmitted};
 use crate::transport::vertex::Vertex;
 use caustica_core::sampling::Sampler;
-use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_core::{Channels, Ray, Spectrum, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 
@@ -74,7 +74,9 @@ pub fn walk_eye(
     let mut depth = 0u32;
     while depth < max_vertices {
         let mut spans = Vec::new();
-        let seg = trace_transmitted(scene, &ray, &mut medium, sampler, stats, |span, _| {
+        // The camera side of the photon methods is RGB in both modes (docs/spectral.md).
+        let ch = Channels::Rgb;
+        let seg = trace_transmitted(scene, &ray, &mut medium, sampler, stats, &ch, |span, _| {
             spans.push((*span.ray, span.t_max, span.medium, span.tr));
         });
         for (r, t_max, m, tr) in spans {

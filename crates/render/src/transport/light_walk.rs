@@ -237,7 +237,7 @@ pub fn walk_light_path_at(
                 if beta.is_black() {
                     break;
                 }
-                let mv = MediumVertex::new(scene, p, &ray, m);
+                let mv = MediumVertex::new(scene, p, &ray, m, &ch);
                 let lmv = LightMediumVertex {
                     v: &mv,
                     beta,

@@ -13,6 +13,9 @@
 //!   vertices. [`trace_transmitted`] does not sample scattering: it reaches the next surface
 //!   weighted by the transmittance and shows each medium span it crossed to a callback, where a
 //!   density estimator adds in-scattered light (photon mapping's camera rays).
+//! * Every call takes the path's lanes (`Channels`): the media's σ_a, σ_s are evaluated in them
+//!   once per medium span (`Medium::coefficients`; in spectral mode upsampled spectra at the
+//!   path's wavelengths, in RGB mode the RGB values themselves).
 //! * Each medium span draws two sampler dimensions (a [`TrackingSampler`]); a shadow ray in a
 //!   scene with media draws two (for ratio tracking), whether or not it meets a medium, so the
 //!   dimension layout of a path depends only on its vertices.
@@ -58,7 +61,8 @@ const MAX_NULL_CROSSINGS: u32 = 256;
 
 /// Traces `ray` (origin off any surface) from medium `*medium` to the next scattering event or
 /// non-null surface, crossing index-matched boundaries and updating `*medium` as it goes. `ch`:
-/// the lanes of the path (Beer–Lambert absorption inside dielectrics at its wavelengths).
+/// the lanes of the path (the media's coefficients and the Beer–Lambert absorption inside
+/// dielectrics at its wavelengths).
 #[inline]
 pub fn trace_segment(
     scene: &Scene,
@@ -83,7 +87,7 @@ pub fn trace_segment(
     walk_spans(scene, ray, medium, stats, ch, |span, _| {
         let m = &scene.media[span.medium as usize];
         let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
-        match m.sample_free_flight(span.ray, span.t_max, &mut ts) {
+        match m.sample_free_flight(span.ray, span.t_max, ch, &mut ts) {
             FreeFlight::Scatter { t, weight } => Err(Segment::Medium {
                 p: span.ray.at(t),
                 medium: span.medium,
@@ -96,24 +100,26 @@ pub fn trace_segment(
 
 /// [`trace_segment`] without scattering: the ray goes on to the next non-null surface (or out),
 /// weighted by the transmittance of the media it crossed, and `span` sees each medium span on
-/// the way (with the transmittance up to its start). Never returns [`Segment::Medium`].
+/// the way (with the transmittance up to its start). Never returns [`Segment::Medium`]. `ch`:
+/// the lanes of the path, as for [`trace_segment`].
 pub fn trace_transmitted(
     scene: &Scene,
     ray: &Ray,
     medium: &mut u32,
     sampler: &mut Sampler,
     stats: &mut RenderStats,
+    ch: &Channels,
     mut span: impl FnMut(MediumSpan, &mut RenderStats),
 ) -> Segment {
     if !scene.has_media {
-        return trace_segment(scene, ray, medium, sampler, stats, &Channels::Rgb);
+        return trace_segment(scene, ray, medium, sampler, stats, ch);
     }
-    walk_spans(scene, ray, medium, stats, &Channels::Rgb, |s, stats| {
+    walk_spans(scene, ray, medium, stats, ch, |s, stats| {
         let m = &scene.media[s.medium as usize];
         let (r, t_max) = (*s.ray, s.t_max);
         span(s, stats);
         let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
-        Ok(m.transmittance(&r, t_max, &mut ts))
+        Ok(m.transmittance(&r, t_max, ch, &mut ts))
     })
 }
 
@@ -168,14 +174,16 @@ fn walk_spans(
 
 /// Transmittance of the connection `shadow` (a ray with `t_max` just short of its target) that
 /// starts in medium `medium`: 0 if a non-null surface blocks it, else the product of the
-/// media's transmittances along it (ratio tracking in grids). Draws two sampler dimensions in
-/// scenes with media, none otherwise.
+/// media's transmittances along it (ratio tracking in grids), in the lanes `ch` of the path
+/// that makes the connection. Draws two sampler dimensions in scenes with media, none
+/// otherwise.
 pub fn shadow_transmittance(
     scene: &Scene,
     shadow: &Ray,
     medium: u32,
     sampler: &mut Sampler,
     stats: &mut RenderStats,
+    ch: &Channels,
 ) -> Spectrum {
     if !scene.has_media {
         stats.rays += 1;
@@ -195,7 +203,7 @@ pub fn shadow_transmittance(
         let hit = scene.intersect(&ray);
         let t_end = hit.as_ref().map_or(ray.t_max, |si| si.t);
         if medium != NONE {
-            tr *= scene.media[medium as usize].transmittance(&ray, t_end, &mut ts);
+            tr *= scene.media[medium as usize].transmittance(&ray, t_end, ch, &mut ts);
             if tr.is_black() {
                 return tr;
             }

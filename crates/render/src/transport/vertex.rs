@@ -94,18 +94,23 @@ pub struct MediumVertex {
     pub phase: PhaseFunction,
     /// Scene time (frames) of the path at this vertex.
     pub time: f32,
+    /// The lanes of the path (RGB or its wavelengths): its connections' transmittances are
+    /// evaluated in them, and what it delivers is converted by [`Channels::to_rgb`].
+    pub channels: Channels,
 }
 
 impl MediumVertex {
-    /// The vertex at `p` reached along `ray` in medium `medium` of `scene`.
+    /// The vertex at `p` reached along `ray` in medium `medium` of `scene`, by a path with lanes
+    /// `ch`.
     #[inline]
-    pub fn new(scene: &Scene, p: Vec3, ray: &Ray, medium: u32) -> Self {
+    pub fn new(scene: &Scene, p: Vec3, ray: &Ray, medium: u32, ch: &Channels) -> Self {
         Self {
             p,
             wo: -ray.d,
             medium,
             phase: scene.media[medium as usize].phase,
             time: ray.time,
+            channels: *ch,
         }
     }
 
@@ -165,12 +170,12 @@ impl Scatterer<'_> {
             Scatterer::Medium(m) => Spectrum::splat(m.phase.eval(m.wo, wi)),
         }
     }
-    /// The lanes of the path at this vertex (media are RGB only).
+    /// The lanes of the path at this vertex.
     #[inline]
     pub fn channels(&self) -> Channels {
         match self {
             Scatterer::Surface { v, .. } => v.channels,
-            Scatterer::Medium(_) => Channels::Rgb,
+            Scatterer::Medium(m) => m.channels,
         }
     }
     /// Solid-angle density (sr⁻¹) with which the vertex samples `wi` itself.

@@ -10,7 +10,16 @@
 //!   majorants) walked by a 3-D DDA for delta and ratio tracking.
 //!
 //! [`tracking`] holds the estimators both share: free-flight sampling with spectral MIS over the
-//! RGB channels, and transmittance (closed form in homogeneous media, ratio tracking in grids).
+//! path's three lanes, and transmittance (closed form in homogeneous media, ratio tracking in
+//! grids).
+//!
+//! # Spectral mode
+//!
+//! σ_a and σ_s are given in RGB. A path carries its lanes ([`Channels`]): in RGB mode they are
+//! used as they are; in spectral mode each is upsampled as an unbounded spectrum
+//! ([`Channels::unbounded`], Jakob–Hanika scaled sigmoid; grey values stay flat exactly) and
+//! evaluated at the path's three wavelengths, once per medium span ([`Medium::coefficients`]),
+//! never per tracking step. σ_t(λ) = σ_a(λ) + σ_s(λ). The phase function does not depend on λ.
 //!
 //! # Where media are
 //!
@@ -31,7 +40,7 @@ pub use homogeneous::Homogeneous;
 pub use tracking::{FreeFlight, TrackingSampler};
 
 use crate::phase::PhaseFunction;
-use caustica_core::{Ray, Spectrum, Vec3};
+use caustica_core::{Channels, Ray, Spectrum, Vec3};
 
 /// The density field of a medium.
 #[derive(Clone, Debug)]
@@ -50,6 +59,16 @@ pub struct Medium {
     /// Scattering coefficient at density 1 (m⁻¹, per channel), `scale` already applied.
     pub sigma_s: Spectrum,
     pub phase: PhaseFunction,
+}
+
+/// A medium's coefficients at density 1 in a path's lanes (m⁻¹ per lane): what the tracking
+/// estimators use. From [`Medium::coefficients`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coefficients {
+    /// Scattering coefficient σ_s (m⁻¹).
+    pub sigma_s: Spectrum,
+    /// Extinction coefficient σ_t = σ_a + σ_s (m⁻¹).
+    pub sigma_t: Spectrum,
 }
 
 /// Optical depth (σ_t times distance, dimensionless) above which tracking through a grid would
@@ -88,10 +107,26 @@ impl Medium {
         (sigma_a, sigma_s)
     }
 
-    /// Extinction coefficient at density 1 (m⁻¹).
+    /// Extinction coefficient at density 1 (m⁻¹, RGB).
     #[inline]
     pub fn sigma_t(&self) -> Spectrum {
         self.sigma_a + self.sigma_s
+    }
+
+    /// σ_s and σ_t at density 1 (m⁻¹) in the lanes `ch`: the RGB values themselves in RGB mode
+    /// (the same bits as [`Self::sigma_t`]); in spectral mode σ_a and σ_s upsampled as unbounded
+    /// spectra and evaluated at the path's wavelengths (grey values unchanged). Call once per
+    /// medium span: it evaluates six sigmoids for a chromatic medium.
+    #[inline]
+    pub fn coefficients(&self, ch: &Channels) -> Coefficients {
+        let (sigma_a, sigma_s) = match ch {
+            Channels::Rgb => (self.sigma_a, self.sigma_s),
+            Channels::Spectral(_) => (ch.unbounded(self.sigma_a), ch.unbounded(self.sigma_s)),
+        };
+        Coefficients {
+            sigma_s,
+            sigma_t: sigma_a + sigma_s,
+        }
     }
 
     /// Dimensionless density at `p` (world space, m).
@@ -104,34 +139,44 @@ impl Medium {
     }
 
     /// Samples where along `ray` (unit direction) before `t_max` the next real scattering
-    /// happens, or that there is none; see [`tracking::sample_free_flight`].
+    /// happens, or that there is none, in the lanes `ch`; see [`tracking::sample_free_flight`].
     #[inline]
     pub fn sample_free_flight(
         &self,
         ray: &Ray,
         t_max: f32,
+        ch: &Channels,
         ts: &mut TrackingSampler,
     ) -> FreeFlight {
-        tracking::sample_free_flight(self, ray, t_max, ts)
+        tracking::sample_free_flight(self, &self.coefficients(ch), ray, t_max, ts)
     }
 
-    /// Transmittance exp(−∫₀^t_max σ_t) along `ray` (unit direction): exact in homogeneous
-    /// media, an unbiased ratio-tracking estimate in grids ([`tracking::transmittance`]).
+    /// Transmittance exp(−∫₀^t_max σ_t) (dimensionless, per lane of `ch`) along `ray` (unit
+    /// direction): exact in homogeneous media, an unbiased ratio-tracking estimate in grids
+    /// ([`tracking::transmittance`]).
     #[inline]
-    pub fn transmittance(&self, ray: &Ray, t_max: f32, ts: &mut TrackingSampler) -> Spectrum {
-        tracking::transmittance(self, ray, t_max, ts)
+    pub fn transmittance(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        ch: &Channels,
+        ts: &mut TrackingSampler,
+    ) -> Spectrum {
+        tracking::transmittance(self, &self.coefficients(ch), ray, t_max, ts)
     }
 
-    /// Optical depth ∫_{t0}^{t1} σ_t along `ray` (unit direction), deterministic: exact in
-    /// homogeneous media, the midpoint rule with steps of half a voxel in grids. For density
-    /// estimators (the beam estimate's transmittance to each photon), which are biased anyway.
-    pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32) -> Spectrum {
+    /// Optical depth ∫_{t0}^{t1} σ_t (dimensionless, per lane of `ch`) along `ray` (unit
+    /// direction), deterministic: exact in homogeneous media, the midpoint rule with steps of
+    /// half a voxel in grids. For density estimators (the beam estimate's transmittance to each
+    /// photon), which are biased anyway.
+    pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32, ch: &Channels) -> Spectrum {
         if t1 <= t0 {
             return Spectrum::ZERO;
         }
+        let sigma_t = self.coefficients(ch).sigma_t;
         match &self.kind {
-            MediumKind::Homogeneous(_) => self.sigma_t() * (t1 - t0),
-            MediumKind::Grid(g) => self.sigma_t() * g.integrate_density(ray, t0, t1),
+            MediumKind::Homogeneous(_) => sigma_t * (t1 - t0),
+            MediumKind::Grid(g) => sigma_t * g.integrate_density(ray, t0, t1),
         }
     }
 

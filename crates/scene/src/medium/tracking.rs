@@ -9,6 +9,15 @@
 //! uniformly per segment) is tracked and the result weighted by the balance heuristic over the
 //! three choices — Mitsuba 3's `volpath` and pbrt-v4's `VolPathIntegrator` do the same.
 //!
+//! The "channels" are the path's lanes: RGB, or three wavelengths in spectral mode, whose
+//! coefficients the caller evaluates once per span ([`Medium::coefficients`]); the estimators
+//! here are the same arithmetic either way. After a dispersive interface a spectral path keeps
+//! only its hero wavelength (`Channels::terminate_secondary`) but its secondary lanes still hold
+//! coefficients: the MIS stays over all three lanes, which is still unbiased for the surviving
+//! lane (the balance-heuristic estimator f_c / ⅓Σ_k p_k is unbiased for every lane c whose own
+//! density p_c is positive wherever f_c is), only a little noisier than tracking lane 0 alone.
+//! Kept that way for simplicity.
+//!
 //! In a grid the flight is tracked against majorants σ̄_c = d̄ σ_t,c ≥ σ_t,c(t) (one per
 //! majorant cell, [`super::grid::MajorantSegments`]): tentative collisions at rate σ̄_h of the
 //! hero, each real with probability σ_t,h/σ̄_h, null otherwise (delta tracking, Woodcock et al.
@@ -38,7 +47,7 @@
 //! function of the seed. Every loop is capped at [`MAX_TRACKING_STEPS`] collisions; scenes whose
 //! media could need more are refused when built (`Medium::validate`).
 
-use super::{Medium, MediumKind};
+use super::{Coefficients, Medium, MediumKind};
 use caustica_core::sampling::{Pcg32, mix_seed};
 use caustica_core::{Ray, Spectrum};
 
@@ -126,14 +135,15 @@ fn mean(s: Spectrum) -> f32 {
 
 /// Delta tracking with spectral MIS (module docs): samples the next real scattering along `ray`
 /// (unit direction) before `t_max` (may be infinite: then a medium with σ_t > 0 always
-/// scatters).
+/// scatters), with `c` the medium's coefficients in the path's lanes.
 pub fn sample_free_flight(
     m: &Medium,
+    c: &Coefficients,
     ray: &Ray,
     t_max: f32,
     ts: &mut TrackingSampler,
 ) -> FreeFlight {
-    let sigma_t = m.sigma_t();
+    let sigma_t = c.sigma_t;
     let hero = ((ts.next_1d() * 3.0) as usize).min(2);
     let mut a = Spectrum::ONE;
     let mut steps = 0u32;
@@ -172,7 +182,7 @@ pub fn sample_free_flight(
                 }
                 return FreeFlight::Scatter {
                     t,
-                    weight: a * (m.sigma_s * d) / p,
+                    weight: a * (c.sigma_s * d) / p,
                 };
             }
             a *= null;
@@ -192,9 +202,16 @@ pub fn sample_free_flight(
 }
 
 /// Transmittance along `ray` (unit direction) over `[0, t_max]`: exp(−σ_t t_max) in homogeneous
-/// media, ratio tracking with Russian roulette in grids (module docs).
-pub fn transmittance(m: &Medium, ray: &Ray, t_max: f32, ts: &mut TrackingSampler) -> Spectrum {
-    let sigma_t = m.sigma_t();
+/// media, ratio tracking with Russian roulette in grids (module docs); `c` the medium's
+/// coefficients in the path's lanes.
+pub fn transmittance(
+    m: &Medium,
+    c: &Coefficients,
+    ray: &Ray,
+    t_max: f32,
+    ts: &mut TrackingSampler,
+) -> Spectrum {
+    let sigma_t = c.sigma_t;
     let g = match &m.kind {
         MediumKind::Homogeneous(_) => return (sigma_t * -t_max).exp(),
         MediumKind::Grid(g) => g,
@@ -232,7 +249,12 @@ mod tests {
     use super::*;
     use crate::medium::DensityGrid;
     use crate::phase::PhaseFunction;
-    use caustica_core::{Affine3A, Vec3};
+    use caustica_core::{Affine3A, Channels, Vec3};
+
+    /// The medium's RGB coefficients (RGB mode).
+    fn rgb(m: &Medium) -> Coefficients {
+        m.coefficients(&Channels::Rgb)
+    }
 
     fn homogeneous(st: Spectrum, albedo: f32) -> Medium {
         Medium::homogeneous(st * (1.0 - albedo), st * albedo, PhaseFunction::default())
@@ -263,7 +285,7 @@ mod tests {
         let xs: Vec<f64> = (0..n)
             .map(|_| {
                 let mut ts = TrackingSampler::new(rng.next_f32(), rng.next_f32());
-                match sample_free_flight(&m, &ray, f32::INFINITY, &mut ts) {
+                match sample_free_flight(&m, &rgb(&m), &ray, f32::INFINITY, &mut ts) {
                     FreeFlight::Scatter { t, weight } => {
                         assert!((weight - Spectrum::ONE).max_component().abs() < 1e-5);
                         t as f64
@@ -300,7 +322,7 @@ mod tests {
         let mut passed = 0;
         for _ in 0..n {
             let mut ts = TrackingSampler::new(rng.next_f32(), rng.next_f32());
-            match sample_free_flight(&m, &ray, 10.0, &mut ts) {
+            match sample_free_flight(&m, &rgb(&m), &ray, 10.0, &mut ts) {
                 FreeFlight::Scatter { t, .. } => xs.push(t as f64),
                 FreeFlight::Pass { .. } => passed += 1,
             }
@@ -333,7 +355,7 @@ mod tests {
         let (mut pass2, mut scat2) = ([0.0f64; 3], [0.0f64; 3]);
         for _ in 0..n {
             let mut ts = TrackingSampler::new(rng.next_f32(), rng.next_f32());
-            match sample_free_flight(&m, &ray, t_max, &mut ts) {
+            match sample_free_flight(&m, &rgb(&m), &ray, t_max, &mut ts) {
                 FreeFlight::Pass { weight } => {
                     for c in 0..3 {
                         pass[c] += weight[c] as f64;
@@ -381,7 +403,7 @@ mod tests {
         let (mut s, mut s2) = ([0.0f64; 3], [0.0f64; 3]);
         for _ in 0..n {
             let mut ts = TrackingSampler::new(rng.next_f32(), rng.next_f32());
-            let t = transmittance(&m, &ray, len, &mut ts);
+            let t = transmittance(&m, &rgb(&m), &ray, len, &mut ts);
             for c in 0..3 {
                 s[c] += t[c] as f64;
                 s2[c] += (t[c] as f64).powi(2);
@@ -399,7 +421,7 @@ mod tests {
                 "channel {c}: {mean} vs {want}"
             );
             // The deterministic quadrature agrees too.
-            let od = m.optical_depth(&ray, 0.0, len)[c] as f64;
+            let od = m.optical_depth(&ray, 0.0, len, &Channels::Rgb)[c] as f64;
             assert!((od - st[c] as f64 * integral).abs() < 1e-3, "{od}");
         }
     }
@@ -409,7 +431,7 @@ mod tests {
         // Seed 000 eq. 8.2 prints e^{+∫σ_t}; transmittance must fall with distance.
         let m = homogeneous(Spectrum::new(1.0, 2.0, 0.0), 0.5);
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
-        let t = transmittance(&m, &ray, 0.7, &mut TrackingSampler::new(0.5, 0.5));
+        let t = transmittance(&m, &rgb(&m), &ray, 0.7, &mut TrackingSampler::new(0.5, 0.5));
         assert!((t[0] - (-0.7f32).exp()).abs() < 1e-6);
         assert!((t[1] - (-1.4f32).exp()).abs() < 1e-6);
         assert_eq!(t[2], 1.0);
@@ -429,8 +451,8 @@ mod tests {
         // Even unvalidated, tracking ends (capped).
         let ray = Ray::new(Vec3::new(-1.0, 0.5, 0.5), Vec3::X);
         let mut ts = TrackingSampler::new(0.3, 0.6);
-        let _ = transmittance(&m, &ray, 3.0, &mut ts);
-        let _ = sample_free_flight(&m, &ray, 3.0, &mut ts);
+        let _ = transmittance(&m, &rgb(&m), &ray, 3.0, &mut ts);
+        let _ = sample_free_flight(&m, &rgb(&m), &ray, 3.0, &mut ts);
     }
 }
 
@@ -439,7 +461,11 @@ mod grid_consistency {
     use super::*;
     use crate::medium::DensityGrid;
     use crate::phase::PhaseFunction;
-    use caustica_core::{Affine3A, Vec3};
+    use caustica_core::{Affine3A, Channels, Vec3};
+
+    fn rgb(m: &Medium) -> Coefficients {
+        m.coefficients(&Channels::Rgb)
+    }
 
     #[test]
     fn delta_and_ratio_tracking_match_the_optical_depth_in_a_random_grid() {
@@ -465,16 +491,18 @@ mod grid_consistency {
             let d = (target - o).normalize();
             let ray = Ray::new(o, d);
             let t_max = 3.0;
-            let want = (-(m.optical_depth(&ray, 0.0, t_max)[0] as f64)).exp();
+            let want = (-(m.optical_depth(&ray, 0.0, t_max, &Channels::Rgb)[0] as f64)).exp();
             let n = 40_000;
             let (mut pass, mut ratio, mut ratio2) = (0.0f64, 0.0f64, 0.0f64);
             for _ in 0..n {
                 let mut ts = TrackingSampler::new(rng.next_f32(), rng.next_f32());
-                if let FreeFlight::Pass { weight } = sample_free_flight(&m, &ray, t_max, &mut ts) {
+                if let FreeFlight::Pass { weight } =
+                    sample_free_flight(&m, &rgb(&m), &ray, t_max, &mut ts)
+                {
                     pass += weight[0] as f64;
                 }
                 let mut ts = TrackingSampler::new(rng.next_f32(), rng.next_f32());
-                let t = transmittance(&m, &ray, t_max, &mut ts)[0] as f64;
+                let t = transmittance(&m, &rgb(&m), &ray, t_max, &mut ts)[0] as f64;
                 ratio += t;
                 ratio2 += t * t;
             }

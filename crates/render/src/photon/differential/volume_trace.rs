@@ -340,14 +340,16 @@ impl<const N: usize> LightVisitor for VolumeDiffVisitor<'_, N> {
                     free_flight(&r, s)
                 });
                 self.ray.ray = Some(at);
-                if !lm.beta.is_finite() {
+                // Stored in linear sRGB, as every photon (the identity in RGB mode).
+                let beta = lm.v.channels.to_rgb(lm.beta);
+                if !beta.is_finite() {
                     stats.nonfinite += 1;
                     return;
                 }
                 self.out.push(VolumeLanding {
                     p: lm.v.p,
                     wi: lm.v.wo,
-                    beta: lm.beta,
+                    beta,
                     depth: lm.depth.min(u16::MAX as u32) as u16,
                     pmf: self.ray.pmf,
                     dp: at.ok().map(|r| [r.dp[0], r.dp[1]]),
