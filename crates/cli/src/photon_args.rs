@@ -126,6 +126,17 @@ pub struct PhotonArgs {
         help_heading = "Photon differentials (pdm, pds)"
     )]
     pub min_footprint: Option<f32>,
+    /// With --spectral: wavelength photon differentials. Past a dispersive interface each
+    /// caustic photon's footprint is swept along the dispersion fan over K times its share of
+    /// the spectrum, K s / (N_e p(λ)) nm (K = 1: seed 002's rule read in one dimension; larger
+    /// K trades colour noise for spectral blur). Default: off.
+    #[arg(
+        long,
+        value_name = "K",
+        allow_negative_numbers = true,
+        help_heading = "Photon differentials (pdm, pds)"
+    )]
+    pub wavelength_spread: Option<f32>,
     /// Choose no bandwidth automatically: pm's k 50, dpm's bandwidth the median distance to the
     /// 50th nearest photon and q 0.2, pdm's and pds's s 1 (or the scene's smoothing).
     #[arg(long, help_heading = "Photon mapping")]
@@ -329,6 +340,18 @@ impl PhotonArgs {
             }
             o.footprints.min_semi_axis = Some(r);
         }
+        if let Some(k) = self.wavelength_spread {
+            if !(k > 0.0 && k.is_finite()) {
+                anyhow::bail!("--wavelength-spread must be a positive finite factor, got {k}");
+            }
+            if self.temporal {
+                anyhow::bail!(
+                    "--wavelength-spread and --temporal cannot be combined (each photon sweeps \
+                     its footprint along one parameter)"
+                );
+            }
+            o.footprints.wavelength_spread = Some(k);
+        }
         if let Some(n) = self.volume_photons {
             o.volume.photons = n;
         }
@@ -434,6 +457,7 @@ impl PhotonArgs {
             || self.smoothing.is_some()
             || self.normal_distance.is_some()
             || self.min_footprint.is_some()
+            || self.wavelength_spread.is_some()
             || self.no_auto_bandwidth
             || self.volume_photons.is_some()
             || self.volume_k.is_some()

@@ -280,6 +280,21 @@ impl RenderSettings {
                 kind.name()
             );
         }
+        if self.photon.wavelength_spread.is_some() {
+            if !scene.spectral {
+                bail!("--wavelength-spread needs --spectral (photons carry wavelengths only then)");
+            }
+            if !matches!(
+                kind,
+                IntegratorKind::PhotonDifferentialSplatting
+                    | IntegratorKind::PhotonDifferentialMapping
+            ) {
+                bail!(
+                    "--wavelength-spread is for --integrator pds and pdm, not {}",
+                    kind.name()
+                );
+            }
+        }
         if self.photon.progressive_given() && !kind.is_progressive() {
             bail!(
                 "--iterations, --photons-per-iteration, --ppm-alpha and --radius are for the progressive methods (--integrator pppm, ppds, ppdm, pdpm, sppm, ppm or pcf), not {}",

@@ -337,6 +337,113 @@ fn prism_colours_land_where_snell_puts_them() {
     );
 }
 
+/// Wavelength photon differentials (issue 22): the column `D_λ x` the tracer carries to the
+/// screen of the level prism — refracted at both faces with `∂η/∂λ` from F2's Sellmeier law
+/// (`refract_dispersive`) — equals the central difference over ±0.5 nm of where Snell's law
+/// with that law sends the same emitted ray (an independent computation), within 1 %; and
+/// without the `∂η/∂λ` term the column would be zero (the emitted ray does not depend on λ).
+#[test]
+fn wavelength_differentials_follow_the_dispersion_fan() {
+    use caustica_core::spectral::visible_pdf;
+    use caustica_render::FootprintSettings;
+    use caustica_render::photon::differential::{Landing, LandingTracer, unit_budget};
+    let law = prism::prism_dispersion();
+    let mut scene = prism::prism_with_slope(0.0).unwrap().build().unwrap();
+    scene.set_spectral(true).unwrap();
+    let k = 1.0;
+    let s = 4.0;
+    let settings = FootprintSettings {
+        wavelength_spread: Some(k),
+        ..Default::default()
+    };
+    let tracer = LandingTracer::new(&scene, &unit_budget(Smoothing::new(s).unwrap()))
+        .with_wavelength(&settings, &scene);
+    assert!(tracer.has_third_column());
+    let limits = PathLimits::default();
+    let mut stats = RenderStats::default();
+    let mut sampler = Sampler::new(SamplerKind::Independent, 11);
+    let (mut checked, mut worst) = (0, 0.0f32);
+    for i in 0..400 {
+        let mut landings: Vec<Landing<3>> = Vec::new();
+        sampler.start_pixel_sample(0, 0, i);
+        tracer.trace::<3>(&mut sampler, &limits, &mut landings, &mut stats);
+        // The same path again (same numbers) through the plain walker: its emitted ray and hero.
+        sampler.start_pixel_sample(0, 0, i);
+        let mut start = None;
+        let mut hero = None;
+        walk_light_path(
+            &scene,
+            &mut sampler,
+            &limits,
+            &mut stats,
+            |event, _, _| match event {
+                LightEvent::Start(st) => start = Some((st.emission.ray.o, st.emission.ray.d)),
+                LightEvent::Vertex(v) => {
+                    if hero.is_none() {
+                        hero = v.v.channels.hero();
+                    }
+                }
+                LightEvent::Medium(_) => {}
+            },
+        );
+        let (Some(l), Some((o, d)), Some(hero)) = (landings.first(), start, hero) else {
+            continue;
+        };
+        let Some(dp) = l.dp else { continue };
+        if l.depth != 3 {
+            continue; // the screen behind the two faces
+        }
+        // The tracer's column is D_λ x · K s / p(λ) (m) for N_e = 1.
+        let dx_dl = dp[2] * (visible_pdf(hero) / (k * s));
+        let h = 2.0;
+        let at = |lambda: f32| snell_landing(o, d, law.ior(lambda), l.p, l.n).unwrap();
+        let fd = (at(hero + h) - at(hero - h)) / (2.0 * h);
+        assert!(fd.length() > 1e-5, "the fan moves {} m/nm", fd.length());
+        worst = worst.max((dx_dl - fd).length() / fd.length());
+        checked += 1;
+    }
+    assert!(checked > 200, "only {checked} screen landings");
+    assert!(worst < 0.01, "D_λ x off the fan by {:.2} %", worst * 100.0);
+}
+
+/// A wavelength column becomes a sweep centred on the hit and divided by the light's `N_e`
+/// (`N pmf`, a photon's share of the spectrum), where a time column is kept as it is and swept
+/// forward from the hit.
+#[test]
+fn wavelength_column_sweeps_centred_over_the_photons_share() {
+    use caustica_render::ShutterAlign;
+    use caustica_render::photon::differential::{Landing, SweepColumn, photons_from_landings};
+    let landing = Landing::<3> {
+        p: Vec3::new(0.5, 0.0, -0.25),
+        wi: Vec3::Y,
+        n: Vec3::Y,
+        beta: Spectrum::splat(3.0),
+        depth: 3,
+        pmf: 0.5,
+        dp: Some([
+            Vec3::new(0.2, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.2),
+            Vec3::new(0.8, 0.0, 0.4),
+        ]),
+    };
+    let paths = 100;
+    let w = photons_from_landings(&[landing], paths, SweepColumn::Wavelength, None).photons[0];
+    let t = photons_from_landings(&[landing], paths, ShutterAlign::Forward, None).photons[0];
+    let share = 1.0 / (paths as f32 * 0.5);
+    assert!(
+        (w.dt - Vec3::new(0.8, 0.0, 0.4) * share).length() < 1e-7,
+        "{:?}",
+        w.dt
+    );
+    assert!((w.footprint.center() - (landing.p - w.dt * 0.5)).length() < 1e-7);
+    assert!((w.reach_center() - landing.p).length() < 1e-7);
+    assert_eq!(t.dt, Vec3::new(0.8, 0.0, 0.4));
+    assert_eq!(t.footprint.center(), landing.p);
+    assert_eq!(w.flux, t.flux);
+    // The footprint itself (emission columns) is the same for both.
+    assert!((w.footprint.area() - t.footprint.area()).abs() < 1e-9);
+}
+
 /// The prism's table caustic, in spectral mode: the light tracer and pds put the same energy in
 /// the region around the streak (within 5 %: noise of both and pds's footprint blur at the
 /// streak's sharp edges), and the streak is coloured (its red and blue ends differ).

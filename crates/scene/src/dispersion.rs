@@ -51,6 +51,29 @@ impl Dispersion {
         }
     }
 
+    /// dn/dλ at `lambda_nm` (nm⁻¹), in closed form: Sellmeier
+    /// `dn/dλ = −(1/n) Σ Bᵢ Cᵢ λ / (λ² − Cᵢ)²` (λ in µm, then ×10⁻³ per nm), Cauchy
+    /// `dn/dλ = −2B/λ³ − 4C/λ⁵`. Wavelength photon differentials refract with it.
+    pub fn dior_dlambda(&self, lambda_nm: f32) -> f32 {
+        let l = lambda_nm as f64 * 1e-3;
+        let l2 = l * l;
+        let per_um = match self {
+            Dispersion::Sellmeier { b, c } => {
+                let n = self.ior_f64(lambda_nm as f64);
+                let mut dn2 = 0.0;
+                for i in 0..4 {
+                    if b[i] != 0.0 {
+                        let d = l2 - c[i];
+                        dn2 += -2.0 * b[i] * c[i] * l / (d * d);
+                    }
+                }
+                dn2 / (2.0 * n)
+            }
+            Dispersion::Cauchy { b, c, .. } => -2.0 * b / (l2 * l) - 4.0 * c / (l2 * l2 * l),
+        };
+        (per_um * 1e-3) as f32
+    }
+
     /// IOR at the d line: the value RGB mode uses.
     #[inline]
     pub fn ior_d(&self) -> f32 {
@@ -169,6 +192,33 @@ mod tests {
         let f2 = abbe(Dispersion::named("f2").unwrap());
         assert!((bk7 - 64.17).abs() < 0.3, "BK7 V_d {bk7}");
         assert!((f2 - 36.37).abs() < 0.3, "F2 V_d {f2}");
+    }
+
+    /// The closed-form dn/dλ against central differences of the law in double precision, for
+    /// every named medium and a Cauchy law, across the visible range.
+    #[test]
+    fn dior_dlambda_matches_finite_differences() {
+        let mut laws: Vec<Dispersion> = NAMED
+            .iter()
+            .map(|n| Dispersion::named(n).unwrap())
+            .collect();
+        laws.push(Dispersion::Cauchy {
+            a: 1.5,
+            b: 0.004,
+            c: 0.0001,
+        });
+        for d in laws {
+            for l in [380.0f64, 450.0, 550.0, 650.0, 800.0] {
+                let h = 1e-3;
+                let fd = (d.ior_f64(l + h) - d.ior_f64(l - h)) / (2.0 * h);
+                let got = d.dior_dlambda(l as f32) as f64;
+                assert!(
+                    (got - fd).abs() <= 1e-4 * fd.abs() + 1e-9,
+                    "{d:?} at {l} nm: {got} vs {fd}"
+                );
+                assert!(got < 0.0, "normal dispersion at {l} nm");
+            }
+        }
     }
 
     #[test]

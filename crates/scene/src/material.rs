@@ -127,6 +127,15 @@ impl Material {
         }
     }
 
+    /// The dispersion law of a dispersive dielectric (smooth or rough), `None` otherwise.
+    pub fn dispersion(&self) -> Option<&Dispersion> {
+        match self {
+            Material::Dielectric { dispersion, .. }
+            | Material::RoughDielectric { dispersion, .. } => dispersion.as_ref(),
+            _ => None,
+        }
+    }
+
     /// How many texels of the material's reflectance textures (diffuse albedos) have a
     /// component outside [0, 1]: spectral mode clamps them.
     pub fn reflectance_values_outside_unit_range(&self) -> usize {

@@ -179,6 +179,7 @@ pub fn render_report(
     let stream = PathStream::new(opts, CAUSTIC_STREAM);
     let tracer = LandingTracer::new(scene, &unit_budget(opts.photons.footprints.smoothing))
         .with_time(&opts.photons.footprints, scene)
+        .with_wavelength(&opts.photons.footprints, scene)
         .with_emission(opts.photons.emission.caustic_rule());
     let counted;
     let chains;
@@ -500,7 +501,7 @@ impl FootprintSplat<'_> {
         photons_from_landings(
             &landings,
             self.work.len(),
-            self.tracer.align(),
+            self.tracer.sweep_column(),
             self.opts.photons.footprints.min_semi_axis,
         )
     }
@@ -520,7 +521,7 @@ impl SplatRule for FootprintSplat<'_> {
     }
 
     fn trace_chunk(&self, c: u64, st: &mut RenderStats) -> (Vec<ChunkPhoton>, ChunkTotals) {
-        let made = if self.tracer.is_temporal() {
+        let made = if self.tracer.has_third_column() {
             self.trace_landings::<TEMPORAL_PARAMS>(c, st)
         } else {
             self.trace_landings::<EMISSION_PARAMS>(c, st)

@@ -380,6 +380,13 @@ pub struct FootprintSettings {
     /// How temporal footprints are swept and weighted along their motion (alignment, time
     /// filter, area): seed 000 eq. 7.7–7.9.
     pub sweep: SweepRule,
+    /// Wavelength photon differentials (issue 22; spectral mode): `Some(K)` gives each caustic
+    /// photon a third differential parameter, its wavelength, so that past a dispersive
+    /// interface its footprint is swept along the dispersion fan over its share of the
+    /// spectrum, `Δλ = K s / (N_e p(λ))` (the one-dimensional reading of seed 002 eq. 5–6:
+    /// `N_e p(λ)` photons per nm near λ, times the smoothing s), centred on its wavelength.
+    /// `K = 1` is that rule; larger K trade colour noise for spectral blur. Off by default.
+    pub wavelength_spread: Option<f32>,
 }
 
 /// Where the shutter lies relative to the instant temporal photon differentials are traced at
@@ -437,6 +444,7 @@ impl Default for FootprintSettings {
             min_semi_axis: None,
             temporal: false,
             sweep: SweepRule::default(),
+            wavelength_spread: None,
         }
     }
 }

@@ -58,6 +58,24 @@ pub struct Landing<const N: usize = 2> {
     pub dp: Option<[Vec3; N]>,
 }
 
+/// What the third differential column of a landing is, which decides how
+/// [`photons_from_landings`] sweeps its footprint along it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SweepColumn {
+    /// Time (seed 003): `D_t x` over the exposure, independent of the budget, swept from
+    /// the segment start of the shutter alignment.
+    Time(ShutterAlign),
+    /// Wavelength: `D_λ x Δλ` for `N_e = 1` (the tracer applied `K s / p(λ)`), divided by the
+    /// light's `N_e` here and swept centred on the photon's wavelength.
+    Wavelength,
+}
+
+impl From<ShutterAlign> for SweepColumn {
+    fn from(align: ShutterAlign) -> Self {
+        SweepColumn::Time(align)
+    }
+}
+
 /// The photons made from a batch of landings ([`photons_from_landings`]) and what happened to
 /// the others.
 #[derive(Debug)]
@@ -74,19 +92,26 @@ pub struct MadePhotons {
 /// The photons of `landings` from `paths` emitted light paths: flux β/N, vectors scaled by
 /// `1/√(N pmf)` (eq. 5–6 with the light's share of the paths), footprints built on the
 /// landings' planes, each principal semi-axis raised to `min_semi_axis` (m) when given
-/// ([`Footprint::widened`]; none by default, as seed 002). A third column is `D_t x`, which does
-/// not depend on the emission budget (it starts at zero and only moving geometry feeds it), so
-/// it is kept unscaled; the footprint's centre is put at the start of its motion segment,
-/// `x + align.segment_start() · D_t x` (the hit itself for the forward alignment). Returns them
+/// ([`Footprint::widened`]; none by default, as seed 002). A third column is `D_t x`
+/// ([`SweepColumn::Time`]), which does not depend on the emission budget (it starts at zero and
+/// only moving geometry feeds it), so it is kept unscaled; the footprint's centre is put at the
+/// start of its motion segment, `x + align.segment_start() · D_t x` (the hit itself for the
+/// forward alignment). Or it is wavelength ([`SweepColumn::Wavelength`]): a photon's share of
+/// the spectrum is `1/N_e` of the unit budget's, so the column is divided by `N pmf` and the
+/// sweep centred on the hit. Returns them
 /// with the counts of landings dropped for a collapsed footprint and for a failed propagation
 /// (no vectors, or vectors that are not finite), and of footprints widened.
 pub fn photons_from_landings<const N: usize>(
     landings: &[Landing<N>],
     paths: u64,
-    align: ShutterAlign,
+    column: impl Into<SweepColumn>,
     min_semi_axis: Option<f32>,
 ) -> MadePhotons {
-    let start = align.segment_start();
+    let column = column.into();
+    let start = match column {
+        SweepColumn::Time(align) => align.segment_start(),
+        SweepColumn::Wavelength => -0.5,
+    };
     let n = paths.max(1) as f64;
     let mut photons = Vec::with_capacity(landings.len());
     let (mut collapsed, mut failed, mut widened) = (0u64, 0u64, 0u64);
@@ -102,7 +127,11 @@ pub fn photons_from_landings<const N: usize>(
             failed += 1;
             continue;
         }
-        let dt = if N > 2 { dp[N - 1] } else { Vec3::ZERO };
+        let dt = match column {
+            _ if N <= 2 => Vec3::ZERO,
+            SweepColumn::Time(_) => dp[N - 1],
+            SweepColumn::Wavelength => dp[N - 1] * (1.0 / (n * l.pmf as f64)) as f32,
+        };
         if !dt.is_finite() {
             failed += 1;
             continue;

@@ -78,7 +78,8 @@ pub mod volume_trace;
 
 pub use counting::{CausticPaths, RECORD_LANDING_PATHS, count_adaptive, count_caustic_paths};
 pub use footprint::{
-    DiffPhoton, FootprintFilter, Landing, MadePhotons, photons_from_landings, widened_note,
+    DiffPhoton, FootprintFilter, Landing, MadePhotons, SweepColumn, photons_from_landings,
+    widened_note,
 };
 pub use map::PdmMap;
 pub use trace::{

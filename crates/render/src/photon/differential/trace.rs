@@ -3,7 +3,7 @@
 //! non-delta surface, for any number of differential parameters (see the module docs of
 //! [`super`]).
 
-use super::footprint::{DiffPhoton, Landing, photons_from_landings};
+use super::footprint::{DiffPhoton, Landing, SweepColumn, photons_from_landings};
 use crate::options::{EmissionStrategy, FootprintSettings, RenderOptions, Smoothing};
 use crate::photon::adaptive::{chain_steps, run_chains};
 use crate::photon::plan::{PathStream, PhotonBudget, trace_budget};
@@ -19,6 +19,7 @@ use crate::transport::limits::PathLimits;
 use crate::transport::time::PathTime;
 use crate::transport::vertex::Vertex;
 use caustica_core::sampling::Sampler;
+use caustica_core::spectral::visible_pdf;
 use caustica_core::{Ray, Vec3};
 use caustica_differentials::{
     DiffError, EmissionBasis, EmissionBudget, FlatTriangle, PhongTriangle, RayDiff, SurfaceHit,
@@ -66,23 +67,24 @@ pub fn trace_photon_differentials(
 ) -> TracedDiffPhotons {
     let tracer = LandingTracer::new(scene, &unit_budget(smoothing))
         .with_time(&opts.photons.footprints, scene)
+        .with_wavelength(&opts.photons.footprints, scene)
         .with_emission(opts.photons.emission.caustic_rule());
     let stream = PathStream::new(opts, stream);
     // Visibility-driven adaptive photon tracing: chains toward landings the camera sees.
     let visible = (opts.photons.emission == EmissionStrategy::Adaptive)
         .then(|| VisiblePoints::from_camera(scene, opts));
     let visible = visible.as_ref();
-    // Two parameters (emission), or three with time (seed 003).
+    // Two parameters (emission), or three with time (seed 003) or wavelength.
     let floor = opts.photons.footprints.min_semi_axis;
-    let (made, landings, paths, stats, note) = if tracer.is_temporal() {
+    let (made, landings, paths, stats, note) = if tracer.has_third_column() {
         let (landings, paths, stats, note) =
             trace_landings::<TEMPORAL_PARAMS>(&tracer, budget, &stream, opts, visible, progress);
-        let made = photons_from_landings(&landings, paths, tracer.align, floor);
+        let made = photons_from_landings(&landings, paths, tracer.sweep_column(), floor);
         (made, landings.len(), paths, stats, note)
     } else {
         let (landings, paths, stats, note) =
             trace_landings::<EMISSION_PARAMS>(&tracer, budget, &stream, opts, visible, progress);
-        let made = photons_from_landings(&landings, paths, tracer.align, floor);
+        let made = photons_from_landings(&landings, paths, tracer.sweep_column(), floor);
         (made, landings.len(), paths, stats, note)
     };
     // Adaptive tracing stores repeated states once: its landings are not the budget's count.
@@ -156,7 +158,8 @@ fn trace_landings<const N: usize>(
 pub const EMISSION_PARAMS: usize = 2;
 
 /// The differential parameters of a temporal photon differential: emission's two and time
-/// (seed 003 eq. 1–2: the third columns `D_t x`, `D_t ω`).
+/// (seed 003 eq. 1–2: the third columns `D_t x`, `D_t ω`). Wavelength photon differentials use
+/// the same count, with wavelength as the third parameter.
 pub const TEMPORAL_PARAMS: usize = EMISSION_PARAMS + 1;
 
 /// The budget of [`trace_photon_differentials`] and [`LandingTracer`] (`N_e = 1`, see the
@@ -181,6 +184,11 @@ pub struct LandingTracer<'a> {
     pub(crate) align: crate::options::ShutterAlign,
     /// How the light paths are emitted (uniform unless [`Self::with_emission`]).
     pub(crate) emission: Emission,
+    /// The smoothing s of the budget the tracer was made with.
+    smoothing: f32,
+    /// Wavelength photon differentials: `K s` of `Δλ = K s / (N_e p(λ))`
+    /// ([`FootprintSettings::wavelength_spread`]); the third column is then wavelength.
+    wavelength: Option<f32>,
 }
 
 /// What every photon differential of one light shares.
@@ -215,6 +223,32 @@ impl<'a> LandingTracer<'a> {
             exposure: 0.0,
             align: crate::options::ShutterAlign::Forward,
             emission: Emission::Uniform,
+            smoothing: budget.smoothing(),
+            wavelength: None,
+        }
+    }
+
+    /// The tracer with wavelength photon differentials when `settings` ask for them and the
+    /// scene is spectral (in RGB mode nothing disperses: no third column).
+    pub fn with_wavelength(mut self, settings: &FootprintSettings, scene: &Scene) -> Self {
+        self.wavelength = settings
+            .wavelength_spread
+            .filter(|_| scene.spectral)
+            .map(|k| k * self.smoothing);
+        self
+    }
+
+    /// True if the differentials carry a third column (time or wavelength).
+    pub fn has_third_column(&self) -> bool {
+        self.is_temporal() || self.wavelength.is_some()
+    }
+
+    /// What the third column is, for [`photons_from_landings`].
+    pub fn sweep_column(&self) -> SweepColumn {
+        if self.wavelength.is_some() {
+            SweepColumn::Wavelength
+        } else {
+            SweepColumn::Time(self.align)
         }
     }
 
@@ -261,8 +295,11 @@ impl<'a> LandingTracer<'a> {
         stats: &mut RenderStats,
     ) {
         let mut v = DiffVisitor {
-            ray: DiffRay::new(self.scene, &self.lights).with_exposure(self.exposure),
+            ray: DiffRay::new(self.scene, &self.lights)
+                .with_exposure(self.exposure)
+                .with_wavelength(self.wavelength.is_some()),
             out,
+            wavelength: self.wavelength,
         };
         walk_light_path_at(
             self.scene,
@@ -287,6 +324,8 @@ pub(crate) fn is_caustic_landing(lv: &LightVertex) -> bool {
 struct DiffVisitor<'a, const N: usize> {
     ray: DiffRay<'a, N>,
     out: &'a mut Vec<Landing<N>>,
+    /// [`LandingTracer::wavelength`].
+    wavelength: Option<f32>,
 }
 
 /// The photon differential along a light path, shared by the caustic tracer and the volume
@@ -309,6 +348,8 @@ pub(crate) struct DiffRay<'a, const N: usize> {
     pub(crate) pmf: f32,
     /// Exposure (frames) scaling the time column (`N − 1`) of moving triangles; 0: none.
     exposure: f32,
+    /// True if column `N − 1` is wavelength (nm): dispersive refractions feed it.
+    wavelength: bool,
 }
 
 impl<'a, const N: usize> DiffRay<'a, N> {
@@ -321,7 +362,15 @@ impl<'a, const N: usize> DiffRay<'a, N> {
             ray: None,
             pmf: 1.0,
             exposure: 0.0,
+            wavelength: false,
         }
+    }
+
+    /// With the last of the `N` parameters wavelength (nm): dispersive interfaces give it
+    /// `∂η/∂λ` ([`caustica_differentials::refract_dispersive`]).
+    pub(crate) fn with_wavelength(mut self, on: bool) -> Self {
+        self.wavelength = on && N > EMISSION_PARAMS;
+        self
     }
 
     /// With the last of the `N` parameters time over `exposure` frames (seed 003 eq. 5).
@@ -378,8 +427,15 @@ impl<'a, const N: usize> DiffRay<'a, N> {
     pub(crate) fn scatter_delta(&mut self, sc: &LightScatter) {
         let flags = sc.sample.flags;
         let eta = sc.sample.eta;
+        let deta = if self.wavelength && flags.intersects(BsdfFlags::TRANSMISSION) {
+            self.dispersion_column(sc)
+        } else {
+            None
+        };
         let out = self.hit_at(&sc.v.si).and_then(|h| {
-            let out = if flags.intersects(BsdfFlags::TRANSMISSION) {
+            let out = if let Some(deta) = deta {
+                h.refract_dispersive(1.0 / eta, &deta)?
+            } else if flags.intersects(BsdfFlags::TRANSMISSION) {
                 h.refract(1.0 / eta)? // eq. B.19–B.23 take n_incident / n_transmitted
             } else {
                 h.reflect()? // eq. B.17–B.18
@@ -387,6 +443,25 @@ impl<'a, const N: usize> DiffRay<'a, N> {
             follow(out, sc.v, sc.wi)
         });
         self.ray = Some(out);
+    }
+}
+
+impl<const N: usize> DiffRay<'_, N> {
+    /// `∂η/∂θ` of a refraction at a dispersive interface for the relative IOR the differential
+    /// refracts with, `η = n_incident / n_transmitted = 1 / sample.eta`, with wavelength the last
+    /// parameter; `None` where nothing disperses (no dispersion law, or RGB lanes). The glass's
+    /// law gives n(λ) at the hero wavelength the walker refracted with; entering (the
+    /// dielectric's convention: `wo` on the +z side) `η = 1/n`, `∂η/∂λ = −n′/n²`; leaving
+    /// `η = n`, `∂η/∂λ = n′`.
+    fn dispersion_column(&self, sc: &LightScatter) -> Option<[f32; N]> {
+        let material = self.scene.materials.get(sc.v.si.material as usize)?;
+        let law = material.dispersion()?;
+        let hero = sc.v.channels.hero()?;
+        let (n, dn) = (law.ior(hero), law.dior_dlambda(hero));
+        let deta = if sc.v.wo.z > 0.0 { -dn / (n * n) } else { dn };
+        let mut col = [0.0; N];
+        col[N - 1] = deta;
+        Some(col)
     }
 }
 
@@ -417,7 +492,14 @@ impl<const N: usize> LightVisitor for DiffVisitor<'_, N> {
                 if !is_caustic_landing(lv) {
                     return;
                 }
-                let dp = self.ray.landing_at(&lv.v.si).ok().map(|t| t.ray.dp);
+                let mut dp = self.ray.landing_at(&lv.v.si).ok().map(|t| t.ray.dp);
+                // Wavelength photon differentials: D_λ x (m/nm) times K s / p(λ), the photon's
+                // share of the spectrum for N_e = 1 (`photons_from_landings` divides by N_e).
+                if let (Some(ks), Some(dp), Some(hero)) =
+                    (self.wavelength, dp.as_mut(), lv.v.channels.hero())
+                {
+                    dp[N - 1] *= ks / visible_pdf(hero);
+                }
                 self.out.push(Landing {
                     p: lv.v.si.p,
                     wi: lv.wo,
