@@ -40,7 +40,9 @@ pub use homogeneous::Homogeneous;
 pub use tracking::{FreeFlight, TrackingSampler};
 
 use crate::phase::PhaseFunction;
+use caustica_core::spectral::RgbUnbounded;
 use caustica_core::{Channels, Ray, Spectrum, Vec3};
+use std::sync::OnceLock;
 
 /// The density field of a medium.
 #[derive(Clone, Debug)]
@@ -59,6 +61,25 @@ pub struct Medium {
     /// Scattering coefficient at density 1 (m⁻¹, per channel), `scale` already applied.
     pub sigma_s: Spectrum,
     pub phase: PhaseFunction,
+    /// σ_a and σ_s upsampled (spectral mode), made on first use with the RGB values they came
+    /// from (a medium whose coefficients changed since is upsampled afresh).
+    spectra: OnceLock<Upsampled>,
+}
+
+/// A medium's upsampled coefficients and the RGB values they came from.
+#[derive(Clone, Copy, Debug)]
+struct Upsampled {
+    rgb: [Spectrum; 2],
+    spectra: [RgbUnbounded; 2],
+}
+
+impl Upsampled {
+    fn new(sigma_a: Spectrum, sigma_s: Spectrum) -> Self {
+        Self {
+            rgb: [sigma_a, sigma_s],
+            spectra: [sigma_a, sigma_s].map(|c| RgbUnbounded::new(c.to_rgb())),
+        }
+    }
 }
 
 /// A medium's coefficients at density 1 in a path's lanes (m⁻¹ per lane): what the tracking
@@ -83,6 +104,7 @@ impl Medium {
             sigma_a,
             sigma_s,
             phase,
+            spectra: OnceLock::new(),
         }
     }
     /// A medium whose density is `grid`.
@@ -97,6 +119,7 @@ impl Medium {
             sigma_a,
             sigma_s,
             phase,
+            spectra: OnceLock::new(),
         }
     }
     /// From Mitsuba's parameters: extinction σ_t (m⁻¹) and single-scattering albedo α ∈ [0, 1]
@@ -115,13 +138,33 @@ impl Medium {
 
     /// σ_s and σ_t at density 1 (m⁻¹) in the lanes `ch`: the RGB values themselves in RGB mode
     /// (the same bits as [`Self::sigma_t`]); in spectral mode σ_a and σ_s upsampled as unbounded
-    /// spectra and evaluated at the path's wavelengths (grey values unchanged). Call once per
-    /// medium span: it evaluates six sigmoids for a chromatic medium.
+    /// spectra (the same values as [`Channels::unbounded`]: grey values unchanged) and evaluated
+    /// at the path's wavelengths. The upsampling is done once per medium; call this once per
+    /// medium span (it evaluates up to six sigmoids), not per tracking step.
     #[inline]
     pub fn coefficients(&self, ch: &Channels) -> Coefficients {
         let (sigma_a, sigma_s) = match ch {
             Channels::Rgb => (self.sigma_a, self.sigma_s),
-            Channels::Spectral(_) => (ch.unbounded(self.sigma_a), ch.unbounded(self.sigma_s)),
+            Channels::Spectral(wl) => {
+                let rgb = [self.sigma_a, self.sigma_s];
+                let fresh;
+                let mut up = self
+                    .spectra
+                    .get_or_init(|| Upsampled::new(self.sigma_a, self.sigma_s));
+                if up.rgb != rgb {
+                    fresh = Upsampled::new(self.sigma_a, self.sigma_s);
+                    up = &fresh;
+                }
+                let lanes = |k: usize| {
+                    let c = rgb[k];
+                    if c.c[0] == c.c[1] && c.c[1] == c.c[2] {
+                        c
+                    } else {
+                        up.spectra[k].sample(wl)
+                    }
+                };
+                (lanes(0), lanes(1))
+            }
         };
         Coefficients {
             sigma_s,
@@ -235,5 +278,48 @@ impl MediumInterface {
     /// True if the shape separates media (names at least one side).
     pub fn is_transition(&self) -> bool {
         self.inside != crate::intersection::NONE || self.outside != crate::intersection::NONE
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use caustica_core::spectral::SampledWavelengths;
+
+    /// The coefficients in a path's lanes: RGB unchanged in RGB mode; in spectral mode the
+    /// upsampled spectra at the path's wavelengths (the same bits as `Channels::unbounded`,
+    /// greys flat), still right after the RGB values change (the memo is keyed by them).
+    #[test]
+    fn coefficients_are_the_upsampled_spectra_at_the_paths_wavelengths() {
+        let mut m = Medium::homogeneous(
+            Spectrum::splat(0.05),
+            Spectrum::new(0.4, 0.5, 0.6),
+            PhaseFunction::default(),
+        );
+        let rgb = m.coefficients(&Channels::Rgb);
+        assert_eq!(rgb.sigma_s, m.sigma_s);
+        assert_eq!(rgb.sigma_t, m.sigma_t());
+        for u in [0.1, 0.5, 0.93] {
+            let ch = Channels::Spectral(SampledWavelengths::sample_visible(u));
+            let c = m.coefficients(&ch);
+            assert_eq!(c.sigma_s, ch.unbounded(m.sigma_s));
+            assert_eq!(c.sigma_t, Spectrum::splat(0.05) + ch.unbounded(m.sigma_s));
+            // A bluish σ_s is larger at short wavelengths.
+            let Channels::Spectral(wl) = ch else {
+                unreachable!()
+            };
+            let (lo, hi) = if wl.lambda[0] < wl.lambda[1] {
+                (0, 1)
+            } else {
+                (1, 0)
+            };
+            assert!(c.sigma_s[lo] > c.sigma_s[hi], "{wl:?} {c:?}");
+        }
+        m.sigma_a = Spectrum::new(3.0, 1.0, 0.2);
+        m.sigma_s = Spectrum::splat(0.7);
+        let ch = Channels::Spectral(SampledWavelengths::sample_visible(0.3));
+        let c = m.coefficients(&ch);
+        assert_eq!(c.sigma_s, Spectrum::splat(0.7));
+        assert_eq!(c.sigma_t, ch.unbounded(m.sigma_a) + Spectrum::splat(0.7));
     }
 }
