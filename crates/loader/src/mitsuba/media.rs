@@ -289,10 +289,10 @@ fn medium(lo: &mut Loader, d: &Doc, n: Node) -> Result<Medium, LoadError> {
         (None, None, Some((sa, _)), Some((ss, _))) => {
             Medium::homogeneous(sa * scale, ss * scale, phase)
         }
+        // σ_t and albedo: upsampled in spectral mode as Mitsuba's scalar_spectral does.
         (Some(Coef::Grid(grid)), albedo, None, None) => {
             let albedo = albedo.unwrap_or(Spectrum::splat(DEFAULT_ALBEDO));
-            let (sa, ss) = Medium::coefficients_from_albedo(Spectrum::splat(scale), albedo);
-            Medium::grid(grid, sa, ss, phase)
+            Medium::grid_albedo(grid, scale, albedo, phase)
         }
         (sigma_t, albedo, None, None) => {
             let st = match sigma_t {
@@ -300,8 +300,7 @@ fn medium(lo: &mut Loader, d: &Doc, n: Node) -> Result<Medium, LoadError> {
                 _ => Spectrum::ONE,
             };
             let albedo = albedo.unwrap_or(Spectrum::splat(DEFAULT_ALBEDO));
-            let (sa, ss) = Medium::coefficients_from_albedo(st * scale, albedo);
-            Medium::homogeneous(sa, ss, phase)
+            Medium::homogeneous_albedo(st, scale, albedo, phase)
         }
     };
     for c in std::mem::take(&mut p.children) {

@@ -40,7 +40,7 @@ pub use homogeneous::Homogeneous;
 pub use tracking::{FreeFlight, TrackingSampler};
 
 use crate::phase::PhaseFunction;
-use caustica_core::spectral::RgbUnbounded;
+use caustica_core::spectral::{RgbReflectance, RgbUnbounded, SampledWavelengths};
 use caustica_core::{Channels, Ray, Spectrum, Vec3};
 use std::sync::OnceLock;
 
@@ -61,23 +61,91 @@ pub struct Medium {
     /// Scattering coefficient at density 1 (m⁻¹, per channel), `scale` already applied.
     pub sigma_s: Spectrum,
     pub phase: PhaseFunction,
-    /// σ_a and σ_s upsampled (spectral mode), made on first use with the RGB values they came
-    /// from (a medium whose coefficients changed since is upsampled afresh).
+    /// How the RGB coefficients become spectra in spectral mode (no effect in RGB mode).
+    pub form: SpectralForm,
+    /// The coefficients upsampled (spectral mode), made on first use with the RGB values they
+    /// came from (a medium whose coefficients changed since is upsampled afresh).
     spectra: OnceLock<Upsampled>,
 }
 
-/// A medium's upsampled coefficients and the RGB values they came from.
+/// How a medium's coefficients, given in RGB, become spectra in spectral mode.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum SpectralForm {
+    /// σ_a and σ_s, each upsampled as an unbounded spectrum (caustica's TOML, pbrt-v4's
+    /// `sigma_a`/`sigma_s`, Mitsuba's `sigma_a`/`sigma_s`).
+    #[default]
+    AbsorptionScattering,
+    /// Mitsuba 3's `sigma_t` and `albedo`, upsampled as its `scalar_spectral` does: σ_t =
+    /// `scale` · c with the RGB c upsampled as a reflectance (Mitsuba refuses c above 1; caustica
+    /// upsamples such a c as an unbounded spectrum), the albedo α as a reflectance, and per
+    /// wavelength σ_s = α σ_t, σ_a = σ_t − σ_s. `sigma_a`/`sigma_s` hold the RGB values these
+    /// gave at load (`rgb`); a medium whose RGB coefficients changed since falls back to
+    /// [`Self::AbsorptionScattering`].
+    ExtinctionAlbedo {
+        /// c (per channel, m⁻¹ before `scale`).
+        sigma_t: Spectrum,
+        /// Mitsuba's `scale` (or a grid's density scale with c = 1).
+        scale: f32,
+        /// α ∈ [0, 1] per channel.
+        albedo: Spectrum,
+        /// The RGB (σ_a, σ_s) made from them at load.
+        rgb: [Spectrum; 2],
+    },
+}
+
+/// Either kind of upsampled RGB: a reflectance-like one (values in [0, 1]) or an unbounded one.
+#[derive(Clone, Copy, Debug)]
+enum Sigmoid {
+    Grey(f32),
+    Reflectance(RgbReflectance),
+    Unbounded(RgbUnbounded),
+}
+
+impl Sigmoid {
+    /// `c` upsampled: grey values as flat spectra (exactly), reflectances when `bounded` and
+    /// every component is at most 1, else as an unbounded spectrum.
+    fn new(c: Spectrum, bounded: bool) -> Self {
+        if c.c[0] == c.c[1] && c.c[1] == c.c[2] {
+            Sigmoid::Grey(c.c[0])
+        } else if bounded && c.max_component() <= 1.0 {
+            Sigmoid::Reflectance(RgbReflectance::new(c.to_rgb()))
+        } else {
+            Sigmoid::Unbounded(RgbUnbounded::new(c.to_rgb()))
+        }
+    }
+
+    fn sample(&self, wl: &SampledWavelengths) -> Spectrum {
+        match self {
+            Sigmoid::Grey(v) => Spectrum::splat(*v),
+            Sigmoid::Reflectance(r) => r.sample(wl),
+            Sigmoid::Unbounded(u) => u.sample(wl),
+        }
+    }
+}
+
+/// A medium's upsampled coefficients and the RGB values they came from: σ_a and σ_s, or σ_t
+/// (before its scale) and the albedo.
 #[derive(Clone, Copy, Debug)]
 struct Upsampled {
+    form: SpectralForm,
     rgb: [Spectrum; 2],
-    spectra: [RgbUnbounded; 2],
+    spectra: [Sigmoid; 2],
 }
 
 impl Upsampled {
-    fn new(sigma_a: Spectrum, sigma_s: Spectrum) -> Self {
+    fn new(form: SpectralForm, sigma_a: Spectrum, sigma_s: Spectrum) -> Self {
+        let spectra = match form {
+            SpectralForm::ExtinctionAlbedo {
+                sigma_t, albedo, ..
+            } => [Sigmoid::new(sigma_t, true), Sigmoid::new(albedo, true)],
+            SpectralForm::AbsorptionScattering => {
+                [Sigmoid::new(sigma_a, false), Sigmoid::new(sigma_s, false)]
+            }
+        };
         Self {
+            form,
             rgb: [sigma_a, sigma_s],
-            spectra: [sigma_a, sigma_s].map(|c| RgbUnbounded::new(c.to_rgb())),
+            spectra,
         }
     }
 }
@@ -104,6 +172,7 @@ impl Medium {
             sigma_a,
             sigma_s,
             phase,
+            form: SpectralForm::AbsorptionScattering,
             spectra: OnceLock::new(),
         }
     }
@@ -119,8 +188,44 @@ impl Medium {
             sigma_a,
             sigma_s,
             phase,
+            form: SpectralForm::AbsorptionScattering,
             spectra: OnceLock::new(),
         }
+    }
+
+    /// A homogeneous medium from Mitsuba's extinction `scale` · `sigma_t` (m⁻¹) and albedo,
+    /// upsampled in spectral mode as Mitsuba 3's `scalar_spectral` does
+    /// ([`SpectralForm::ExtinctionAlbedo`]).
+    pub fn homogeneous_albedo(
+        sigma_t: Spectrum,
+        scale: f32,
+        albedo: Spectrum,
+        phase: PhaseFunction,
+    ) -> Self {
+        let (sa, ss) = Self::coefficients_from_albedo(sigma_t * scale, albedo);
+        Self::homogeneous(sa, ss, phase).with_albedo_form(sigma_t, scale, albedo)
+    }
+
+    /// A grid medium whose density scales extinction `scale` (m⁻¹) with albedo `albedo`, as
+    /// Mitsuba's `heterogeneous` medium ([`SpectralForm::ExtinctionAlbedo`] with c = 1).
+    pub fn grid_albedo(
+        grid: DensityGrid,
+        scale: f32,
+        albedo: Spectrum,
+        phase: PhaseFunction,
+    ) -> Self {
+        let (sa, ss) = Self::coefficients_from_albedo(Spectrum::splat(scale), albedo);
+        Self::grid(grid, sa, ss, phase).with_albedo_form(Spectrum::ONE, scale, albedo)
+    }
+
+    fn with_albedo_form(mut self, sigma_t: Spectrum, scale: f32, albedo: Spectrum) -> Self {
+        self.form = SpectralForm::ExtinctionAlbedo {
+            sigma_t,
+            scale,
+            albedo,
+            rgb: [self.sigma_a, self.sigma_s],
+        };
+        self
     }
     /// From Mitsuba's parameters: extinction σ_t (m⁻¹) and single-scattering albedo α ∈ [0, 1]
     /// per channel: σ_s = α σ_t, σ_a = (1 − α) σ_t.
@@ -147,23 +252,31 @@ impl Medium {
             Channels::Rgb => (self.sigma_a, self.sigma_s),
             Channels::Spectral(wl) => {
                 let rgb = [self.sigma_a, self.sigma_s];
+                // The form, unless the RGB coefficients were changed after it was made.
+                let form = match self.form {
+                    SpectralForm::ExtinctionAlbedo { rgb: made, .. } if made != rgb => {
+                        SpectralForm::AbsorptionScattering
+                    }
+                    f => f,
+                };
                 let fresh;
                 let mut up = self
                     .spectra
-                    .get_or_init(|| Upsampled::new(self.sigma_a, self.sigma_s));
-                if up.rgb != rgb {
-                    fresh = Upsampled::new(self.sigma_a, self.sigma_s);
+                    .get_or_init(|| Upsampled::new(form, self.sigma_a, self.sigma_s));
+                if up.rgb != rgb || up.form != form {
+                    fresh = Upsampled::new(form, self.sigma_a, self.sigma_s);
                     up = &fresh;
                 }
-                let lanes = |k: usize| {
-                    let c = rgb[k];
-                    if c.c[0] == c.c[1] && c.c[1] == c.c[2] {
-                        c
-                    } else {
-                        up.spectra[k].sample(wl)
+                let [a, b] = up.spectra.map(|s| s.sample(wl));
+                match form {
+                    SpectralForm::ExtinctionAlbedo { scale, .. } => {
+                        // σ_t = scale · c(λ), σ_s = α(λ) σ_t, σ_a = σ_t − σ_s.
+                        let sigma_t = a * scale;
+                        let sigma_s = sigma_t * b;
+                        ((sigma_t - sigma_s).map(|v| v.max(0.0)), sigma_s)
                     }
-                };
-                (lanes(0), lanes(1))
+                    SpectralForm::AbsorptionScattering => (a, b),
+                }
             }
         };
         Coefficients {
@@ -284,7 +397,6 @@ impl MediumInterface {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use caustica_core::spectral::SampledWavelengths;
 
     /// The coefficients in a path's lanes: RGB unchanged in RGB mode; in spectral mode the
     /// upsampled spectra at the path's wavelengths (the same bits as `Channels::unbounded`,
@@ -321,5 +433,63 @@ mod tests {
         let c = m.coefficients(&ch);
         assert_eq!(c.sigma_s, Spectrum::splat(0.7));
         assert_eq!(c.sigma_t, ch.unbounded(m.sigma_a) + Spectrum::splat(0.7));
+    }
+
+    /// Mitsuba's σ_t and albedo in spectral mode: σ_t = scale · c(λ) and α(λ) upsampled as
+    /// reflectances (`Channels::reflectance`, computed here independently of the medium's memo),
+    /// σ_s = α σ_t; RGB mode is the RGB product; a c above 1 is upsampled as unbounded; and
+    /// after the RGB coefficients change the medium falls back to σ_a, σ_s.
+    #[test]
+    fn extinction_albedo_media_upsample_as_mitsuba() {
+        let (c, albedo, scale) = (
+            Spectrum::new(0.9, 0.5, 0.2),
+            Spectrum::new(0.3, 0.6, 0.95),
+            2.0,
+        );
+        let mut m = Medium::homogeneous_albedo(c, scale, albedo, PhaseFunction::default());
+        let rgb = m.coefficients(&Channels::Rgb);
+        assert_eq!(rgb.sigma_s, c * scale * albedo);
+        for u in [0.1, 0.5, 0.93] {
+            let ch = Channels::Spectral(SampledWavelengths::sample_visible(u));
+            let got = m.coefficients(&ch);
+            let st = ch.reflectance(c) * scale;
+            let ss = st * ch.reflectance(albedo);
+            for k in 0..3 {
+                assert!(
+                    (got.sigma_t[k] - st[k]).abs() <= 1e-6 * st[k],
+                    "{got:?} vs {st:?}"
+                );
+                assert!(
+                    (got.sigma_s[k] - ss[k]).abs() <= 1e-6 * ss[k],
+                    "{got:?} vs {ss:?}"
+                );
+            }
+            // Not the σ_a, σ_s form: the two upsamplings differ for coloured media.
+            let other = ch.unbounded(m.sigma_a) + ch.unbounded(m.sigma_s);
+            assert!(
+                (0..3).any(|k| (other[k] - st[k]).abs() > 0.01 * st[k]),
+                "{other:?}"
+            );
+        }
+        let big = Medium::homogeneous_albedo(
+            Spectrum::new(3.0, 1.0, 0.5),
+            1.0,
+            albedo,
+            PhaseFunction::default(),
+        );
+        let ch = Channels::Spectral(SampledWavelengths::sample_visible(0.4));
+        let st = big.coefficients(&ch).sigma_t;
+        let want = ch.unbounded(Spectrum::new(3.0, 1.0, 0.5));
+        assert!(
+            (0..3).all(|k| (st[k] - want[k]).abs() <= 1e-6 * want[k]),
+            "{st:?} {want:?}"
+        );
+        m.sigma_s = Spectrum::splat(0.7);
+        let fallback = m.coefficients(&ch);
+        assert_eq!(fallback.sigma_s, Spectrum::splat(0.7));
+        assert_eq!(
+            fallback.sigma_t,
+            ch.unbounded(m.sigma_a) + Spectrum::splat(0.7)
+        );
     }
 }
