@@ -120,18 +120,6 @@ fn dispersive_glass_furnace_image_is_white() {
     }
 }
 
-/// Mean linear-sRGB of an image.
-fn mean_rgb(img: &caustica_core::image_io::Image) -> [f64; 3] {
-    let n = img.data.len() as f64;
-    let mut m = [0.0f64; 3];
-    for p in &img.data {
-        for k in 0..3 {
-            m[k] += p[k] as f64 / n;
-        }
-    }
-    m
-}
-
 /// Per channel: the mean image value over 4 seeds from `first_seed` and its standard error
 /// (caustics alone for the methods that can isolate them: less noise).
 fn seeds_mean(scene: &Scene, kind: IntegratorKind, spp: u32, first_seed: u64) -> [(f64, f64); 3] {
@@ -144,15 +132,10 @@ fn seeds_mean(scene: &Scene, kind: IntegratorKind, spp: u32, first_seed: u64) ->
                 ..Default::default()
             };
             let out = render(scene, kind, &opts, &RenderControl::silent()).unwrap();
-            mean_rgb(&out.film.to_image())
+            common::mean_rgb(&out.film.to_image())
         })
         .collect();
-    let n = runs.len() as f64;
-    std::array::from_fn(|k| {
-        let m = runs.iter().map(|r| r[k]).sum::<f64>() / n;
-        let var = runs.iter().map(|r| (r[k] - m).powi(2)).sum::<f64>() / (n - 1.0);
-        (m, (var / n).sqrt())
-    })
+    common::mean_and_standard_error(&runs)
 }
 
 /// `scene` (in RGB mode) renders the same in spectral mode with each of `kinds`: the means over
@@ -484,7 +467,7 @@ fn prism_table_caustic_light_tracer_and_pds_agree() {
     .unwrap()
     .film
     .to_image();
-    let (a, b) = (mean_rgb(&lt), mean_rgb(&pds));
+    let (a, b) = (common::mean_rgb(&lt), common::mean_rgb(&pds));
     let (ya, yb) = (a.iter().sum::<f64>(), b.iter().sum::<f64>());
     assert!(ya > 0.0, "the light tracer found no caustic");
     assert!(

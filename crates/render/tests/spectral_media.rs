@@ -18,18 +18,6 @@ use caustica_scene::shape::{ShapeGeometry, Sphere};
 use caustica_scene::{Scene, SceneBuilder};
 use std::f32::consts::FRAC_PI_2;
 
-/// Mean linear sRGB of an image.
-fn mean_rgb(img: &caustica_core::image_io::Image) -> [f64; 3] {
-    let n = img.data.len() as f64;
-    let mut m = [0.0f64; 3];
-    for p in &img.data {
-        for k in 0..3 {
-            m[k] += p[k] as f64 / n;
-        }
-    }
-    m
-}
-
 /// Per channel: the mean image value over `seeds` seeds from `first_seed` and its standard
 /// error (from the seeds' spread).
 fn seeds_mean(
@@ -52,15 +40,10 @@ fn seeds_mean(
             opts.photons.caustic_photons = 1000;
             opts.photons.final_gather = 4;
             let out = render(scene, kind, &opts, &RenderControl::silent()).unwrap();
-            mean_rgb(&out.film.to_image())
+            common::mean_rgb(&out.film.to_image())
         })
         .collect();
-    let n = runs.len() as f64;
-    std::array::from_fn(|k| {
-        let m = runs.iter().map(|r| r[k]).sum::<f64>() / n;
-        let var = runs.iter().map(|r| (r[k] - m).powi(2)).sum::<f64>() / (n - 1.0);
-        (m, (var / n).sqrt())
-    })
+    common::mean_and_standard_error(&runs)
 }
 
 /// A null sphere of `radius` at `center` holding medium `m` (vacuum outside).

@@ -148,6 +148,22 @@ pub fn diffuse_box(width: u32, height: u32) -> Scene {
 }
 
 /// Mean of each channel over a region (x0..x1, y0..y1).
+/// Mean of every pixel of `img`, per channel.
+pub fn mean_rgb(img: &Image) -> [f64; 3] {
+    region_mean(img, 0, 0, img.width, img.height)
+}
+
+/// Per channel: the mean of `runs` (one value per independent render) and its standard error
+/// from their spread.
+pub fn mean_and_standard_error(runs: &[[f64; 3]]) -> [(f64, f64); 3] {
+    let n = runs.len() as f64;
+    std::array::from_fn(|k| {
+        let m = runs.iter().map(|r| r[k]).sum::<f64>() / n;
+        let var = runs.iter().map(|r| (r[k] - m).powi(2)).sum::<f64>() / (n - 1.0);
+        (m, (var / n).sqrt())
+    })
+}
+
 pub fn region_mean(img: &Image, x0: usize, y0: usize, x1: usize, y1: usize) -> [f64; 3] {
     let mut s = [0.0f64; 3];
     for y in y0..y1 {
