@@ -163,7 +163,9 @@ def test_the_gil_is_released_during_a_render():
     t.start()
     time.sleep(0.05)
     start = time.monotonic()
-    caustica.render("caustic-box", integrator="path", spp=64, width=64)
+    # A time budget, not a sample count: the render lasts about a second however fast the
+    # machine (64 spp took 0.23 s on a quiet one, too short to tell).
+    caustica.render("caustic-box", integrator="path", time=1.0, width=64)
     end = time.monotonic()
     done.set()
     t.join()
