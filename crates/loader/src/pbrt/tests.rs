@@ -971,6 +971,23 @@ fn includes_resolve_relative_to_the_including_file_and_cycles_are_errors() {
         }
         r => panic!("{:?}", r.err()),
     }
+    // `Import` is read as `Include`: a cycle through it is the same error.
+    std::fs::write(d.join("sub/loop2.pbrt"), "Import \"../main2.pbrt\"\n").unwrap();
+    let main2 = d.join("main2.pbrt");
+    std::fs::write(&main2, format!("{HEADER}Import \"sub/loop2.pbrt\"\n")).unwrap();
+    match super::load_pbrt(&main2) {
+        Err(LoadError::Parse {
+            path,
+            line,
+            column,
+            message,
+        }) => {
+            assert!(path.ends_with("sub/loop2.pbrt"), "{}", path.display());
+            assert_eq!((line, column), (1, 8));
+            assert!(message.contains("cyclic include"), "{message}");
+        }
+        r => panic!("{:?}", r.err()),
+    }
     let (l, c, m) = err(&format!("{HEADER}Include \"missing.pbrt\"\n"));
     assert_eq!((l, c), (3, 9));
     assert!(m.contains("missing.pbrt"), "{m}");
