@@ -92,8 +92,8 @@ pub struct Scene {
 impl Scene {
     /// Switches spectral mode on or off. Reflectance texels outside [0, 1] (image textures may
     /// hold any value), which the upsampling clamps, are counted in a warning added to
-    /// `warnings`. Participating media need nothing here: their σ_a, σ_s are upsampled as
-    /// unbounded spectra where a path meets them (`Medium::coefficients`).
+    /// `warnings`. Participating media need nothing here: their coefficients are upsampled
+    /// where a path first meets them (`Medium::coefficients`, by the medium's `SpectralForm`).
     pub fn set_spectral(&mut self, on: bool) -> Result<(), SceneError> {
         self.spectral = on;
         if on {

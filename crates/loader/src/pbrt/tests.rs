@@ -956,38 +956,45 @@ fn includes_resolve_relative_to_the_including_file_and_cycles_are_errors() {
     let b = parse_pbrt(&format!("{HEADER}Import \"sub/geo.pbrt\"\n"), &main).unwrap();
     // The included file's transform stays in effect (Include is textual).
     assert_eq!(mesh(&b, 0).positions[0], Vec3::new(0.0, 0.0, 3.0));
-    std::fs::write(d.join("sub/loop.pbrt"), "\n  Include \"../main.pbrt\"\n").unwrap();
-    std::fs::write(&main, format!("{HEADER}Include \"sub/loop.pbrt\"\n")).unwrap();
-    match super::load_pbrt(&main) {
-        Err(LoadError::Parse {
-            path,
-            line,
-            column,
-            message,
-        }) => {
-            assert!(path.ends_with("sub/loop.pbrt"), "{}", path.display());
-            assert_eq!((line, column), (2, 11));
-            assert!(message.contains("cyclic include"), "{message}");
+    // A cycle is an error at the directive that closes it: `main` names `sub/NAME.pbrt` with
+    // `directive`, whose `body` includes `main` back at `at` (line, column).
+    let cycle = |main: &str, name: &str, directive: &str, body: &str, at: (usize, usize)| {
+        std::fs::write(d.join(format!("sub/{name}.pbrt")), body).unwrap();
+        let main = d.join(main);
+        std::fs::write(&main, format!("{HEADER}{directive} \"sub/{name}.pbrt\"\n")).unwrap();
+        match super::load_pbrt(&main) {
+            Err(LoadError::Parse {
+                path,
+                line,
+                column,
+                message,
+            }) => {
+                assert!(
+                    path.ends_with(format!("sub/{name}.pbrt")),
+                    "{}",
+                    path.display()
+                );
+                assert_eq!((line, column), at);
+                assert!(message.contains("cyclic include"), "{message}");
+            }
+            r => panic!("{:?}", r.err()),
         }
-        r => panic!("{:?}", r.err()),
-    }
+    };
+    cycle(
+        "main.pbrt",
+        "loop",
+        "Include",
+        "\n  Include \"../main.pbrt\"\n",
+        (2, 11),
+    );
     // `Import` is read as `Include`: a cycle through it is the same error.
-    std::fs::write(d.join("sub/loop2.pbrt"), "Import \"../main2.pbrt\"\n").unwrap();
-    let main2 = d.join("main2.pbrt");
-    std::fs::write(&main2, format!("{HEADER}Import \"sub/loop2.pbrt\"\n")).unwrap();
-    match super::load_pbrt(&main2) {
-        Err(LoadError::Parse {
-            path,
-            line,
-            column,
-            message,
-        }) => {
-            assert!(path.ends_with("sub/loop2.pbrt"), "{}", path.display());
-            assert_eq!((line, column), (1, 8));
-            assert!(message.contains("cyclic include"), "{message}");
-        }
-        r => panic!("{:?}", r.err()),
-    }
+    cycle(
+        "main2.pbrt",
+        "loop2",
+        "Import",
+        "Import \"../main2.pbrt\"\n",
+        (1, 8),
+    );
     let (l, c, m) = err(&format!("{HEADER}Include \"missing.pbrt\"\n"));
     assert_eq!((l, c), (3, 9));
     assert!(m.contains("missing.pbrt"), "{m}");

@@ -27,7 +27,7 @@ use crate::photon::differential::volume_trace::Ellipsoid;
 use crate::photon::kernel_boundary::{KernelBoundary, kept_fraction};
 use crate::photon::tracer::Photon;
 use crate::transport::medium::MediumSpan;
-use caustica_core::{Channels, Mat3, Ray, Spectrum, Vec3};
+use caustica_core::{Mat3, Ray, Spectrum, Vec3};
 use caustica_density::beam::{
     BeamKernel, Clip, RaySegment, ball_volume, ball_weight, ellipsoid_weight,
 };
@@ -355,7 +355,7 @@ impl VolumeMap {
             return Spectrum::ZERO;
         };
         let medium = &scene.media[span.medium as usize];
-        let tr = Transmittance::new(medium, span.ray, t1, &Channels::Rgb);
+        let tr = Transmittance::new(medium, span.ray, t1);
         let seg = RaySegment::new(span.ray.o, span.ray.d, t0, t1);
         let wo = -span.ray.d;
         let kernel = self.settings.kernel;
@@ -393,7 +393,7 @@ impl VolumeMap {
             return Spectrum::ZERO;
         };
         let medium = &scene.media[span.medium as usize];
-        let tr = Transmittance::new(medium, span.ray, t1, &Channels::Rgb);
+        let tr = Transmittance::new(medium, span.ray, t1);
         let n = (((t1 - t0) / step.max(1e-6)).ceil() as usize).clamp(1, 1 << 20);
         let dt = (t1 - t0) / n as f32;
         let wo = -span.ray.d;
@@ -430,9 +430,8 @@ impl VolumeMap {
 
 /// T_r from a span's start to a point on it: exact in homogeneous media, interpolated in a table
 /// of optical depths (the midpoint rule of `Medium::optical_depth`) in grids — deterministic,
-/// as a density estimate must be (seed notes Q-M7). The camera side of the photon methods is RGB
-/// in both modes (photons are stored in linear sRGB, docs/spectral.md), so its callers pass
-/// `Channels::Rgb`.
+/// as a density estimate must be (seed notes Q-M7). In RGB in both modes: the camera side of the
+/// photon methods is RGB (photons are stored in linear sRGB, docs/spectral.md).
 enum Transmittance {
     Homogeneous(Spectrum),
     Table { depth: Vec<Spectrum>, dt: f32 },
@@ -442,11 +441,9 @@ enum Transmittance {
 const DEPTH_TABLE: usize = 64;
 
 impl Transmittance {
-    fn new(medium: &caustica_scene::medium::Medium, ray: &Ray, t_max: f32, ch: &Channels) -> Self {
+    fn new(medium: &caustica_scene::medium::Medium, ray: &Ray, t_max: f32) -> Self {
         match &medium.kind {
-            MediumKind::Homogeneous(_) => {
-                Transmittance::Homogeneous(medium.coefficients(ch).sigma_t)
-            }
+            MediumKind::Homogeneous(_) => Transmittance::Homogeneous(medium.sigma_t()),
             MediumKind::Grid(_) => {
                 let t_max = if t_max.is_finite() { t_max } else { 1e4 };
                 let dt = t_max / DEPTH_TABLE as f32;
@@ -454,7 +451,7 @@ impl Transmittance {
                 let mut acc = Spectrum::ZERO;
                 depth.push(acc);
                 for i in 0..DEPTH_TABLE {
-                    acc += medium.optical_depth(ray, i as f32 * dt, (i + 1) as f32 * dt, ch);
+                    acc += medium.optical_depth(ray, i as f32 * dt, (i + 1) as f32 * dt);
                     depth.push(acc);
                 }
                 Transmittance::Table { depth, dt }

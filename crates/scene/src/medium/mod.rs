@@ -321,15 +321,16 @@ impl Medium {
         tracking::transmittance(self, &self.coefficients(ch), ray, t_max, ts)
     }
 
-    /// Optical depth ∫_{t0}^{t1} σ_t (dimensionless, per lane of `ch`) along `ray` (unit
+    /// Optical depth ∫_{t0}^{t1} σ_t (dimensionless, per RGB channel) along `ray` (unit
     /// direction), deterministic: exact in homogeneous media, the midpoint rule with steps of
     /// half a voxel in grids. For density estimators (the beam estimate's transmittance to each
-    /// photon), which are biased anyway.
-    pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32, ch: &Channels) -> Spectrum {
+    /// photon), which are biased anyway and, on the photon methods' camera side, RGB in both
+    /// modes (docs/spectral.md).
+    pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32) -> Spectrum {
         if t1 <= t0 {
             return Spectrum::ZERO;
         }
-        let sigma_t = self.coefficients(ch).sigma_t;
+        let sigma_t = self.sigma_t();
         match &self.kind {
             MediumKind::Homogeneous(_) => sigma_t * (t1 - t0),
             MediumKind::Grid(g) => sigma_t * g.integrate_density(ray, t0, t1),

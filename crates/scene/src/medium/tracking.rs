@@ -421,7 +421,7 @@ mod tests {
                 "channel {c}: {mean} vs {want}"
             );
             // The deterministic quadrature agrees too.
-            let od = m.optical_depth(&ray, 0.0, len, &Channels::Rgb)[c] as f64;
+            let od = m.optical_depth(&ray, 0.0, len)[c] as f64;
             assert!((od - st[c] as f64 * integral).abs() < 1e-3, "{od}");
         }
     }
@@ -491,7 +491,7 @@ mod grid_consistency {
             let d = (target - o).normalize();
             let ray = Ray::new(o, d);
             let t_max = 3.0;
-            let want = (-(m.optical_depth(&ray, 0.0, t_max, &Channels::Rgb)[0] as f64)).exp();
+            let want = (-(m.optical_depth(&ray, 0.0, t_max)[0] as f64)).exp();
             let n = 40_000;
             let (mut pass, mut ratio, mut ratio2) = (0.0f64, 0.0f64, 0.0f64);
             for _ in 0..n {
