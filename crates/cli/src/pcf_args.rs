@@ -1,7 +1,9 @@
 //! Options of photon cone focusing (`--integrator pcf`), flattened into the photon options.
 
 use anyhow::Result;
-use caustica_render::options::{ConeSurfaces, ConeTechniques, LookupRule, Nesting, PcfSettings};
+use caustica_render::options::{
+    ConeSurfaces, ConeTechniques, DiffuseAperture, LookupRule, Nesting, PcfSettings,
+};
 use clap::Args;
 
 const HEADING: &str = "Photon cone focusing (pcf)";
@@ -19,8 +21,9 @@ pub struct PcfArgs {
     /// p >= 1, the order of t(sigma) = theta_1 (sigma/sigma_1)^p (default 1).
     #[arg(long, value_name = "P", allow_negative_numbers = true, help_heading = HEADING)]
     pub cone_order: Option<f64>,
-    /// Cone-direction techniques, comma-separated: bsdf, camera, importons, uniform (default
-    /// bsdf,camera,importons).
+    /// Cone-direction techniques, comma-separated: bsdf, camera, importons, uniform (default:
+    /// bsdf alone in scenes without glossy materials when Lambertian lookups are cosine,
+    /// bsdf,camera,importons otherwise).
     #[arg(long, value_name = "LIST", help_heading = HEADING)]
     pub cone_techniques: Option<String>,
     /// Store every technique's cone at full weight instead of the power heuristic (an
@@ -54,6 +57,11 @@ pub struct PcfArgs {
     /// closer than sigma).
     #[arg(long, value_name = "any|same", help_heading = HEADING)]
     pub cone_surfaces: Option<String>,
+    /// The direction kernel at lookups on Lambertian surfaces: cosine (default: the whole
+    /// hemisphere weighted by cos/pi, exact there since their radiance is the same in every
+    /// direction) or cap (seed 001's cap around the viewing direction, as elsewhere).
+    #[arg(long, value_name = "cosine|cap", help_heading = HEADING)]
+    pub cone_diffuse: Option<String>,
     /// Direct light at a non-delta lookup vertex: nee (default: next-event estimation, the
     /// cones of longer light paths for the rest, as photon mapping does) or cones (all light
     /// from the cone map, seed 001's Alg. 1 read literally).
@@ -81,7 +89,7 @@ impl PcfArgs {
             s.order = p;
         }
         if let Some(t) = &self.cone_techniques {
-            s.techniques = ConeTechniques::parse(t)?;
+            s.techniques = Some(ConeTechniques::parse(t)?);
         }
         s.mis = !self.no_mis;
         s.camera_exponent = self.camera_exponent;
@@ -105,6 +113,9 @@ impl PcfArgs {
         if let Some(c) = &self.cone_surfaces {
             s.surfaces = ConeSurfaces::parse(c)?;
         }
+        if let Some(a) = &self.cone_diffuse {
+            s.diffuse_aperture = DiffuseAperture::parse(a)?;
+        }
         if let Some(n) = &self.nested {
             s.nested = Nesting::parse(n)?;
         }
@@ -127,6 +138,7 @@ impl PcfArgs {
             || self.importon_angle.is_some()
             || self.cone_lookup.is_some()
             || self.cone_surfaces.is_some()
+            || self.cone_diffuse.is_some()
             || self.lookup_direct.is_some()
             || self.nested.is_some()
     }

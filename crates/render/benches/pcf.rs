@@ -19,7 +19,7 @@ use caustica_loader::builtin_scene;
 use caustica_render::RenderOptions;
 use caustica_render::integrator::pcf::{PcfPlan, cone_rule, importon_map, iteration_map};
 use caustica_render::options::{ConeTechniques, PcfSettings};
-use caustica_render::pcf::{ConeSet, LookupStats, PhotonConeMap, trace_cones};
+use caustica_render::pcf::{Aperture, ConeSet, LookupStats, PhotonConeMap, trace_cones};
 use caustica_render::stats::RenderStats;
 use caustica_render::transport::light_walk::walk_light_path;
 use caustica_scene::Scene;
@@ -35,7 +35,7 @@ fn scene(name: &str) -> Scene {
 fn options(techniques: &str) -> RenderOptions {
     let mut o = RenderOptions::default();
     o.photons.pcf = PcfSettings {
-        techniques: ConeTechniques::parse(techniques).expect("techniques"),
+        techniques: Some(ConeTechniques::parse(techniques).expect("techniques")),
         ..Default::default()
     };
     o.photons.progressive.paths_per_iteration = 200_000;
@@ -124,7 +124,7 @@ fn bench(c: &mut Criterion) {
         let k = plan.schedule.kernel(i);
         let mut st = LookupStats::default();
         for q in &queries {
-            map.estimate(q.0, q.1, &k, ConeSet::All, None, &mut st);
+            map.estimate(q.0, Aperture::Cap(q.1), &k, ConeSet::All, None, &mut st);
         }
         println!(
             "{label}: sigma {:.4} m, t {:.2} deg: {:.1} cones scanned, {:.2} inside per lookup",
@@ -137,7 +137,14 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 let mut st = LookupStats::default();
                 for q in &queries {
-                    black_box(map.estimate(q.0, q.1, &k, ConeSet::All, None, &mut st));
+                    black_box(map.estimate(
+                        q.0,
+                        Aperture::Cap(q.1),
+                        &k,
+                        ConeSet::All,
+                        None,
+                        &mut st,
+                    ));
                 }
                 st
             })

@@ -175,7 +175,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
             paths.saturating_mul(9),
             size_of::<crate::pcf::PhotonCone>() as u64 + 17,
         );
-        if p.pcf.techniques.importons {
+        if p.pcf.techniques_for(scene).importons {
             m.add(
                 "importon map",
                 p.pcf.importon_paths.unwrap_or(paths).saturating_mul(2),

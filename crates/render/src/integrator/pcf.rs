@@ -19,17 +19,20 @@ use crate::driver::pixels::render_pixels;
 use crate::error::OptionError;
 use crate::film::Film;
 use crate::filter::Filter;
-use crate::options::{ConeSurfaces, Nesting, PcfSettings, RenderOptions};
+use crate::options::{
+    ConeSurfaces, ConeTechniques, DiffuseAperture, Nesting, PcfSettings, RenderOptions,
+};
 use crate::pcf::importon::ImportonRule;
 use crate::pcf::techniques::CameraLobe;
 use crate::pcf::{
-    ConeRule, ConeSchedule, ConeSet, DiskCapKernel, ImportonMap, LookupStats, PathSplit,
+    Aperture, ConeRule, ConeSchedule, ConeSet, DiskCapKernel, ImportonMap, LookupStats, PathSplit,
     PhotonCone, PhotonConeMap, trace_cones,
 };
 use crate::stats::RenderStats;
 use crate::transport::vertex::Vertex;
 use caustica_core::{Channels, Spectrum};
 use caustica_scene::Scene;
+use caustica_scene::bsdf::Bsdf;
 
 /// σ₁ when not given: this fraction of the scene's bounding-box diagonal (0.05 m in the 2 m
 /// Cornell box). Seed 001 sec. 4.1.2 suggests "≈ 0.1" in its own scene units; 3 % (0.1 m here)
@@ -42,19 +45,32 @@ struct PcfCamera<'a> {
     kernel: DiskCapKernel,
     split: PathSplit,
     surfaces: ConeSurfaces,
+    diffuse: DiffuseAperture,
 }
 
 impl PcfCamera<'_> {
     fn estimate(&self, v: &Vertex, set: ConeSet, stats: &mut RenderStats) -> Spectrum {
         let mut st = LookupStats::default();
         let w = v.frame.to_world(v.wo);
+        // A Lambertian surface's radiance is the same in every direction: no cap
+        // (`Aperture::Cosine`). A material property, not a BSDF evaluation.
+        let aperture = match (self.diffuse, &v.bsdf) {
+            (DiffuseAperture::Cosine, Bsdf::Lambertian(_)) => {
+                Aperture::Cosine(if v.si.ng.dot(w) < 0.0 {
+                    -v.si.ng
+                } else {
+                    v.si.ng
+                })
+            }
+            _ => Aperture::Cap(w),
+        };
         let surface = match self.surfaces {
             ConeSurfaces::Any => None,
             ConeSurfaces::Same => Some((v.si.shape, v.si.ng)),
         };
         let l = self
             .map
-            .estimate(v.si.p, w, &self.kernel, set, surface, &mut st);
+            .estimate(v.si.p, aperture, &self.kernel, set, surface, &mut st);
         stats.cone_lookups += st.lookups;
         stats.cones_scanned += st.scanned;
         stats.cones_inside += st.inside;
@@ -82,6 +98,8 @@ impl CameraRule for PcfCamera<'_> {
 /// The resolved parameters of a `pcf` render.
 pub struct PcfPlan {
     pub settings: PcfSettings,
+    /// The cone techniques ([`PcfSettings::techniques_for`] the scene).
+    pub techniques: ConeTechniques,
     pub sigma1: f32,
     pub schedule: ConeSchedule,
     /// Light paths per iteration (N_L).
@@ -113,6 +131,7 @@ impl PcfPlan {
         })?;
         Ok(Self {
             settings,
+            techniques: settings.techniques_for(scene),
             sigma1,
             schedule,
             paths: opts.photons.progressive.paths_per_iteration,
@@ -153,14 +172,14 @@ pub fn cone_rule<'a>(
 ) -> ConeRule<'a> {
     let s = &plan.settings;
     ConeRule {
-        techniques: s.techniques,
+        techniques: plan.techniques,
         mis: s.mis,
         camera: scene.camera.position(),
         camera_exponent: s
             .camera_exponent
             .unwrap_or_else(|| CameraLobe::exponent_for_cap(kernel.theta)),
         camera_mirror: s.camera_mirror,
-        importons: if s.techniques.importons {
+        importons: if plan.techniques.importons {
             importons
         } else {
             None
@@ -176,7 +195,7 @@ pub fn importon_map(
     on_wave: &mut dyn FnMut(u64) -> bool,
 ) -> Option<(ImportonMap, RenderStats)> {
     let s = &plan.settings;
-    if !s.techniques.importons {
+    if !plan.techniques.importons {
         return None;
     }
     Some(ImportonMap::trace(
@@ -184,7 +203,7 @@ pub fn importon_map(
         opts,
         plan.importon_paths(),
         ImportonRule {
-            first_vertex: if s.techniques.camera { 2 } else { 1 },
+            first_vertex: if plan.techniques.camera { 2 } else { 1 },
         },
         s.importon_k,
         s.importon_radius.unwrap_or(plan.sigma1),
@@ -259,6 +278,7 @@ pub(crate) fn render(
             kernel,
             split,
             surfaces: s.surfaces,
+            diffuse: s.diffuse_aperture,
         };
         let pixels = st.part(0.5, 1.0).labelled("looking up cones");
         stats += render_pixels(f, filter, &o, &pixels, |sampler, raster, sst| {
@@ -284,7 +304,7 @@ pub(crate) fn render(
         inside: stats.cones_inside,
     };
     notes.push(format!(
-        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {} (direct light there from {}), nested {}; cone surfaces {}",
+        "pcf: {done} iterations of {} light paths and {} spp; sigma {:.4} -> {:.4} m, t {:.2} -> {:.2} deg (theta_1 {}, p {}, alpha {}); techniques {}{}; lookup {} (direct light there from {}), nested {}; cone surfaces {}; Lambertian lookups {}",
         plan.paths,
         opts.spp,
         k1.sigma,
@@ -294,12 +314,13 @@ pub(crate) fn render(
         s.theta1_deg,
         s.order,
         s.alpha(),
-        s.techniques.names(),
+        plan.techniques.names(),
         if s.mis { " (MIS, power heuristic)" } else { " (no MIS)" },
         s.lookup.name(),
         if s.lookup_nee { "NEE" } else { "cones" },
         s.nested.name(),
         s.surfaces.name(),
+        s.diffuse_aperture.name(),
     ));
     notes.push(format!(
         "pcf: {:.0} cones per iteration ({:.2} per light path, {} B per cone with its tree, {:.1} MB at most); {} lookups, {:.1} cones scanned and {:.2} inside the kernel per lookup{}",

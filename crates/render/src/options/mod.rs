@@ -6,7 +6,7 @@ pub mod photon;
 pub mod progressive;
 pub mod value;
 
-pub use pcf::{ConeSurfaces, ConeTechniques, LookupRule, Nesting, PcfSettings};
+pub use pcf::{ConeSurfaces, ConeTechniques, DiffuseAperture, LookupRule, Nesting, PcfSettings};
 pub use photon::{
     AutoBandwidth, CausticEstimator, DiffusionSettings, EmissionStrategy, FootprintSettings,
     PhotonOptions, ShutterAlign, SweepRule,

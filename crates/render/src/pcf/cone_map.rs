@@ -13,7 +13,7 @@
 //! normalised by the number of light paths N_L, not of cones (eq. 2.25; spec notes Q3).
 
 use super::cone::PhotonCone;
-use super::kernel::DiskCapKernel;
+use super::kernel::{Aperture, DiskCapKernel};
 use caustica_core::{Spectrum, Vec3};
 use caustica_density::KdTree;
 
@@ -103,15 +103,15 @@ impl PhotonConeMap {
         self.tree.memory_bytes() + self.cones.capacity() * std::mem::size_of::<PhotonCone>()
     }
 
-    /// L̂(x, ω) (W/m²/sr) with kernel `k`: the radiance leaving `x` in the unit direction `w`.
-    /// `set`: which light-path lengths and lights count ([`ConeSet`]).
+    /// L̂(x, ω) (W/m²/sr) with kernel `k`: the radiance leaving `x` in the direction the
+    /// `aperture` looks at (its cap around ω, or a Lambertian surface's hemisphere). `set`: which light-path lengths and lights count ([`ConeSet`]).
     /// `surface`: only cones on this shape whose geometric normal agrees with this one
     /// (n_j·n_x > 0; `ConeSurfaces::Same`); `None`: every cone in the ball (seed 001's
     /// estimator).
     pub fn estimate(
         &self,
         x: Vec3,
-        w: Vec3,
+        aperture: Aperture,
         k: &DiskCapKernel,
         set: ConeSet,
         surface: Option<(u32, Vec3)>,
@@ -126,9 +126,12 @@ impl PhotonConeMap {
                 None => true,
                 Some((shape, n)) => c.shape == shape && c.ng.dot(n) > 0.0,
             };
-            if k.contains(d2, c.dir.dot(w)) && set.admits(c) && on_surface {
-                inside += 1;
-                sum += c.value;
+            if d2 < k.sigma * k.sigma && set.admits(c) && on_surface {
+                let a = aperture.weight(k, c.dir);
+                if a > 0.0 {
+                    inside += 1;
+                    sum += c.value * a;
+                }
             }
         });
         stats.lookups += 1;
@@ -137,7 +140,7 @@ impl PhotonConeMap {
         if self.light_paths == 0 {
             return Spectrum::ZERO;
         }
-        sum * (k.inv_volume / self.light_paths as f32)
+        sum * (k.scale(&aperture) / self.light_paths as f32)
     }
 }
 
@@ -171,10 +174,17 @@ mod tests {
         let map = PhotonConeMap::build(cones, 1);
         let k = DiskCapKernel::new(0.1, 0.3);
         let mut st = LookupStats::default();
-        let any = map.estimate(Vec3::ZERO, Vec3::Y, &k, ConeSet::All, None, &mut st);
+        let any = map.estimate(
+            Vec3::ZERO,
+            Aperture::Cap(Vec3::Y),
+            &k,
+            ConeSet::All,
+            None,
+            &mut st,
+        );
         let same = map.estimate(
             Vec3::ZERO,
-            Vec3::Y,
+            Aperture::Cap(Vec3::Y),
             &k,
             ConeSet::All,
             Some((0, Vec3::Y)),
@@ -184,7 +194,14 @@ mod tests {
         assert!((same.c[0] / k.inv_volume - 10.0).abs() < 1e-3);
         // Normalised by light paths: twice the paths, half the estimate.
         let map2 = PhotonConeMap::build(map.cones().to_vec(), 2);
-        let half = map2.estimate(Vec3::ZERO, Vec3::Y, &k, ConeSet::All, None, &mut st);
+        let half = map2.estimate(
+            Vec3::ZERO,
+            Aperture::Cap(Vec3::Y),
+            &k,
+            ConeSet::All,
+            None,
+            &mut st,
+        );
         assert!((half.c[0] * 2.0 - any.c[0]).abs() < 1e-3 * any.c[0]);
     }
 }

@@ -20,6 +20,7 @@
 //! eq. 3.27, C_{σ_{i+1}} = C_{σ_i} (i + α)/(i + 1), from the closed-form Γ product of
 //! [`BandwidthSchedule`] (σ_i solved by bisection, t_i = t(σ_i)).
 
+use caustica_core::{INV_PI, Vec3};
 use caustica_density::{BandwidthSchedule, KernelVolume, ScheduleError};
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -83,6 +84,17 @@ impl DiskCapKernel {
         1.0 / self.inv_volume as f64
     }
 
+    /// The factor that turns a sum of cone values times [`Aperture::weight`] into the kernel
+    /// estimate (m⁻² sr⁻¹ for `Cap`: 1/C_σ; m⁻² for `Cosine`, whose weight is already per sr:
+    /// 1/(πσ²)).
+    #[inline]
+    pub fn scale(&self, aperture: &Aperture) -> f32 {
+        match aperture {
+            Aperture::Cap(_) => self.inv_volume,
+            Aperture::Cosine(_) => 1.0 / (std::f32::consts::PI * self.sigma * self.sigma),
+        }
+    }
+
     /// True if a cone at squared distance `d2` whose direction has cosine `cos` with the query
     /// direction lies inside the kernel's support (eq. 3.3–3.4).
     #[inline]
@@ -98,6 +110,44 @@ impl DiskCapKernel {
             self.inv_volume
         } else {
             0.0
+        }
+    }
+}
+
+/// The direction part of a lookup's kernel.
+///
+/// `Cap` is seed 001's box over a cap (eq. 3.4). `Cosine` is for a lookup on a Lambertian
+/// surface, whose outgoing radiance does not depend on the direction (seed 001 sec. 4.4: "the
+/// properties of surface material can be taken into account when deciding θ₁ … larger ones for
+/// rough/diffusive BSDFs", taken to its end): the whole hemisphere the query looks at, weighted
+/// by the projected solid angle, cos θ_j/π (sr⁻¹, integrating to 1 over the hemisphere). It adds
+/// no angular bias where L_o is constant in ω, every cone within σ counts, and the weight
+/// cancels the 1/cos θ_j of a cone drawn by cosine-weighted BSDF sampling (β·(ρ/π)/(cos θ_j/π)),
+/// so such a cone adds exactly β ρ/π: photon mapping at r = σ (docs/pcf.md, "Diffuse lookups").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Aperture {
+    /// The cap of half-angle t(σ) around the unit query direction ω (eq. 3.4).
+    Cap(Vec3),
+    /// The hemisphere around the unit normal `n` (oriented towards the query direction),
+    /// weighted by cos θ/π.
+    Cosine(Vec3),
+}
+
+impl Aperture {
+    /// The direction weight of a cone leaving in the unit direction `dir` (sr⁻¹), times the
+    /// cap's solid angle for `Cap` (1 inside, 0 outside; [`DiskCapKernel::scale`] divides by
+    /// it).
+    #[inline]
+    pub fn weight(&self, k: &DiskCapKernel, dir: Vec3) -> f32 {
+        match *self {
+            Aperture::Cap(w) => {
+                if dir.dot(w) > k.cos_theta {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            Aperture::Cosine(n) => dir.dot(n).max(0.0) * INV_PI,
         }
     }
 }
@@ -174,6 +224,38 @@ mod tests {
                 .sum();
             assert!((quad / cap_solid_angle(t) - 1.0).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn cosine_aperture_integrates_to_one_over_the_viewed_hemisphere() {
+        // ∫ weight dω over the sphere = 1 for the cosine aperture (its scale is then 1/(πσ²),
+        // a disc), and the cap's weight is its indicator (its scale 1/C_σ).
+        let k = DiskCapKernel::new(0.1, 0.3);
+        let n = Vec3::new(0.3, 0.9, -0.2).normalize();
+        let mut rng = Pcg32::new(3, 1);
+        let m = 1_000_000;
+        let (mut cosine, mut cap, mut below) = (0.0f64, 0.0f64, 0.0f64);
+        for _ in 0..m {
+            // Uniform on the sphere (pdf 1/4π).
+            let z = 1.0 - 2.0 * rng.next_f32();
+            let phi = 2.0 * std::f32::consts::PI * rng.next_f32();
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+            let wc = Aperture::Cosine(n).weight(&k, d) as f64;
+            cosine += wc;
+            if d.dot(n) < 0.0 {
+                below += wc;
+            }
+            cap += Aperture::Cap(n).weight(&k, d) as f64;
+        }
+        let four_pi = 4.0 * PI;
+        assert!((cosine * four_pi / m as f64 - 1.0).abs() < 3e-3, "{cosine}");
+        assert_eq!(below, 0.0);
+        let omega = cap * four_pi / m as f64;
+        assert!((omega / cap_solid_angle(0.3) - 1.0).abs() < 2e-2, "{omega}");
+        assert!((k.scale(&Aperture::Cap(n)) - k.inv_volume).abs() < 1e-6 * k.inv_volume);
+        let disc = 1.0 / (PI * 0.01);
+        assert!((k.scale(&Aperture::Cosine(n)) as f64 / disc - 1.0).abs() < 1e-6);
     }
 
     #[test]

@@ -13,6 +13,6 @@ pub mod tracer;
 pub use cone::PhotonCone;
 pub use cone_map::{ConeSet, LookupStats, PhotonConeMap};
 pub use importon::{ConicalImporton, ImportonMap};
-pub use kernel::{AngularMap, ConeSchedule, DiskCapKernel};
+pub use kernel::{AngularMap, Aperture, ConeSchedule, DiskCapKernel};
 pub use split::PathSplit;
 pub use tracer::{ConeRule, trace_cones};
