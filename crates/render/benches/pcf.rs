@@ -104,7 +104,8 @@ fn bench(c: &mut Criterion) {
 
     // Lookups at the first hits of camera rays through a 64 × 64 grid of the film.
     let cam = &s.camera;
-    let mut queries: Vec<(Vec3, Vec3)> = Vec::new();
+    // (position, direction to the camera, geometric normal on the camera's side)
+    let mut queries: Vec<(Vec3, Vec3, Vec3)> = Vec::new();
     for y in 0..64 {
         for x in 0..64 {
             let raster = Vec2::new(
@@ -113,18 +114,37 @@ fn bench(c: &mut Criterion) {
             );
             let ray = cam.generate_ray(raster, Vec2::splat(0.5)).ray;
             if let Some(si) = s.intersect(&ray) {
-                queries.push((si.p, -ray.d));
+                let n = if si.ng.dot(ray.d) > 0.0 {
+                    -si.ng
+                } else {
+                    si.ng
+                };
+                queries.push((si.p, -ray.d, n));
             }
         }
     }
     let mut g = c.benchmark_group("lookup");
     g.sample_size(10);
     g.throughput(Throughput::Elements(queries.len() as u64));
-    for (label, i) in [("iteration-1", 1u64), ("iteration-1000", 1000)] {
+    // The cap (seed 001's kernel) and the cosine aperture of Lambertian lookups (every query
+    // here, on caustic-box's walls, as if Lambertian: the same cones scanned, more inside).
+    for (label, i, cosine) in [
+        ("iteration-1", 1u64, false),
+        ("iteration-1000", 1000, false),
+        ("iteration-1-cosine", 1, true),
+        ("iteration-1000-cosine", 1000, true),
+    ] {
+        let aperture = |q: &(Vec3, Vec3, Vec3)| {
+            if cosine {
+                Aperture::Cosine(q.2)
+            } else {
+                Aperture::Cap(q.1)
+            }
+        };
         let k = plan.schedule.kernel(i);
         let mut st = LookupStats::default();
         for q in &queries {
-            map.estimate(q.0, Aperture::Cap(q.1), &k, ConeSet::All, None, &mut st);
+            map.estimate(q.0, aperture(q), &k, ConeSet::All, None, &mut st);
         }
         println!(
             "{label}: sigma {:.4} m, t {:.2} deg: {:.1} cones scanned, {:.2} inside per lookup",
@@ -137,14 +157,7 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 let mut st = LookupStats::default();
                 for q in &queries {
-                    black_box(map.estimate(
-                        q.0,
-                        Aperture::Cap(q.1),
-                        &k,
-                        ConeSet::All,
-                        None,
-                        &mut st,
-                    ));
+                    black_box(map.estimate(q.0, aperture(q), &k, ConeSet::All, None, &mut st));
                 }
                 st
             })

@@ -173,35 +173,24 @@ mod tests {
         }
         let map = PhotonConeMap::build(cones, 1);
         let k = DiskCapKernel::new(0.1, 0.3);
-        let mut st = LookupStats::default();
-        let any = map.estimate(
-            Vec3::ZERO,
-            Aperture::Cap(Vec3::Y),
-            &k,
-            ConeSet::All,
-            None,
-            &mut st,
-        );
-        let same = map.estimate(
-            Vec3::ZERO,
-            Aperture::Cap(Vec3::Y),
-            &k,
-            ConeSet::All,
-            Some((0, Vec3::Y)),
-            &mut st,
-        );
+        let at = |map: &PhotonConeMap, surface| {
+            let mut st = LookupStats::default();
+            map.estimate(
+                Vec3::ZERO,
+                Aperture::Cap(Vec3::Y),
+                &k,
+                ConeSet::All,
+                surface,
+                &mut st,
+            )
+        };
+        let any = at(&map, None);
+        let same = at(&map, Some((0, Vec3::Y)));
         assert!((any.c[0] / k.inv_volume - 30.0).abs() < 1e-3);
         assert!((same.c[0] / k.inv_volume - 10.0).abs() < 1e-3);
         // Normalised by light paths: twice the paths, half the estimate.
         let map2 = PhotonConeMap::build(map.cones().to_vec(), 2);
-        let half = map2.estimate(
-            Vec3::ZERO,
-            Aperture::Cap(Vec3::Y),
-            &k,
-            ConeSet::All,
-            None,
-            &mut st,
-        );
+        let half = at(&map2, None);
         assert!((half.c[0] * 2.0 - any.c[0]).abs() < 1e-3 * any.c[0]);
     }
 }
