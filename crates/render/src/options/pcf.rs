@@ -343,8 +343,9 @@ impl PcfSettings {
     /// cosine-weighted sampler matches exactly (each cone then adds β ρ/π, photon mapping's
     /// value), and delta surfaces have their cone in the delta direction whatever the
     /// techniques. So in a scene without glossy materials the other two only add cones of
-    /// small MIS weight: on `mirror-caustic-box` the BSDF alone runs 2.9× the iterations in
-    /// the same time at the same or lower error (docs/pcf.md, "Diffuse lookups").
+    /// small MIS weight: on `mirror-caustic-box`, both with the cosine aperture, the BSDF alone
+    /// runs 2.9× the triplet's iterations in the same time at a lower error (docs/pcf.md,
+    /// "Lambertian lookups").
     pub fn techniques_for(&self, scene: &Scene) -> ConeTechniques {
         if let Some(t) = self.techniques {
             return t;

@@ -123,7 +123,7 @@ impl DiskCapKernel {
 /// by the projected solid angle, cos θ_j/π (sr⁻¹, integrating to 1 over the hemisphere). It adds
 /// no angular bias where L_o is constant in ω, every cone within σ counts, and the weight
 /// cancels the 1/cos θ_j of a cone drawn by cosine-weighted BSDF sampling (β·(ρ/π)/(cos θ_j/π)),
-/// so such a cone adds exactly β ρ/π: photon mapping at r = σ (docs/pcf.md, "Diffuse lookups").
+/// so such a cone adds exactly β ρ/π: photon mapping at r = σ (docs/pcf.md, "Lambertian lookups").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Aperture {
     /// The cap of half-angle t(σ) around the unit query direction ω (eq. 3.4).
