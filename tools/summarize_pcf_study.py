@@ -186,10 +186,12 @@ csv_rows = {"probes": [["scene", "probe", "iteration", "seconds", "sigma", "t_de
 md.append(f"Scale {P['SCALE']}: {RES}x{RES} pixels, equal-time budget T = {T:g} s per render (the progressive "
           f"methods stop after the iteration that crosses it), {P['PATHS']} light paths per iteration "
           f"(pcf: and 2 camera samples per pixel per iteration), pcf at its defaults otherwise (sigma_1 = 1.5 % of "
-          f"the scene diagonal, theta_1 = 18 deg, p = 1, alpha = 0.5, techniques bsdf,camera,importons with "
-          f"MIS, lookup non-delta with NEE there, nesting delta-lights, cone surfaces same). References: sppm, "
-          f"two halves of {int(P['REFX']) * T:g} s (seeds 101, 102), rendered by the binary of the first run "
-          f"(commit {P.get('commit', '?')}); the pcf renders were redone later (README.md).\n")
+          f"the scene diagonal, theta_1 = 18 deg, p = 1, alpha = 0.5, the cosine aperture at Lambertian lookups, "
+          f"techniques from the scene (the BSDF's sampler alone in these three: no glossy material), "
+          f"lookup non-delta with NEE there, nesting delta-lights, cone surfaces same); pcf-cap is seed 001's "
+          f"kernel at every lookup with its triplet (--cone-diffuse cap --cone-techniques bsdf,camera,importons). "
+          f"References: sppm, two halves of {int(P['REFX']) * T:g} s (seeds 101, 102). Every render by the "
+          f"binary of commit {P.get('commit', '?')} (params.txt).\n")
 
 # ---- references
 refs, ref_noise, ref_halves = {}, {}, {}
@@ -344,8 +346,7 @@ if s in refs:
             per.setdefault(m, []).append((seed, sm["iterations"], sm["seconds"], compare(prefix + ".pfm", rp, reg)["rmse"],
                                           compare(prefix + ".pfm", rp)["rmse"]))
     if all(len(per.get(m, [])) > 1 for m in ("pcf", "sppm")):
-        md.append(f"#### {s}: the reflected caustic over seeds
-")
+        md.append(f"#### {s}: the reflected caustic over seeds\n")
         md.append(f"pcf (defaults, --spp 2) and sppm, --time {T:g}, seeds 1..{P['ET_SEEDS']} (seed 1 is the table above's; "
                   "the others alternate pcf and sppm). RMSE over the mirror-ball region "
                   f"{reg} and the whole image against the sppm reference.\n")
