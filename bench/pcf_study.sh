@@ -28,7 +28,7 @@
 # Every render's command line goes to WORK/commands.log (copied to DOCS). Then
 # tools/summarize_pcf_study.py WORK OUT writes the tables, SVG plots and index.html.
 # Re-runs reuse what is done (delete WORK to redo). SCALE=small: about 5 minutes (64x64, T = 4 s);
-# full: about 35 minutes on 2 cores (128x128, T = 20 s).
+# full: about 25 minutes on 2 cores (128x128, T = 20 s; 23 minutes on 2026-12-06).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SCALE="${SCALE:-full}"

@@ -126,7 +126,7 @@ impl PhotonConeMap {
                 None => true,
                 Some((shape, n)) => c.shape == shape && c.ng.dot(n) > 0.0,
             };
-            if d2 < k.sigma * k.sigma && set.admits(c) && on_surface {
+            if k.in_disc(d2) && set.admits(c) && on_surface {
                 let a = aperture.weight(k, c.dir);
                 if a > 0.0 {
                     inside += 1;
