@@ -4,8 +4,8 @@ use anyhow::Result;
 use caustica_density::beam::BeamKernel;
 use caustica_density::kernel::Kernel;
 use caustica_render::{
-    AutoBandwidth, Bandwidth, CausticEstimator, Diffusivity, EmissionStrategy, NoiseScale,
-    NormalDistance, PhotonOptions, Smoothing, Steepness,
+    AutoBandwidth, Bandwidth, CausticEstimator, Diffusivity, EmissionStrategy, LightShare,
+    NoiseScale, NormalDistance, PhotonOptions, Smoothing, Steepness,
 };
 use clap::Args;
 
@@ -285,6 +285,11 @@ pub struct PhotonArgs {
     /// for it). Global and volume photons are always uniform.
     #[arg(long, value_name = "RULE", help_heading = "Photon mapping", value_parser = EmissionStrategy::NAMES)]
     pub emission: Option<String>,
+    /// The hybrid integrator's share of a time budget (--time) for its caustic light tracer;
+    /// the path tracer has the rest (strictly between 0 and 1; default 0.25). Without --time
+    /// it traces --light-paths caustic light paths (default: a quarter per camera sample).
+    #[arg(long, value_name = "F", help_heading = "Hybrid (path + light tracer)")]
+    pub light_share: Option<LightShare>,
     #[command(flatten)]
     pub pcf: crate::pcf_args::PcfArgs,
 }
@@ -297,6 +302,9 @@ impl PhotonArgs {
             o.caustic_photons = n;
         }
         o.light_paths = self.light_paths;
+        if let Some(f) = self.light_share {
+            o.light_share = f;
+        }
         if let Some(e) = self.emission.as_deref().and_then(EmissionStrategy::parse) {
             o.emission = e;
         }
@@ -477,6 +485,18 @@ impl PhotonArgs {
             || self.paper_area
             || self.progressive_given()
             || self.pcf.any_given()
+            || self.light_share.is_some()
+    }
+
+    /// True if the only photon options given are the ones `--integrator hybrid` reads
+    /// (`--light-paths`, `--light-share`; `--emission` is never reported).
+    pub fn only_hybrid_given(&self) -> bool {
+        !Self {
+            light_paths: None,
+            light_share: None,
+            ..self.clone()
+        }
+        .any_given()
     }
 
     /// True if any option of the progressive methods was given.

@@ -404,7 +404,16 @@ impl RenderSettings {
                 kind.name()
             ));
         }
-        if self.photon.any_given() && !kind.uses_photons() {
+        if self.photon.light_share.is_some() && kind != IntegratorKind::Hybrid {
+            warnings.push(format!(
+                "--light-share only affects --integrator hybrid, not '{}'",
+                kind.name()
+            ));
+        }
+        if self.photon.any_given()
+            && !kind.uses_photons()
+            && !(kind == IntegratorKind::Hybrid && self.photon.only_hybrid_given())
+        {
             warnings.push(format!(
                 "photon-mapping options have no effect on integrator '{}'",
                 kind.name()
@@ -1156,6 +1165,11 @@ fn render_one(
             rendered.film.mean_samples()
         ),
         IntegratorKind::LightTrace => format!("{} light paths", rendered.film.light_paths()),
+        IntegratorKind::Hybrid => format!(
+            "{} caustic light paths, {:.1} spp",
+            rendered.film.light_paths(),
+            rendered.film.mean_samples()
+        ),
     } + &shard_note;
     let stopped = if stop.load(Ordering::SeqCst) {
         " (interrupted)"

@@ -41,8 +41,8 @@ pub use film::Film;
 pub use integrator::{IntegratorKind, RenderOutput, render};
 pub use options::{
     AutoBandwidth, Bandwidth, CausticEstimator, DiffusionSettings, Diffusivity, EmissionStrategy,
-    FootprintSettings, NoiseScale, NormalDistance, PhotonOptions, ProgressiveSettings, Radius,
-    RenderOptions, ShutterAlign, Smoothing, Steepness, SweepRule,
+    FootprintSettings, LightShare, NoiseScale, NormalDistance, PhotonOptions, ProgressiveSettings,
+    Radius, RenderOptions, ShutterAlign, Smoothing, Steepness, SweepRule,
 };
 pub use photon::plan::PhotonBudget;
 pub use shard::{RowSet, Shard, ShardUnit};

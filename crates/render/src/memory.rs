@@ -246,6 +246,7 @@ pub fn estimate(kind: IntegratorKind, scene: &Scene, opts: &RenderOptions) -> Me
         }
         IntegratorKind::Path
         | IntegratorKind::LightTrace
+        | IntegratorKind::Hybrid
         | IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping

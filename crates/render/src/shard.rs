@@ -102,8 +102,9 @@ pub enum ShardUnit {
     PixelRows,
     /// Chunks of light paths (the light tracer), each splatting over the whole film.
     LightPathChunks,
-    /// Chunks of pds's splatting pass; the eye pass's own light is split by rows (every shard
-    /// traces the whole eye map and counts the light paths, since every chunk splats onto it).
+    /// Chunks of a light-path pass beside camera samples split by rows: pds's splatting pass
+    /// (every shard traces the whole eye map and counts the light paths, since every chunk
+    /// splats onto it) and the hybrid's caustic light tracer.
     SplatChunks,
     /// Iterations of a progressive method (each a pure function of its number).
     Iterations,
@@ -122,7 +123,7 @@ impl ShardUnit {
             | K::BeamRadianceEstimate
             | K::VolumePhotonDifferentials => ShardUnit::PixelRows,
             K::LightTrace => ShardUnit::LightPathChunks,
-            K::PhotonDifferentialSplatting => ShardUnit::SplatChunks,
+            K::PhotonDifferentialSplatting | K::Hybrid => ShardUnit::SplatChunks,
             K::ProgressivePhotonMapping
             | K::ProgressiveSplatting
             | K::ProgressiveDifferentialMapping

@@ -16,6 +16,9 @@ pub struct RenderStats {
     pub cone_lookups: u64,
     pub cones_scanned: u64,
     pub cones_inside: u64,
+    /// Caustic vertices (L S+ D) the light tracer's caustics-only paths reached, connected to
+    /// the camera or not: the caustic yield's numerator.
+    pub caustic_vertices: u64,
 }
 
 impl AddAssign for RenderStats {
@@ -26,5 +29,6 @@ impl AddAssign for RenderStats {
         self.cone_lookups += o.cone_lookups;
         self.cones_scanned += o.cones_scanned;
         self.cones_inside += o.cones_inside;
+        self.caustic_vertices += o.caustic_vertices;
     }
 }

@@ -98,7 +98,9 @@ pub fn trace_light_path(
                     LightEvent::Vertex(lv) => {
                         let v = lv.v;
                         let wanted = if opts.caustics_only {
-                            lv.is_caustic()
+                            let caustic = lv.is_caustic();
+                            stats.caustic_vertices += caustic as u64;
+                            caustic
                         } else {
                             v.bsdf.flags().is_smooth()
                         };

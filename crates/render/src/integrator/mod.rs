@@ -1,5 +1,6 @@
 //! Integrators, selected by name.
 
+pub mod hybrid;
 pub mod light_tracer;
 pub mod path;
 pub mod pcf;
@@ -75,6 +76,9 @@ pub enum IntegratorKind {
     /// included, estimated by a 4-D position × direction kernel that shrinks by eq. 3.27;
     /// camera paths path-traced up to a lookup vertex.
     PhotonConeFocusing,
+    /// A guided light tracer for the caustics seen directly (L S+ D E) and a path tracer for
+    /// every other path, into one film ([`hybrid`]).
+    Hybrid,
 }
 
 impl IntegratorKind {
@@ -95,6 +99,7 @@ impl IntegratorKind {
         "sppm",
         "ppm",
         "pcf",
+        "hybrid",
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -114,6 +119,7 @@ impl IntegratorKind {
             IntegratorKind::StochasticProgressivePhotonMapping => "sppm",
             IntegratorKind::ProgressivePhotonMappingHitPoints => "ppm",
             IntegratorKind::PhotonConeFocusing => "pcf",
+            IntegratorKind::Hybrid => "hybrid",
         }
     }
 
@@ -200,11 +206,14 @@ impl IntegratorKind {
             IntegratorKind::PhotonConeFocusing => {
                 "photon cone focusing: cones on every surface, a 4-D kernel shrinking per iteration (seed 001 ch. 3-4)"
             }
+            IntegratorKind::Hybrid => {
+                "path tracer + guided light tracer for the caustics seen directly (L S+ D E), no path counted twice"
+            }
         }
     }
 
     /// Every integrator, in the order of [`IntegratorKind::NAMES`].
-    pub const ALL: [IntegratorKind; 16] = [
+    pub const ALL: [IntegratorKind; 17] = [
         IntegratorKind::Path,
         IntegratorKind::LightTrace,
         IntegratorKind::PhotonMapping,
@@ -221,6 +230,7 @@ impl IntegratorKind {
         IntegratorKind::StochasticProgressivePhotonMapping,
         IntegratorKind::ProgressivePhotonMappingHitPoints,
         IntegratorKind::PhotonConeFocusing,
+        IntegratorKind::Hybrid,
     ];
 
     /// Checks that this integrator can render with `opts` (the values themselves are valid by
@@ -261,6 +271,15 @@ impl IntegratorKind {
                     "--caustics-only is not available with --integrator pcf: its cones do not separate caustic paths; use lighttrace, pm, dpm, pdm or pds".into(),
                 ));
             }
+        }
+        if self == IntegratorKind::Hybrid && (opts.caustics_only || opts.volume_only) {
+            return Err(OptionError::Conflict(
+                "--integrator hybrid renders every path; for --caustics-only use --integrator lighttrace (with --emission), for --volume-only lighttrace or vpm, beam, vpd".into(),
+            ));
+        }
+        if self == IntegratorKind::Hybrid {
+            // Its --light-paths and --emission are the photon options'.
+            opts.photons.validate()?;
         }
         if opts.caustics_only && self == IntegratorKind::Path {
             return Err(OptionError::Conflict(
@@ -371,7 +390,7 @@ impl IntegratorKind {
             format!(
                 "scene '{}' has mirrors, glass or smooth metal and {which} point-like or \
                  directional: the path tracer cannot render their caustics (paths L S+ D E); \
-                 use --integrator pds (or pm, pdm, dpm, lighttrace)",
+                 use --integrator hybrid (or pds, pm, pdm, dpm, lighttrace)",
                 scene.name
             )
         })
@@ -410,6 +429,7 @@ impl std::str::FromStr for IntegratorKind {
             "sppm" => Ok(Self::StochasticProgressivePhotonMapping),
             "ppm" => Ok(Self::ProgressivePhotonMappingHitPoints),
             "pcf" => Ok(Self::PhotonConeFocusing),
+            "hybrid" => Ok(Self::Hybrid),
             _ => Err(format!(
                 "unknown integrator '{s}' (expected one of: {})",
                 Self::NAMES.join(", ")
@@ -515,11 +535,11 @@ pub fn render(
         IntegratorKind::Path => {
             let stage = stage.labelled("path tracing");
             render_pixels(&mut film, &filter, opts, &stage, |sampler, raster, st| {
-                let u_lens = sampler.next_2d();
-                let time = scene.sample_time(|| sampler.next_1d());
-                let ray = cam.generate_ray(raster, u_lens).ray.at_time(time);
-                path::radiance(scene, ray, sampler, opts, st)
+                path::camera_radiance(scene, raster, sampler, opts, st, &path::PathOnly)
             })
+        }
+        IntegratorKind::Hybrid => {
+            hybrid::render(scene, opts, &stage, &mut film, &filter, &mut notes)
         }
         IntegratorKind::LightTrace => {
             // Per pixel of the full film, cropped or not: the same paths, splats outside the
@@ -616,6 +636,16 @@ fn shard_work(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions, shard: 
             format!(
                 "light-path chunks {}..{} of {chunks} (paths {}..{} of {total})",
                 c.start, c.end, p.start, p.end
+            )
+        }
+        ShardUnit::SplatChunks if kind == IntegratorKind::Hybrid => {
+            let total = hybrid::light_paths(scene, opts);
+            let p = light_path_range(total, Some(shard));
+            format!(
+                "caustic light paths {}..{} of {total}, and the camera samples of {}",
+                p.start,
+                p.end,
+                rows(height)
             )
         }
         ShardUnit::SplatChunks => format!(

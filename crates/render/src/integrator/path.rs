@@ -18,7 +18,7 @@ use crate::transport::medium::{Segment, trace_segment};
 use crate::transport::vertex::{MediumVertex, Scatterer, Vertex};
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
-use caustica_core::{Channels, Ray, Spectrum, Vec3};
+use caustica_core::{Channels, Ray, Spectrum, Vec2, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 use caustica_scene::intersection::NONE;
@@ -45,6 +45,38 @@ pub trait CameraRule {
     fn direct(&self, v: &Vertex, depth: u32, stats: &mut RenderStats) -> Direct {
         let _ = (v, depth, stats);
         Direct::Nee
+    }
+    /// False when the emission a camera path reaches as E D S+ L (its first vertex scattered
+    /// by a non-delta lobe, every later one by a delta lobe, at least one) is left to a light
+    /// tracer beside it, which counts exactly these paths as L S+ D E
+    /// ([`crate::transport::light_walk::LightVertex::is_caustic`]): the `hybrid` integrator.
+    fn counts_caustic_emission(&self) -> bool {
+        true
+    }
+}
+
+/// Where a camera path stands in the caustic paths E D S+ L, by the lobes it sampled (the same
+/// rule, read from the other end, as the light walker's `after_specular_chain`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum CausticChain {
+    /// No vertex yet: emission found now is seen directly.
+    Camera,
+    /// The first vertex sampled a non-delta lobe, nothing since (E D).
+    Diffuse,
+    /// E D S+: emission found now closes a caustic path.
+    Specular,
+    /// Any other path (a delta first vertex, a second non-delta one, a medium vertex).
+    Other,
+}
+
+impl CausticChain {
+    /// The state after a surface vertex whose sampled lobe is delta or not.
+    fn after(self, delta: bool) -> Self {
+        match (self, delta) {
+            (Self::Camera, false) => Self::Diffuse,
+            (Self::Diffuse | Self::Specular, true) => Self::Specular,
+            _ => Self::Other,
+        }
     }
 }
 
@@ -90,6 +122,23 @@ pub fn radiance(
     radiance_with(scene, ray, sampler, opts, stats, &PathOnly, ch)
 }
 
+/// The radiance (W/m²/sr, linear sRGB) of one camera sample at `raster` under `rule`: the lens
+/// sample, the time, then [`radiance`]'s wavelengths and path, in that sampler order.
+pub fn camera_radiance(
+    scene: &Scene,
+    raster: Vec2,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+    rule: &impl CameraRule,
+) -> Spectrum {
+    let u_lens = sampler.next_2d();
+    let time = scene.sample_time(|| sampler.next_1d());
+    let ray = scene.camera.generate_ray(raster, u_lens).ray.at_time(time);
+    let ch = scene.sample_channels(|| sampler.next_1d());
+    radiance_with(scene, ray, sampler, opts, stats, rule, ch)
+}
+
 /// [`radiance`] under a [`CameraRule`], for a path with lanes `ch` (the rules of the photon
 /// family run in RGB, their estimates being RGB); the result is in linear sRGB. Same sampler
 /// use whatever the rule does.
@@ -112,6 +161,9 @@ pub fn radiance_with(
     let mut prev_pdf = 0.0f32;
     let mut prev_p = Vec3::ZERO;
     let mut depth = 0u32; // edges traced so far
+    // Emission closing E D S+ L is counted unless the rule leaves caustics to a light tracer.
+    let caustics = rule.counts_caustic_emission();
+    let mut chain = CausticChain::Camera;
     loop {
         let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats, &ch)
         {
@@ -121,7 +173,8 @@ pub fn radiance_with(
                 for &li in &scene.infinite_lights {
                     let light = &scene.lights[li as usize];
                     let le = scene.light_emission(li as usize, light.le(Vec3::ZERO, -ray.d), &ch);
-                    let w = if prev_direct_by_rule {
+                    let w = if prev_direct_by_rule || (!caustics && chain == CausticChain::Specular)
+                    {
                         0.0
                     } else if prev_delta {
                         1.0
@@ -143,6 +196,7 @@ pub fn radiance_with(
             } => {
                 depth += 1;
                 beta *= weight;
+                chain = CausticChain::Other;
                 if depth >= opts.limits.max_depth || beta.is_black() {
                     break;
                 }
@@ -171,7 +225,7 @@ pub fn radiance_with(
             let light = &scene.lights[si.light as usize];
             let le = scene.light_emission(si.light as usize, light.le(si.ng, -ray.d), &ch);
             if !le.is_black() {
-                let w = if prev_direct_by_rule {
+                let w = if prev_direct_by_rule || (!caustics && chain == CausticChain::Specular) {
                     0.0
                 } else if prev_delta {
                     1.0
@@ -225,6 +279,7 @@ pub fn radiance_with(
         }
         beta *= bs.weight;
         prev_delta = bs.flags.is_delta();
+        chain = chain.after(prev_delta);
         prev_pdf = bs.pdf;
         prev_p = v.si.p;
         if beta.is_black() {

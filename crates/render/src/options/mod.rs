@@ -12,7 +12,9 @@ pub use photon::{
     PhotonOptions, ShutterAlign, SweepRule,
 };
 pub use progressive::ProgressiveSettings;
-pub use value::{Bandwidth, Diffusivity, NoiseScale, NormalDistance, Radius, Smoothing, Steepness};
+pub use value::{
+    Bandwidth, Diffusivity, LightShare, NoiseScale, NormalDistance, Radius, Smoothing, Steepness,
+};
 
 use crate::crop::CropWindow;
 use crate::error::OptionError;

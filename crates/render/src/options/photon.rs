@@ -73,6 +73,9 @@ pub struct PhotonOptions {
     /// How the caustic passes (and the light tracer's `--caustics-only` mode) emit their light
     /// paths (`--emission`); global and volume photons are always emitted uniformly.
     pub emission: EmissionStrategy,
+    /// The `hybrid` integrator's share of a time budget for its caustic light tracer
+    /// (`--light-share`).
+    pub light_share: super::LightShare,
 }
 
 /// How caustic light paths are emitted (`--emission`; docs/emission.md). The default is
@@ -184,6 +187,7 @@ impl Default for PhotonOptions {
             progressive: Default::default(),
             pcf: Default::default(),
             emission: EmissionStrategy::default(),
+            light_share: super::LightShare::DEFAULT,
         }
     }
 }

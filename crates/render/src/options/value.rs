@@ -117,6 +117,21 @@ checked_f32!(
     |v| v >= 0.0
 );
 
+checked_f32!(
+    /// The hybrid integrator's share of a time budget given to its caustic light tracer
+    /// (`--light-share`; the path tracer has the rest). Unitless.
+    LightShare,
+    "the light tracer's share of the time (--light-share)",
+    "a number strictly between 0 and 1",
+    |v| v > 0.0 && v < 1.0
+);
+
+impl LightShare {
+    /// The default share, measured best on the glass sphere and the gold ring
+    /// (docs/results/hybrid).
+    pub const DEFAULT: Self = Self(0.25);
+}
+
 impl Smoothing {
     /// s = 1: the emitted footprints tile the light once.
     pub const ONE: Smoothing = Smoothing(1.0);

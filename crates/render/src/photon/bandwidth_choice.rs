@@ -125,6 +125,7 @@ fn target(kind: IntegratorKind, p: &PhotonOptions) -> Option<Target> {
         // The progressive methods start from the given bandwidth and shrink it.
         IntegratorKind::Path
         | IntegratorKind::LightTrace
+        | IntegratorKind::Hybrid
         | IntegratorKind::ProgressivePhotonMapping
         | IntegratorKind::ProgressiveSplatting
         | IntegratorKind::ProgressiveDifferentialMapping

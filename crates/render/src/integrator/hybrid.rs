@@ -1,0 +1,111 @@
+//! The hybrid integrator: a guided light tracer and a path tracer adding into one film, each
+//! counting the paths it samples best and no path counted twice (a partition of path space, as
+//! `pm` partitions it between its caustic map and its camera side):
+//!
+//! * the light tracer counts the caustics seen directly, L S+ D E: every light-path vertex on a
+//!   non-delta surface reached through one or more delta vertices
+//!   ([`LightVertex::is_caustic`](crate::transport::light_walk::LightVertex::is_caustic)),
+//!   connected to the camera. Its light paths are emitted by `--emission` (projection maps by
+//!   default: most of them toward mirrors, glass and smooth metal, their flux divided by the
+//!   relative density, so the estimate keeps its expectation);
+//! * the path tracer (NEE and MIS) counts every other path: the emission its camera path
+//!   reaches as E D S+ L (the first vertex scattered by a non-delta lobe, every later one by a
+//!   delta lobe) is dropped ([`CameraRule::counts_caustic_emission`]). Those are the light
+//!   tracer's paths read from the other end, with the same lobes and the same edge count.
+//!
+//! With delta lights (point, spot, directional, beam) the path tracer never reaches the light
+//! through a delta vertex, so its half is the plain path tracer's image; with area and
+//! environment lights BSDF sampling does find L S+ D E paths, and without the rule they would be
+//! counted twice. Both halves are unbiased, so their sum is. The film holds the sum already: a
+//! pixel is its camera samples' mean (W/m²/sr) plus the light paths' splats divided by their
+//! number.
+//!
+//! Work: under a time budget the light tracer has the first `--light-share` of it (0.25 by
+//! default, measured in docs/results/hybrid) and the path tracer the rest; with a fixed
+//! amount of work, `--light-paths` caustic light paths (by default [`LIGHT_PATHS_PER_SAMPLE`]
+//! per camera sample) and `--spp` camera samples per pixel. Shards split the light paths by
+//! chunks and the camera samples by rows ([`crate::shard::ShardUnit::SplatChunks`]).
+
+use super::path::{CameraRule, camera_radiance};
+use crate::control::Stage;
+use crate::driver::light_paths::render_paths;
+use crate::driver::pixels::render_pixels;
+use crate::film::Film;
+use crate::filter::Filter;
+use crate::options::RenderOptions;
+use crate::stats::RenderStats;
+use crate::transport::emission::caustic_emission_notes;
+use caustica_scene::Scene;
+use std::time::Instant;
+
+/// Caustic light paths per camera sample when `--light-paths` is not given.
+pub const LIGHT_PATHS_PER_SAMPLE: f64 = 0.25;
+
+/// The camera side's rule: the path tracer without the caustic paths E D S+ L.
+pub struct WithoutCaustics;
+
+impl CameraRule for WithoutCaustics {
+    fn counts_caustic_emission(&self) -> bool {
+        false
+    }
+}
+
+/// The caustic light paths of a render with a fixed amount of work: `--light-paths`, or
+/// [`LIGHT_PATHS_PER_SAMPLE`] per camera sample of the full film (at least one).
+pub fn light_paths(scene: &Scene, opts: &RenderOptions) -> u64 {
+    opts.photons.light_paths.unwrap_or_else(|| {
+        let samples = opts.spp as f64 * scene.camera.width as f64 * scene.camera.height as f64;
+        ((samples * LIGHT_PATHS_PER_SAMPLE).round() as u64).max(1)
+    })
+}
+
+/// Renders `scene` into `film`: the caustic light paths first, then the camera samples.
+pub fn render(
+    scene: &Scene,
+    opts: &RenderOptions,
+    stage: &Stage,
+    film: &mut Film,
+    filter: &Filter,
+    notes: &mut Vec<String>,
+) -> RenderStats {
+    let share = opts.photons.light_share.get() as f64;
+    // The light tracer's own options: caustics only, emitted by `--emission`.
+    let light_opts = RenderOptions {
+        caustics_only: true,
+        ..opts.clone()
+    };
+    let started = Instant::now();
+    let paths = super::light_path_range(light_paths(scene, opts), opts.shard);
+    let light_stage = stage
+        .part(0.0, share)
+        .labelled("tracing caustic light paths");
+    let mut stats = render_paths(
+        film,
+        paths,
+        &light_opts,
+        &light_stage,
+        |sampler, out, st| {
+            super::light_tracer::trace_light_path(scene, sampler, &light_opts, filter, out, st)
+        },
+    );
+    let light_secs = started.elapsed().as_secs_f64();
+    let traced = film.light_paths();
+    let rule = opts.photons.emission.caustic_rule();
+    notes.extend(caustic_emission_notes(
+        scene,
+        rule,
+        stats.caustic_vertices as usize,
+        traced,
+    ));
+    let started = Instant::now();
+    let camera_stage = stage.part(share, 1.0).labelled("path tracing");
+    stats += render_pixels(film, filter, opts, &camera_stage, |sampler, raster, st| {
+        camera_radiance(scene, raster, sampler, opts, st, &WithoutCaustics)
+    });
+    notes.push(format!(
+        "hybrid: {traced} caustic light paths in {light_secs:.2} s, {:.1} camera samples per pixel in {:.2} s",
+        film.mean_samples(),
+        started.elapsed().as_secs_f64()
+    ));
+    stats
+}
