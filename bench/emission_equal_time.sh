@@ -15,7 +15,15 @@
 #                --emission uniform when the binary has --emission)
 #   LUX_ENGINES  LuxCore engines, pgi and/or bidir (default "pgi bidir")
 #   PGI_RADIUS   PhotonGI caustic lookup radius in metres (default 0.02)
-#   REF_SPP      light paths per pixel of the references (default 8192; cached per value)
+#   REF          the reference: "lt" (the light tracer at REF_SPP light paths per pixel, seed 7;
+#                pixels that see glass or metal directly are black, hence the mask) or
+#                "hybrid:SECONDS" (the hybrid integrator for SECONDS, seed 7: far less noise in
+#                the same time). Default "lt"; cached per value.
+#   REF_SPP      light paths per pixel of the light-tracer reference (default 8192)
+#   REF_CHECK_SPP with a hybrid reference, also render the light tracer at this many light paths
+#                per pixel (seed 8) and measure it against the reference: an independent
+#                unbiased estimator, whose difference from the reference must be its own noise
+#                (default 0: no check)
 #   SEED         seed of the timed renders (default 1)
 #   OUT, WORK    results (default docs/results/emission-equal-time) and work folders
 #                (default target/bench/emission-equal-time)
@@ -27,7 +35,9 @@ SCENES="${SCENES:-glass-sphere water-wave metal-ring gold-ring}"
 BUDGETS="${BUDGETS:-30 60 120}"
 LUX_ENGINES="${LUX_ENGINES:-pgi bidir}"
 PGI_RADIUS="${PGI_RADIUS:-0.02}"
+REF="${REF:-lt}"
 REF_SPP="${REF_SPP:-8192}"
+REF_CHECK_SPP="${REF_CHECK_SPP:-0}"
 SEED="${SEED:-1}"
 OUT="${OUT:-docs/results/emission-equal-time}"
 WORK="${WORK:-target/bench/emission-equal-time}"
@@ -74,20 +84,34 @@ PY
 for scene in $SCENES; do
   w="$WORK/$scene"; mkdir -p "$w"
   crop="${CROP[$scene]:-0,0,100000,100000}"
-  ref="$w/reference-lt-$REF_SPP.pfm"
+  case "$REF" in
+    lt) ref="$w/reference-lt-$REF_SPP.pfm"
+        ref_args=(--integrator lighttrace --spp "$REF_SPP") ;;
+    hybrid:*) ref="$w/reference-hybrid-${REF#hybrid:}s.pfm"
+        ref_args=(--integrator hybrid --time "${REF#hybrid:}") ;;
+    *) echo "REF must be lt or hybrid:SECONDS, got '$REF'" >&2; exit 2 ;;
+  esac
   if [ ! -f "$ref" ]; then
-    echo "== $scene: reference, light tracer with $REF_SPP light paths per pixel"
+    echo "== $scene: reference, ${ref_args[*]}"
     t0=$(now)
-    "$bin" render "$scene" --integrator lighttrace --spp "$REF_SPP" --seed 7 -q -o "$ref.tmp.pfm" \
-      > "$w/reference-lt-$REF_SPP.log" 2>&1
+    "$bin" render "$scene" "${ref_args[@]}" --seed 7 -q -o "$ref.tmp.pfm" > "${ref%.pfm}.log" 2>&1
     mv "$ref.tmp.pfm" "$ref"
-    echo "   $(elapsed "$t0") s" | tee -a "$w/reference-lt-$REF_SPP.log"
+    echo "   $(elapsed "$t0") s" | tee -a "${ref%.pfm}.log"
   fi
   mask="$w/mask.pfm"
   if [ ! -f "$mask" ]; then
     python3 tools/peers/specular_mask.py toml "scenes/$scene.toml" "$w/cover.toml"
     "$bin" render "$w/cover.toml" --integrator path --spp 64 --seed 1 -q -o "$w/cover.pfm" > /dev/null
     "$py" tools/peers/specular_mask.py mask "$w/cover.pfm" "$mask"
+  fi
+  if [ "$REF" != lt ] && [ "$REF_CHECK_SPP" -gt 0 ]; then
+    check="$w/check-lt-$REF_CHECK_SPP.pfm"
+    echo "== $scene: reference check, light tracer with $REF_CHECK_SPP light paths per pixel"
+    t0=$(now)
+    "$bin" render "$scene" --integrator lighttrace --spp "$REF_CHECK_SPP" --seed 8 -q -o "$check" \
+      > "${check%.pfm}.log" 2>&1
+    measure "$scene" 0 "lighttrace --spp $REF_CHECK_SPP (reference check)" "$(elapsed "$t0")" \
+      "$check" "$ref" "$mask" "$crop" "independent unbiased estimator"
   fi
   for budget in $BUDGETS; do
     imgs=("$ref")
@@ -128,12 +152,17 @@ n_budget=$(echo "$BUDGETS" | wc -w); n_scene=$(echo "$SCENES" | wc -w)
 total=$(awk -v b="$BUDGETS" 'BEGIN { n = split(b, a, " "); s = 0; for (i = 1; i <= n; i++) s += a[i]; print s }')
 runs=$(( $(echo "$LUX_ENGINES" | wc -w) + ${#methods[@]} ))
 dirty=""; [ -n "$(git status --porcelain -- crates)" ] && dirty=" (crates/ modified)"
-export M_COMMAND="SCENES=\"$SCENES\" BUDGETS=\"$BUDGETS\" METHODS=\"$METHODS\" REF_SPP=$REF_SPP bash bench/emission_equal_time.sh"
+export M_COMMAND="SCENES=\"$SCENES\" BUDGETS=\"$BUDGETS\" METHODS=\"$METHODS\" REF=$REF REF_SPP=$REF_SPP REF_CHECK_SPP=$REF_CHECK_SPP OUT=$OUT bash bench/emission_equal_time.sh"
 export M_DATE="$(date +%F)" M_COMMIT="$(git rev-parse --short HEAD)$dirty"
 export M_MACHINE="$(nproc) cores ($(lscpu | sed -n 's/^Model name: *//p')), $(free -g | awk '/Mem:/ {print $2}') GiB"
 export M_LUXCORE="$("$py" -c 'import importlib.metadata as m; print(m.version("pyluxcore"))')"
-export M_REF_SPP="$REF_SPP" M_METHODS="$METHODS" M_PGI_RADIUS="$PGI_RADIUS"
-export M_MINUTES=$(( total * runs * n_scene / 60 + 4 * n_scene ))
+case "$REF" in
+  lt) M_REFERENCE="caustica's light tracer at $REF_SPP light paths per pixel (\`caustica render SCENE --integrator lighttrace --spp $REF_SPP --seed 7\`)" ;;
+  *) M_REFERENCE="caustica's hybrid integrator run for ${REF#hybrid:} s (\`caustica render SCENE --integrator hybrid --time ${REF#hybrid:} --seed 7\`; checked against an independent light tracer, budget 0 in the tables)" ;;
+esac
+export M_REFERENCE M_REF_SPP="$REF_SPP" M_METHODS="$METHODS" M_PGI_RADIUS="$PGI_RADIUS"
+ref_min=4; [ "$REF" != lt ] && ref_min=$(( ${REF#hybrid:} / 60 + 2 ))
+export M_MINUTES=$(( total * runs * n_scene / 60 + ref_min * n_scene ))
 export M_CROPS="glass-sphere=${CROP[glass-sphere]} water-wave=${CROP[water-wave]} metal-ring=${CROP[metal-ring]} gold-ring=${CROP[gold-ring]}"
 "$py" - "$WORK/meta.json" <<'PY'
 import json, os, sys
@@ -144,6 +173,7 @@ meta = {
     "methods": [m.replace(":", " ", 1).strip() for m in e["M_METHODS"].split(";")],
     "pgi_radius": e["M_PGI_RADIUS"], "estimate_minutes": e["M_MINUTES"],
     "crops": dict(kv.split("=") for kv in e["M_CROPS"].split()),
+    "reference": e["M_REFERENCE"],
 }
 json.dump(meta, open(sys.argv[1], "w"), indent=1)
 PY

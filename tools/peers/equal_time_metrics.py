@@ -88,7 +88,7 @@ def report(args):
     with open(args.checks) as fh:
         checks = fh.read()
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
-    budgets = sorted({int(r["budget"]) for r in rows})
+    budgets = sorted({int(r["budget"]) for r in rows} - {0})  # 0: the reference check
     md = [
         "# Equal-time caustics: caustica against LuxCore 2.11 (issue 23, item 5)",
         "",
@@ -102,9 +102,8 @@ def report(args):
         "all threads.",
         "",
         "**Setup.** Every image is the full image (all light paths, not caustics only), 256 px "
-        f"wide, compared with caustica's light tracer at {meta['ref_spp']} light paths per pixel "
-        "(`caustica render SCENE --integrator lighttrace --spp N --seed 7`, cached in "
-        "target/bench/emission-equal-time/) over the pixels that see a diffuse surface: pixels "
+        f"wide, compared with {meta.get('reference', 'the light tracer at %s light paths per pixel' % meta['ref_spp'])}, "
+        "cached in the work folder, over the pixels that see a diffuse surface: pixels "
         "that see glass, mirrors or gold directly are black in a light tracer, so a mask made by "
         "path-tracing a copy of the scene whose specular shapes emit and everything else is "
         "black (tools/peers/specular_mask.py) leaves them out. Metrics on linear RGB radiance: "
@@ -150,7 +149,14 @@ def report(args):
                     md.append(f"| {b} | {r['method']} | {float(r['seconds']):.1f} | {float(r['rmse']):.4g} | "
                               f"{float(r['mae']):.4g} | {float(r['ssim']):.4f} | "
                               f"{float(r['caustic_energy_ratio']):.3f} | {float(r['mean_ratio']):.4f} |")
-        order = ["reference"] + list(dict.fromkeys(r["method"] for r in rows if r["scene"] == s))
+        for r in rows:
+            if r["scene"] == s and int(r["budget"]) == 0:
+                md += ["", f"Reference check: {r['method']} ({float(r['seconds']):.0f} s) against the "
+                       f"reference: RMSE {float(r['rmse']):.4g}, MAE {float(r['mae']):.4g}, caustic "
+                       f"energy {float(r['caustic_energy_ratio']):.4f}, mean ratio "
+                       f"{float(r['mean_ratio']):.4f}: an independent unbiased estimator, so these are "
+                       "its own noise plus any bias of the reference."]
+        order = ["reference"] + list(dict.fromkeys(r["method"] for r in rows if r["scene"] == s and int(r["budget"]) > 0))
         md += ["", "Images, left to right: " + ", ".join(order) + ".", ""]
         for b in budgets:
             png = f"{s}-{b}s.png"

@@ -286,8 +286,8 @@ pub struct PhotonArgs {
     #[arg(long, value_name = "RULE", help_heading = "Photon mapping", value_parser = EmissionStrategy::NAMES)]
     pub emission: Option<String>,
     /// The hybrid integrator's share of a time budget (--time) for its caustic light tracer;
-    /// the path tracer has the rest (strictly between 0 and 1; default 0.25). Without --time
-    /// it traces --light-paths caustic light paths (default: a quarter per camera sample).
+    /// the path tracer has the rest (strictly between 0 and 1; default 0.5). Without --time
+    /// it traces --light-paths caustic light paths (default: one per two camera samples).
     #[arg(long, value_name = "F", help_heading = "Hybrid (path + light tracer)")]
     pub light_share: Option<LightShare>,
     #[command(flatten)]

@@ -20,7 +20,7 @@
 //! pixel is its camera samples' mean (W/m²/sr) plus the light paths' splats divided by their
 //! number.
 //!
-//! Work: under a time budget the light tracer has the first `--light-share` of it (0.25 by
+//! Work: under a time budget the light tracer has the first `--light-share` of it (0.5 by
 //! default, measured in docs/results/hybrid) and the path tracer the rest; with a fixed
 //! amount of work, `--light-paths` caustic light paths (by default [`LIGHT_PATHS_PER_SAMPLE`]
 //! per camera sample) and `--spp` camera samples per pixel. Shards split the light paths by
@@ -39,7 +39,7 @@ use caustica_scene::Scene;
 use std::time::Instant;
 
 /// Caustic light paths per camera sample when `--light-paths` is not given.
-pub const LIGHT_PATHS_PER_SAMPLE: f64 = 0.25;
+pub const LIGHT_PATHS_PER_SAMPLE: f64 = 0.5;
 
 /// The camera side's rule: the path tracer without the caustic paths E D S+ L.
 pub struct WithoutCaustics;

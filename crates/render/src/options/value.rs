@@ -129,7 +129,7 @@ checked_f32!(
 impl LightShare {
     /// The default share, measured best on the glass sphere and the gold ring
     /// (docs/results/hybrid).
-    pub const DEFAULT: Self = Self(0.25);
+    pub const DEFAULT: Self = Self(0.5);
 }
 
 impl Smoothing {
