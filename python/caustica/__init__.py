@@ -73,7 +73,7 @@ def render(
     ``image`` is a ``float32`` array ``(height, width, 3)`` of linear RGB radiance (W/m²/sr),
     bit for bit the image ``caustica render`` writes to EXR for the same scene, options and
     seed. ``notes`` is a dict: ``scene``, ``integrator``, ``seconds``, ``spp`` (or
-    ``light_paths`` for the light tracer), ``iterations``, ``samples``, ``rays``,
+    ``light_paths`` for the light tracer; both for ``hybrid``), ``iterations``, ``samples``, ``rays``,
     ``samples_per_second``, ``rays_per_second``, ``nonfinite``, ``notes`` (what the photon
     passes and automatic bandwidths report, one string each) and ``warnings``.
 

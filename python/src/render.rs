@@ -157,10 +157,13 @@ fn notes<'py>(
     d.set_item("height", out.film.height)?;
     d.set_item("seed", opts.seed)?;
     d.set_item("seconds", secs)?;
-    if kind == IntegratorKind::LightTrace {
-        d.set_item("light_paths", out.film.light_paths())?;
-    } else {
-        d.set_item("spp", out.film.mean_samples())?;
+    match kind {
+        IntegratorKind::LightTrace => d.set_item("light_paths", out.film.light_paths())?,
+        IntegratorKind::Hybrid => {
+            d.set_item("light_paths", out.film.light_paths())?;
+            d.set_item("spp", out.film.mean_samples())?;
+        }
+        _ => d.set_item("spp", out.film.mean_samples())?,
     }
     d.set_item("iterations", out.iterations)?;
     d.set_item("samples", out.stats.samples)?;

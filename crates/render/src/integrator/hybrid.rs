@@ -1,31 +1,35 @@
 //! The hybrid integrator: a guided light tracer and a path tracer adding into one film, each
 //! counting the paths it samples best and no path counted twice (a partition of path space, as
-//! `pm` partitions it between its caustic map and its camera side):
+//! `pm` partitions it between its caustic map and its camera side). A path is cut by its two
+//! ends:
 //!
-//! * the light tracer counts the caustics seen directly, L S+ D E: every light-path vertex on a
-//!   non-delta surface reached through one or more delta vertices
-//!   ([`LightVertex::is_caustic`](crate::transport::light_walk::LightVertex::is_caustic)),
-//!   connected to the camera. Its light paths are emitted by `--emission` (projection maps by
-//!   default: most of them toward mirrors, glass and smooth metal, their flux divided by the
-//!   relative density, so the estimate keeps its expectation);
-//! * the path tracer (NEE and MIS) counts every other path: the emission its camera path
-//!   reaches as E D S+ L (the first vertex scattered by a non-delta lobe, every later one by a
-//!   delta lobe) is dropped ([`CameraRule::counts_caustic_emission`]). Those are the light
-//!   tracer's paths read from the other end, with the same lobes and the same edge count.
+//! * the light tracer counts the paths whose first scattering from the light is delta and whose
+//!   vertex seen by the camera is not, L S … D E ([`Connect::SpecularFirst`]): the caustics seen
+//!   directly (L S+ D E) and their diffuse interreflections (L S+ D D E, …). Its light paths are
+//!   emitted by `--emission` (projection maps by default: most of them toward mirrors, glass and
+//!   smooth metal, their flux divided by the relative density, so the estimate keeps its
+//!   expectation), and end after a first scattering that is not delta;
+//! * the path tracer (NEE and MIS) counts every other path: emission a camera path reaches right
+//!   after a delta bounce, when its first vertex scattered by a non-delta lobe (E D … S L), is
+//!   dropped ([`CameraRule::light_tracer_beside`]). By the same sampled lobes and the same edge
+//!   count these are exactly the light tracer's paths read from the other end. Every path the
+//!   light tracer cannot connect (the camera sees a delta surface first) or whose last vertex
+//!   before the light is non-delta (NEE's) stays the path tracer's.
 //!
 //! With delta lights (point, spot, directional, beam) the path tracer never reaches the light
-//! through a delta vertex, so its half is the plain path tracer's image; with area and
-//! environment lights BSDF sampling does find L S+ D E paths, and without the rule they would be
-//! counted twice. Both halves are unbiased, so their sum is. The film holds the sum already: a
-//! pixel is its camera samples' mean (W/m²/sr) plus the light paths' splats divided by their
-//! number.
+//! after a delta bounce, so its half is the plain path tracer's image and the light tracer adds
+//! what it cannot find; with area and environment lights BSDF sampling does reach them, and
+//! without the rule those paths would be counted twice. Both halves are unbiased, so their sum
+//! is. The film holds the sum already: a pixel is its camera samples' mean (W/m²/sr) plus the
+//! light paths' splats divided by their number.
 //!
 //! Work: under a time budget the light tracer has the first `--light-share` of it (0.5 by
-//! default, measured in docs/results/hybrid) and the path tracer the rest; with a fixed
-//! amount of work, `--light-paths` caustic light paths (by default [`LIGHT_PATHS_PER_SAMPLE`]
-//! per camera sample) and `--spp` camera samples per pixel. Shards split the light paths by
-//! chunks and the camera samples by rows ([`crate::shard::ShardUnit::SplatChunks`]).
+//! default, measured in docs/results/hybrid) and the path tracer the rest; with a fixed amount
+//! of work, `--light-paths` light paths (by default [`LIGHT_PATHS_PER_SAMPLE`] per camera sample)
+//! and `--spp` camera samples per pixel. Shards split the light paths by chunks and the camera
+//! samples by rows ([`crate::shard::ShardUnit::SplatChunks`]).
 
+use super::light_tracer::{Connect, trace_light_path_with};
 use super::path::{CameraRule, camera_radiance};
 use crate::control::Stage;
 use crate::driver::light_paths::render_paths;
@@ -38,19 +42,19 @@ use crate::transport::emission::caustic_emission_notes;
 use caustica_scene::Scene;
 use std::time::Instant;
 
-/// Caustic light paths per camera sample when `--light-paths` is not given.
+/// Light paths per camera sample when `--light-paths` is not given.
 pub const LIGHT_PATHS_PER_SAMPLE: f64 = 0.5;
 
-/// The camera side's rule: the path tracer without the caustic paths E D S+ L.
-pub struct WithoutCaustics;
+/// The camera side's rule: the path tracer without the light tracer's paths E D … S L.
+pub struct BesideLightTracer;
 
-impl CameraRule for WithoutCaustics {
-    fn counts_caustic_emission(&self) -> bool {
-        false
+impl CameraRule for BesideLightTracer {
+    fn light_tracer_beside(&self) -> bool {
+        true
     }
 }
 
-/// The caustic light paths of a render with a fixed amount of work: `--light-paths`, or
+/// The light paths of a render with a fixed amount of work: `--light-paths`, or
 /// [`LIGHT_PATHS_PER_SAMPLE`] per camera sample of the full film (at least one).
 pub fn light_paths(scene: &Scene, opts: &RenderOptions) -> u64 {
     opts.photons.light_paths.unwrap_or_else(|| {
@@ -59,7 +63,7 @@ pub fn light_paths(scene: &Scene, opts: &RenderOptions) -> u64 {
     })
 }
 
-/// Renders `scene` into `film`: the caustic light paths first, then the camera samples.
+/// Renders `scene` into `film`: the light paths first, then the camera samples.
 pub fn render(
     scene: &Scene,
     opts: &RenderOptions,
@@ -69,25 +73,20 @@ pub fn render(
     notes: &mut Vec<String>,
 ) -> RenderStats {
     let share = opts.photons.light_share.get() as f64;
-    // The light tracer's own options: caustics only, emitted by `--emission`.
-    let light_opts = RenderOptions {
-        caustics_only: true,
-        ..opts.clone()
-    };
     let started = Instant::now();
     let paths = super::light_path_range(light_paths(scene, opts), opts.shard);
-    let light_stage = stage
-        .part(0.0, share)
-        .labelled("tracing caustic light paths");
-    let mut stats = render_paths(
-        film,
-        paths,
-        &light_opts,
-        &light_stage,
-        |sampler, out, st| {
-            super::light_tracer::trace_light_path(scene, sampler, &light_opts, filter, out, st)
-        },
-    );
+    let light_stage = stage.part(0.0, share).labelled("tracing light paths");
+    let mut stats = render_paths(film, paths, opts, &light_stage, |sampler, out, st| {
+        trace_light_path_with(
+            scene,
+            sampler,
+            opts,
+            Connect::SpecularFirst,
+            filter,
+            out,
+            st,
+        )
+    });
     let light_secs = started.elapsed().as_secs_f64();
     let traced = film.light_paths();
     let rule = opts.photons.emission.caustic_rule();
@@ -100,10 +99,10 @@ pub fn render(
     let started = Instant::now();
     let camera_stage = stage.part(share, 1.0).labelled("path tracing");
     stats += render_pixels(film, filter, opts, &camera_stage, |sampler, raster, st| {
-        camera_radiance(scene, raster, sampler, opts, st, &WithoutCaustics)
+        camera_radiance(scene, raster, sampler, opts, st, &BesideLightTracer)
     });
     notes.push(format!(
-        "hybrid: {traced} caustic light paths in {light_secs:.2} s, {:.1} camera samples per pixel in {:.2} s",
+        "hybrid: {traced} light paths in {light_secs:.2} s, {:.1} camera samples per pixel in {:.2} s",
         film.mean_samples(),
         started.elapsed().as_secs_f64()
     ));

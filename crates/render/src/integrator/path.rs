@@ -46,37 +46,13 @@ pub trait CameraRule {
         let _ = (v, depth, stats);
         Direct::Nee
     }
-    /// False when the emission a camera path reaches as E D S+ L (its first vertex scattered
-    /// by a non-delta lobe, every later one by a delta lobe, at least one) is left to a light
-    /// tracer beside it, which counts exactly these paths as L S+ D E
-    /// ([`crate::transport::light_walk::LightVertex::is_caustic`]): the `hybrid` integrator.
-    fn counts_caustic_emission(&self) -> bool {
-        true
-    }
-}
-
-/// Where a camera path stands in the caustic paths E D S+ L, by the lobes it sampled (the same
-/// rule, read from the other end, as the light walker's `after_specular_chain`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum CausticChain {
-    /// No vertex yet: emission found now is seen directly.
-    Camera,
-    /// The first vertex sampled a non-delta lobe, nothing since (E D).
-    Diffuse,
-    /// E D S+: emission found now closes a caustic path.
-    Specular,
-    /// Any other path (a delta first vertex, a second non-delta one, a medium vertex).
-    Other,
-}
-
-impl CausticChain {
-    /// The state after a surface vertex whose sampled lobe is delta or not.
-    fn after(self, delta: bool) -> Self {
-        match (self, delta) {
-            (Self::Camera, false) => Self::Diffuse,
-            (Self::Diffuse | Self::Specular, true) => Self::Specular,
-            _ => Self::Other,
-        }
+    /// True when a light tracer beside the path tracer counts the paths E D … S L (the camera
+    /// path's first vertex scattered by a non-delta lobe, the last before the light by a delta
+    /// lobe): the light tracer's L S … D E ([`crate::integrator::light_tracer::Connect::SpecularFirst`])
+    /// read from the other end, whose emission the path tracer then drops. The `hybrid`
+    /// integrator.
+    fn light_tracer_beside(&self) -> bool {
+        false
     }
 }
 
@@ -109,21 +85,9 @@ pub struct PathOnly;
 
 impl CameraRule for PathOnly {}
 
-/// Radiance arriving at the camera along `ray`, in linear sRGB (W/m²/sr). In spectral mode the
-/// path samples its wavelengths first (one more sampler dimension).
-pub fn radiance(
-    scene: &Scene,
-    ray: Ray,
-    sampler: &mut Sampler,
-    opts: &RenderOptions,
-    stats: &mut RenderStats,
-) -> Spectrum {
-    let ch = scene.sample_channels(|| sampler.next_1d());
-    radiance_with(scene, ray, sampler, opts, stats, &PathOnly, ch)
-}
-
-/// The radiance (W/m²/sr, linear sRGB) of one camera sample at `raster` under `rule`: the lens
-/// sample, the time, then [`radiance`]'s wavelengths and path, in that sampler order.
+/// The radiance (W/m²/sr, linear sRGB) of one camera sample at `raster` under `rule` (the path
+/// tracer's is [`PathOnly`]): the lens sample, the time, the path's wavelengths in spectral mode,
+/// then the path, in that sampler order.
 pub fn camera_radiance(
     scene: &Scene,
     raster: Vec2,
@@ -139,7 +103,7 @@ pub fn camera_radiance(
     radiance_with(scene, ray, sampler, opts, stats, rule, ch)
 }
 
-/// [`radiance`] under a [`CameraRule`], for a path with lanes `ch` (the rules of the photon
+/// The radiance arriving at the camera along `ray` under a [`CameraRule`], for a path with lanes `ch` (the rules of the photon
 /// family run in RGB, their estimates being RGB); the result is in linear sRGB. Same sampler
 /// use whatever the rule does.
 pub fn radiance_with(
@@ -161,9 +125,10 @@ pub fn radiance_with(
     let mut prev_pdf = 0.0f32;
     let mut prev_p = Vec3::ZERO;
     let mut depth = 0u32; // edges traced so far
-    // Emission closing E D S+ L is counted unless the rule leaves caustics to a light tracer.
-    let caustics = rule.counts_caustic_emission();
-    let mut chain = CausticChain::Camera;
+    // Emission found after a delta bounce on a path whose first scattering was non-delta (on a
+    // surface) is the light tracer's when one runs beside (`CameraRule::light_tracer_beside`).
+    let beside = rule.light_tracer_beside();
+    let mut first_diffuse: Option<bool> = None;
     loop {
         let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats, &ch)
         {
@@ -173,7 +138,8 @@ pub fn radiance_with(
                 for &li in &scene.infinite_lights {
                     let light = &scene.lights[li as usize];
                     let le = scene.light_emission(li as usize, light.le(Vec3::ZERO, -ray.d), &ch);
-                    let w = if prev_direct_by_rule || (!caustics && chain == CausticChain::Specular)
+                    let w = if prev_direct_by_rule
+                        || (beside && prev_delta && first_diffuse == Some(true))
                     {
                         0.0
                     } else if prev_delta {
@@ -196,7 +162,7 @@ pub fn radiance_with(
             } => {
                 depth += 1;
                 beta *= weight;
-                chain = CausticChain::Other;
+                first_diffuse.get_or_insert(false);
                 if depth >= opts.limits.max_depth || beta.is_black() {
                     break;
                 }
@@ -225,7 +191,9 @@ pub fn radiance_with(
             let light = &scene.lights[si.light as usize];
             let le = scene.light_emission(si.light as usize, light.le(si.ng, -ray.d), &ch);
             if !le.is_black() {
-                let w = if prev_direct_by_rule || (!caustics && chain == CausticChain::Specular) {
+                let w = if prev_direct_by_rule
+                    || (beside && prev_delta && first_diffuse == Some(true))
+                {
                     0.0
                 } else if prev_delta {
                     1.0
@@ -279,7 +247,7 @@ pub fn radiance_with(
         }
         beta *= bs.weight;
         prev_delta = bs.flags.is_delta();
-        chain = chain.after(prev_delta);
+        first_diffuse.get_or_insert(!prev_delta);
         prev_pdf = bs.pdf;
         prev_p = v.si.p;
         if beta.is_black() {
