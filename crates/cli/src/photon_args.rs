@@ -285,9 +285,10 @@ pub struct PhotonArgs {
     /// for it). Global and volume photons are always uniform.
     #[arg(long, value_name = "RULE", help_heading = "Photon mapping", value_parser = EmissionStrategy::NAMES)]
     pub emission: Option<String>,
-    /// The hybrid integrator's share of a time budget (--time) for its caustic light tracer;
-    /// the path tracer has the rest (strictly between 0 and 1; default 0.5). Without --time
-    /// it traces --light-paths caustic light paths (default: one per two camera samples).
+    /// The hybrid integrator's share of a time budget (--time) for its light tracer (the paths
+    /// L S … D E: caustics and their reflections); the path tracer has the rest (strictly
+    /// between 0 and 1; default 0.5). Without --time it traces --light-paths light paths
+    /// (default: one per two camera samples).
     #[arg(long, value_name = "F", help_heading = "Hybrid (path + light tracer)")]
     pub light_share: Option<LightShare>,
     #[command(flatten)]

@@ -1166,7 +1166,7 @@ fn render_one(
         ),
         IntegratorKind::LightTrace => format!("{} light paths", rendered.film.light_paths()),
         IntegratorKind::Hybrid => format!(
-            "{} caustic light paths, {:.1} spp",
+            "{} light paths, {:.1} spp",
             rendered.film.light_paths(),
             rendered.film.mean_samples()
         ),

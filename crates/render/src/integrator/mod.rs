@@ -76,8 +76,9 @@ pub enum IntegratorKind {
     /// included, estimated by a 4-D position × direction kernel that shrinks by eq. 3.27;
     /// camera paths path-traced up to a lookup vertex.
     PhotonConeFocusing,
-    /// A guided light tracer for the caustics seen directly (L S+ D E) and a path tracer for
-    /// every other path, into one film ([`hybrid`]).
+    /// A guided light tracer for the paths whose first scattering is delta and whose camera end
+    /// is not (L S … D E: caustics and their diffuse reflections) and a path tracer for every
+    /// other path, into one film ([`hybrid`]).
     Hybrid,
 }
 
@@ -207,7 +208,7 @@ impl IntegratorKind {
                 "photon cone focusing: cones on every surface, a 4-D kernel shrinking per iteration (seed 001 ch. 3-4)"
             }
             IntegratorKind::Hybrid => {
-                "path tracer + guided light tracer for the caustics seen directly (L S+ D E), no path counted twice"
+                "path tracer + guided light tracer for the caustics and their reflections (L S ... D E), no path counted twice"
             }
         }
     }
@@ -642,7 +643,7 @@ fn shard_work(scene: &Scene, kind: IntegratorKind, opts: &RenderOptions, shard: 
             let total = hybrid::light_paths(scene, opts);
             let p = light_path_range(total, Some(shard));
             format!(
-                "caustic light paths {}..{} of {total}, and the camera samples of {}",
+                "light paths {}..{} of {total}, and the camera samples of {}",
                 p.start,
                 p.end,
                 rows(height)

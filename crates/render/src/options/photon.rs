@@ -73,7 +73,7 @@ pub struct PhotonOptions {
     /// How the caustic passes (and the light tracer's `--caustics-only` mode) emit their light
     /// paths (`--emission`); global and volume photons are always emitted uniformly.
     pub emission: EmissionStrategy,
-    /// The `hybrid` integrator's share of a time budget for its caustic light tracer
+    /// The `hybrid` integrator's share of a time budget for its light tracer
     /// (`--light-share`).
     pub light_share: super::LightShare,
 }
