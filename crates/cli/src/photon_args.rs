@@ -289,7 +289,12 @@ pub struct PhotonArgs {
     /// L S … D E: caustics and their reflections); the path tracer has the rest (strictly
     /// between 0 and 1; default 0.5). Without --time it traces --light-paths light paths
     /// (default: one per two camera samples).
-    #[arg(long, value_name = "F", help_heading = "Hybrid (path + light tracer)")]
+    #[arg(
+        long,
+        value_name = "F",
+        allow_negative_numbers = true,
+        help_heading = "Hybrid (path + light tracer)"
+    )]
     pub light_share: Option<LightShare>,
     #[command(flatten)]
     pub pcf: crate::pcf_args::PcfArgs,

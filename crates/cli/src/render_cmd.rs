@@ -404,6 +404,14 @@ impl RenderSettings {
                 kind.name()
             ));
         }
+        if self.photon.light_share.is_some()
+            && kind == IntegratorKind::Hybrid
+            && self.time.is_none()
+        {
+            warnings.push(
+                "--light-share splits a time budget (--time); without one the hybrid traces --light-paths light paths (default: one per two camera samples) and --spp camera samples".to_string(),
+            );
+        }
         if self.photon.light_share.is_some() && kind != IntegratorKind::Hybrid {
             warnings.push(format!(
                 "--light-share only affects --integrator hybrid, not '{}'",
