@@ -162,8 +162,8 @@ fn media_render_in_spectral_mode_deterministically() {
         );
         rendered += 1;
     }
-    // path, lighttrace, pm, dpm, pdm, pds, vpm, beam, vpd.
-    assert_eq!(rendered, 9);
+    // path, lighttrace, pm, dpm, pdm, pds, vpm, beam, vpd, hybrid.
+    assert_eq!(rendered, 10);
 }
 
 /// Every integrator runs in spectral mode (the prism, tiny): a clean exit, the summary says
