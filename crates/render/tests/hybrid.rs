@@ -12,7 +12,6 @@ use caustica_core::{Affine3A, Spectrum, Vec2, Vec3};
 use caustica_render::{IntegratorKind, LightShare, RenderControl, RenderOptions, Shard, render};
 use caustica_scene::light::{Light, PointLight, SpotLight};
 use caustica_scene::material::Material;
-use caustica_scene::shape::{ShapeGeometry, Sphere};
 use caustica_scene::{Scene, SceneBuilder};
 
 /// The light of [`ball_room`].
@@ -30,17 +29,7 @@ enum Lamp {
 /// tracer reaches both by BSDF sampling through the ball.
 fn ball_room(lamp: Lamp, size: u32) -> Scene {
     let mut b = SceneBuilder::new("ball-room");
-    let floor = common::diffuse(&mut b, "floor", 0.8);
-    b.add_shape(
-        common::quad(
-            Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
-                * Affine3A::from_scale(Vec3::splat(2.0)),
-        ),
-        floor,
-        None,
-        false,
-    )
-    .unwrap();
+    let floor = common::add_floor(&mut b, 0.8);
     b.add_shape(
         common::quad(
             Affine3A::from_translation(Vec3::new(0.0, 1.0, -0.8))
@@ -51,26 +40,7 @@ fn ball_room(lamp: Lamp, size: u32) -> Scene {
         false,
     )
     .unwrap();
-    let glass = b
-        .add_material(
-            "glass",
-            Material::Dielectric {
-                ior: 1.5,
-                absorption: Spectrum::ZERO,
-                dispersion: None,
-            },
-        )
-        .unwrap();
-    b.add_shape(
-        ShapeGeometry::Sphere(Sphere {
-            center: Vec3::new(0.0, 1.0, 0.0),
-            radius: 0.5,
-        }),
-        glass,
-        None,
-        false,
-    )
-    .unwrap();
+    common::add_glass_ball(&mut b);
     match lamp {
         Lamp::Point => b.add_light(Light::Point(PointLight::new(
             Vec3::new(0.0, 4.0, 0.0),

@@ -211,14 +211,10 @@ pub fn lum_arr(p: [f64; 3]) -> f64 {
     (p[0] + p[1] + p[2]) / 3.0
 }
 
-/// A 4 m × 4 m diffuse floor (albedo `albedo`) at y = 0 facing up, under a point light of
-/// intensity `intensity` (W/sr) at (0, `light_y`, 0), optionally with a glass ball (IOR 1.5,
-/// radius 0.5) centred 1 m above the floor, seen from (0, 3, 3.5) at `size`×`size` pixels.
-/// With the light at y = 4 the ball images it (paraxially: 1/v = 2(n−1)/(nR) − 1/u) onto the
-/// floor, a sharply focused caustic.
-pub fn ball_on_floor(albedo: f32, intensity: f32, light_y: f32, glass: bool, size: u32) -> Scene {
-    let mut b = SceneBuilder::new("ball-on-floor");
-    let floor = diffuse(&mut b, "floor", albedo);
+/// Adds a diffuse material "floor" (albedo `albedo`) and a 4 m × 4 m quad of it at y = 0 facing
+/// up; returns the material.
+pub fn add_floor(b: &mut SceneBuilder, albedo: f32) -> u32 {
+    let floor = diffuse(b, "floor", albedo);
     b.add_shape(
         quad(
             Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
@@ -229,27 +225,44 @@ pub fn ball_on_floor(albedo: f32, intensity: f32, light_y: f32, glass: bool, siz
         false,
     )
     .unwrap();
-    if glass {
-        let glass = b
-            .add_material(
-                "glass",
-                Material::Dielectric {
-                    ior: 1.5,
-                    absorption: Spectrum::ZERO,
-                    dispersion: None,
-                },
-            )
-            .unwrap();
-        b.add_shape(
-            ShapeGeometry::Sphere(Sphere {
-                center: Vec3::new(0.0, 1.0, 0.0),
-                radius: 0.5,
-            }),
-            glass,
-            None,
-            false,
+    floor
+}
+
+/// Adds a dielectric material "glass" (IOR 1.5) and a ball of it, radius 0.5, centred at
+/// (0, 1, 0).
+pub fn add_glass_ball(b: &mut SceneBuilder) {
+    let glass = b
+        .add_material(
+            "glass",
+            Material::Dielectric {
+                ior: 1.5,
+                absorption: Spectrum::ZERO,
+                dispersion: None,
+            },
         )
         .unwrap();
+    b.add_shape(
+        ShapeGeometry::Sphere(Sphere {
+            center: Vec3::new(0.0, 1.0, 0.0),
+            radius: 0.5,
+        }),
+        glass,
+        None,
+        false,
+    )
+    .unwrap();
+}
+
+/// A 4 m × 4 m diffuse floor (albedo `albedo`) at y = 0 facing up, under a point light of
+/// intensity `intensity` (W/sr) at (0, `light_y`, 0), optionally with a glass ball (IOR 1.5,
+/// radius 0.5) centred 1 m above the floor, seen from (0, 3, 3.5) at `size`×`size` pixels.
+/// With the light at y = 4 the ball images it (paraxially: 1/v = 2(n−1)/(nR) − 1/u) onto the
+/// floor, a sharply focused caustic.
+pub fn ball_on_floor(albedo: f32, intensity: f32, light_y: f32, glass: bool, size: u32) -> Scene {
+    let mut b = SceneBuilder::new("ball-on-floor");
+    add_floor(&mut b, albedo);
+    if glass {
+        add_glass_ball(&mut b);
     }
     b.add_light(Light::Point(PointLight::new(
         Vec3::new(0.0, light_y, 0.0),
