@@ -47,6 +47,10 @@ impl PrimGeom {
     }
 }
 
+/// Scenes whose primitive records take more bytes than this have the record of a closest hit
+/// prefetched during the traversal ([`Geometry::prefetch_record`]); as the BVH's own threshold.
+const PREFETCH_MIN_BYTES: usize = 1 << 20;
+
 /// The scene's shapes and their acceleration structure.
 pub struct Geometry {
     pub shapes: Vec<Shape>,
@@ -205,24 +209,40 @@ impl Geometry {
         Some(TriangleRay::new(ray.o, ray.d))
     }
 
+    /// The closest hit; with `prefetch`, the static triangles that become the closest hit so
+    /// far have their record's data ([`Self::interaction`] reads) asked for from memory while
+    /// the traversal goes on.
     #[inline]
-    fn closest(&self, ray: &Ray) -> Option<WideHit> {
+    fn closest(&self, ray: &Ray, prefetch: bool) -> Option<WideHit> {
         let tr = self.rays(ray)?;
         let (o, d) = (ray.o, ray.d);
-        let hit = self.bvh.closest(o, d, &tr, ray.t_max, |k, t_max| {
-            self.prims[k as usize].intersect(&tr, o, d, t_max)
-        });
+        // In a scene whose records fit the caches the hints would only be extra instructions.
+        let large = std::mem::size_of_val(self.prims.as_slice()) > PREFETCH_MIN_BYTES;
+        let hit = self.bvh.closest(
+            o,
+            d,
+            &tr,
+            ray.t_max,
+            |k, t_max| self.prims[k as usize].intersect(&tr, o, d, t_max),
+            |k| {
+                if prefetch && large {
+                    self.prefetch_record(k);
+                }
+            },
+        );
         if self.moving.ids.is_empty() {
             return hit;
         }
         let t_max = hit.map_or(ray.t_max, |h| h.t);
         let base = self.prims.len() as u32;
-        match self
-            .moving
-            .bvh
-            .closest(ray.o, ray.d, &tr, t_max, |k, t_max| {
-                self.moving_intersect(k, &tr, ray.time, t_max)
-            }) {
+        match self.moving.bvh.closest(
+            ray.o,
+            ray.d,
+            &tr,
+            t_max,
+            |k, t_max| self.moving_intersect(k, &tr, ray.time, t_max),
+            |_| {},
+        ) {
             // Moving triangles are numbered after the static primitives.
             Some(h) => Some(WideHit {
                 prim: base + h.prim,
@@ -230,6 +250,45 @@ impl Geometry {
             }),
             None => hit,
         }
+    }
+
+    /// Asks the CPU to bring into the cache what [`Self::interaction`] reads of static
+    /// primitive `k` (BVH order): its vertices, its ids and its triangle constants. In a scene
+    /// larger than the caches these are three misses per hit, which the rest of the traversal
+    /// now hides. A hint: it reads no memory architecturally and never faults.
+    #[inline(always)]
+    fn prefetch_record(&self, k: u32) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let k = k as usize;
+            let lines = [
+                self.prims.as_ptr().wrapping_add(k).cast::<i8>(),
+                self.prims
+                    .as_ptr()
+                    .wrapping_add(k + 1)
+                    .cast::<i8>()
+                    .wrapping_sub(1),
+                self.prim_ids.as_ptr().wrapping_add(k).cast(),
+                self.tri_constants.as_ptr().wrapping_add(k).cast(),
+                self.tri_constants
+                    .as_ptr()
+                    .wrapping_add(k + 1)
+                    .cast::<i8>()
+                    .wrapping_sub(1),
+            ];
+            for p in lines {
+                // SAFETY: `prefetcht0` (SSE, in the x86_64 baseline) only hints the cache: it
+                // reads no memory architecturally and cannot fault, whatever the address; the
+                // addresses are formed with `wrapping_add`, so no out-of-bounds pointer
+                // arithmetic happens either.
+                unsafe {
+                    use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+                    _mm_prefetch::<_MM_HINT_T0>(p);
+                }
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = k;
     }
 
     /// Hit of moving triangle `k` (moving-BVH order) at `time` closer than `t_max`.
@@ -257,14 +316,14 @@ impl Geometry {
 
     /// Closest hit along `ray` with `t ∈ (0, ray.t_max)`.
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
-        let hit = self.closest(ray)?;
+        let hit = self.closest(ray, true)?;
         Some(self.interaction(ray, hit))
     }
 
     /// Distance to the closest hit along `ray` (`t ∈ (0, ray.t_max)`), without computing the
     /// surface record.
     pub fn hit_distance(&self, ray: &Ray) -> Option<f32> {
-        self.closest(ray).map(|h| h.t)
+        self.closest(ray, false).map(|h| h.t)
     }
 
     /// The closest hit of every ray of `rays`, in order: the same records as [`Self::intersect`]

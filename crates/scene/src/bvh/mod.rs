@@ -12,6 +12,7 @@
 //! (see [`WideBvh::closest`] for the one case where that order shows).
 
 mod collapse;
+pub mod counts;
 mod node4;
 #[cfg(target_arch = "x86_64")]
 mod node8;
@@ -199,7 +200,8 @@ impl WideBvh {
     /// tested here; every other primitive `k` (BVH order) by `other(k, t)`, which returns
     /// `(t, b1, b2)` of a hit closer than `t`. Of hits at exactly the same distance (a ray
     /// through an edge two triangles share), the first one visited wins; the two widths visit
-    /// in different orders, so there alone they may name different primitives.
+    /// in different orders, so there alone they may name different primitives. `on_hit(k)`
+    /// hears of each triangle that becomes the closest hit so far, while the traversal goes on.
     #[inline(always)]
     pub fn closest(
         &self,
@@ -208,17 +210,36 @@ impl WideBvh {
         tr: &TriangleRay,
         t_max: f32,
         other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
+        on_hit: impl FnMut(u32),
     ) -> Option<WideHit> {
         match &self.nodes {
             Nodes::Four(n) if n.is_empty() => None,
             // SAFETY: four-wide nodes need nothing beyond the target's baseline; the builder's
             // child references index into `n` and `self.packets`.
             Nodes::Four(n) => unsafe {
-                traverse::closest::<Node4, 4>(n, &self.packets, tr, &Node4::ray(o, d), t_max, other)
+                traverse::closest::<Node4, 4>(
+                    n,
+                    &self.packets,
+                    tr,
+                    &Node4::ray(o, d),
+                    t_max,
+                    other,
+                    on_hit,
+                )
             },
             // SAFETY: eight-wide nodes exist only where AVX2 was detected (`Nodes::Eight`).
             #[cfg(target_arch = "x86_64")]
-            Nodes::Eight(n) => unsafe { closest8(n, &self.packets, tr, o, d, t_max, other) },
+            Nodes::Eight(n) => unsafe {
+                closest8(
+                    n,
+                    &self.packets,
+                    tr,
+                    &Node8::ray(o, d),
+                    t_max,
+                    other,
+                    on_hit,
+                )
+            },
         }
     }
 
@@ -303,13 +324,13 @@ unsafe fn closest8(
     nodes: &[Node8],
     packets: &[Packet],
     tr: &TriangleRay,
-    o: Vec3,
-    d: Vec3,
+    br: &<Node8 as WideNode<8>>::Ray,
     t_max: f32,
     other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
+    on_hit: impl FnMut(u32),
 ) -> Option<WideHit> {
     // SAFETY: the caller's contract.
-    unsafe { traverse::closest::<Node8, 8>(nodes, packets, tr, &Node8::ray(o, d), t_max, other) }
+    unsafe { traverse::closest::<Node8, 8>(nodes, packets, tr, br, t_max, other, on_hit) }
 }
 
 /// The 8-wide any-hit traversal, compiled for AVX2.

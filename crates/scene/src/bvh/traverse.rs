@@ -1,6 +1,7 @@
 //! The two traversals (closest hit, any hit), written once for every node width.
 
 use super::WideHit;
+use super::counts;
 use super::packet::Packet;
 use super::stack::{STACK, Stack, StackBuf};
 use crate::shape::mesh::TriangleRay;
@@ -109,6 +110,8 @@ pub(super) trait WideNode<const W: usize>: Sized {
 /// Of triangles hit at exactly the least distance (a ray through a vertex or an edge they
 /// share), the one first in BVH order wins, so the result does not depend on the order of the
 /// visit, and the two node widths, which share the BVH order, agree bit for bit.
+/// `on_hit(k)` is told of every triangle that becomes the closest hit so far, while the
+/// traversal goes on (so a caller can prefetch what it will read about the final hit).
 ///
 /// # Safety
 /// As [`WideNode::hit`]. `nodes` is non-empty, and child references index into `nodes` and
@@ -121,6 +124,7 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
     br: &N::Ray,
     mut t_max: f32,
     mut other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
+    mut on_hit: impl FnMut(u32),
 ) -> Option<WideHit> {
     let mut best = None;
     let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
@@ -130,6 +134,7 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
     loop {
         if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
+            counts::node();
             // SAFETY: the caller's contract.
             let (mut mask, t0) = unsafe { node.hit(br, t_max) };
             if mask != 0 {
@@ -172,9 +177,11 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
             }
         } else {
             for pk in leaf_packets(packets, cur) {
+                counts::packet();
                 let tie_below = best.map_or(0, |h: WideHit| h.prim);
                 if let Some((t, l, b1, b2)) = pk.closest_triangle(tr, t_max, tie_below) {
                     t_max = t;
+                    on_hit(pk.prim[l]);
                     best = Some(WideHit {
                         t,
                         prim: pk.prim[l],
@@ -233,6 +240,7 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
     loop {
         if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
+            counts::node();
             // SAFETY: the caller's contract.
             let (mut mask, _) = unsafe { node.hit(br, t_max) };
             if mask != 0 {
@@ -251,6 +259,7 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
             }
         } else {
             for pk in leaf_packets(packets, cur) {
+                counts::packet();
                 if pk.closest_triangle(tr, t_max, 0).is_some() {
                     return true;
                 }
