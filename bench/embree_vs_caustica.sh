@@ -7,7 +7,7 @@
 # (bench/embree) is its own workspace, outside the root build.
 #
 # Usage: bench/embree_vs_caustica.sh [REPS] [--reps N] [--build-reps N] [--out FILE | --no-write]
-#        [--robust]
+#        [--robust] [--mesh NPHI,NTHETA]
 # Arguments pass through to the benchmark (default: 9 traversal and 3 build repetitions, the
 # report written to docs/results/embree/latest.md). CARGO_TARGET_DIR defaults to
 # target/embree-bench. Installs Debian's libembree-dev if its header is missing.

@@ -48,10 +48,12 @@ struct Args {
     build_reps: usize,
     out: Option<PathBuf>,
     robust: bool,
+    /// `displaced_sphere`'s tessellation (`--mesh NPHI,NTHETA`; 1024,512 by default).
+    mesh: (u32, u32),
 }
 
 const USAGE: &str = "usage: caustica-embree-bench [REPS] [--reps N] [--build-reps N] \
-                     [--out FILE | --no-write] [--robust]";
+                     [--out FILE | --no-write] [--robust] [--mesh NPHI,NTHETA]";
 
 fn parse_args() -> Result<Args, String> {
     let mut a = Args {
@@ -61,6 +63,7 @@ fn parse_args() -> Result<Args, String> {
             PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/results/embree/latest.md"),
         ),
         robust: false,
+        mesh: (1024, 512),
     };
     let mut it = std::env::args().skip(1);
     let num = |v: Option<String>, what: &str| -> Result<usize, String> {
@@ -75,6 +78,16 @@ fn parse_args() -> Result<Args, String> {
             "--out" => a.out = Some(it.next().ok_or("--out needs a file")?.into()),
             "--no-write" => a.out = None,
             "--robust" => a.robust = true,
+            "--mesh" => {
+                let v = it.next().unwrap_or_default();
+                a.mesh = v
+                    .split_once(',')
+                    .and_then(|(p, t)| Some((p.trim().parse().ok()?, t.trim().parse().ok()?)))
+                    .filter(|&(p, t): &(u32, u32)| p >= 3 && t >= 2)
+                    .ok_or(format!(
+                        "--mesh needs NPHI,NTHETA (integers, NPHI ≥ 3, NTHETA ≥ 2), got {v:?}"
+                    ))?;
+            }
             "-h" | "--help" => return Err(USAGE.into()),
             s if s.parse::<usize>().is_ok() => a.reps = num(Some(arg), "REPS")?,
             s => return Err(format!("unknown argument {s}\n{USAGE}")),
@@ -490,8 +503,9 @@ fn main() {
     };
     let nproc = std::thread::available_parallelism().map_or(1, |n| n.get());
 
-    eprintln!("workload: displaced_sphere(1024, 512)");
-    let mesh = displaced_sphere(1024, 512);
+    let (nphi, ntheta) = args.mesh;
+    eprintln!("workload: displaced_sphere({nphi}, {ntheta})");
+    let mesh = displaced_sphere(nphi, ntheta);
     let n_tris = mesh.indices.len();
     let shapes = vec![Shape::new(ShapeGeometry::Mesh(mesh.clone()), 0)];
 
@@ -641,7 +655,7 @@ fn main() {
     let cmd: Vec<String> = std::env::args().collect();
     let _ = writeln!(
         w,
-        "# caustica BVH vs Embree 3: displaced sphere, {n_tris} triangles\n"
+        "# caustica BVH vs Embree 3: displaced sphere ({nphi}, {ntheta}), {n_tris} triangles\n"
     );
     let _ = writeln!(
         w,

@@ -1,5 +1,6 @@
 //! Collapses obvhs's binary tree into a wide one: every subtree of at most [`LEAF_PRIMS`]
-//! primitives becomes one leaf (a run of [`Packet`]s of up to four), and a node of width `W`
+//! primitives reached as a child becomes one leaf (a run of [`Packet`]s, filled four at a
+//! time), and a node of width `W`
 //! takes its binary children, repeatedly replacing the child of largest surface area by that
 //! child's two children until it has `W`.
 
@@ -60,8 +61,8 @@ fn subtree_counts(bvh2: &obvhs::bvh2::Bvh2) -> Vec<u32> {
 
 /// The BVH order of the first primitive under each binary node: primitives are numbered in
 /// the binary tree's depth-first order (first child first), which does not depend on the
-/// width of the collapsed tree. Packets are whole binary subtrees, so each holds consecutive
-/// numbers, in lane order.
+/// width of the collapsed tree. Leaves are whole binary subtrees, so each holds consecutive
+/// numbers, four to a packet in lane order.
 fn first_in_order(bvh2: &obvhs::bvh2::Bvh2, count: &[u32]) -> Vec<u32> {
     let nodes = &bvh2.nodes;
     let mut first = vec![0u32; nodes.len()];
@@ -79,14 +80,14 @@ fn first_in_order(bvh2: &obvhs::bvh2::Bvh2, count: &[u32]) -> Vec<u32> {
 }
 
 /// Most primitives in one leaf: a subtree of at most eight primitives reached as a child
-/// becomes a leaf (a run of up to [`MAX_RUN`] packets: every maximal subtree of at most four is
-/// one packet). A node still opens every child of more than four primitives while it has free
-/// lanes, so runs of two packets are left only where a node is full. Against leaves of one
-/// packet this removes the tree's last level of nodes (106 059 → 58 600 eight-wide nodes on
-/// the benchmark's 1 M triangles) and traced 2–14 % more rays per second there
-/// (docs/performance.md).
+/// becomes a leaf (a run of two packets at most). A node still opens every child of more than
+/// four primitives while it has free lanes, so runs of two packets are left only where a node
+/// is full (keeping children of five to eight primitives as leaves instead made a ray test
+/// 45 % more packets: docs/performance.md). Against leaves of one packet this removes the
+/// tree's last level of nodes (106 059 → 58 600 eight-wide nodes on the benchmark's 1 M
+/// triangles) and traced 2–14 % more rays per second there (docs/performance.md).
 const LEAF_PRIMS: usize = 8;
-const _: () = assert!(LEAF_PRIMS <= MAX_RUN);
+const _: () = assert!(LEAF_PRIMS.div_ceil(PACKET_LANES) <= MAX_RUN);
 
 struct Collapse<'a, N> {
     bvh2: &'a obvhs::bvh2::Bvh2,
@@ -162,51 +163,48 @@ impl<N> Collapse<'_, N> {
     }
 
     /// A leaf of every primitive under binary node `b` (at most [`LEAF_PRIMS`]): a run of
-    /// packets, one per maximal subtree of at most four primitives, in depth-first order.
+    /// packets filled four at a time with the primitives in BVH order (the binary tree's
+    /// depth-first order), so a leaf of `n` primitives takes ⌈n/4⌉ packets.
     fn leaf(&mut self, b: usize) -> u32 {
         let nodes = &self.bvh2.nodes;
-        let first = self.out.packets.len();
-        let mut stack = vec![b];
-        while let Some(i) = stack.pop() {
-            if self.count[i] as usize <= PACKET_LANES {
-                self.packet(i);
-            } else {
-                let c = nodes[i].first_index as usize;
-                stack.extend([c + 1, c]);
-            }
-        }
-        leaf_ref(first, self.out.packets.len() - first)
-    }
-
-    /// A packet of every primitive under binary node `b` (at most four).
-    fn packet(&mut self, b: usize) {
-        let nodes = &self.bvh2.nodes;
-        let mut pk = Packet::EMPTY_PACKET;
-        let mut lane = 0;
+        let mut inputs = Vec::with_capacity(LEAF_PRIMS);
         let mut stack = vec![b];
         while let Some(i) = stack.pop() {
             let n = &nodes[i];
-            if !n.is_leaf() {
+            if n.is_leaf() {
+                let first = n.first_index as usize;
+                inputs.extend_from_slice(
+                    &self.bvh2.primitive_indices[first..first + n.prim_count as usize],
+                );
+            } else {
                 stack.extend([n.first_index as usize + 1, n.first_index as usize]);
-                continue;
             }
-            let first = n.first_index as usize;
-            for &input in &self.bvh2.primitive_indices[first..first + n.prim_count as usize] {
-                let k = self.first[b] + lane as u32;
-                self.out.order[k as usize] = input;
-                pk.prim[lane] = k;
-                match self.triangles[input as usize] {
-                    Some(tri) => {
-                        for (vk, p) in tri.iter().enumerate() {
-                            for a in 0..3 {
-                                pk.v[vk][a][lane] = p[a];
-                            }
+        }
+        let first_packet = self.out.packets.len();
+        for (c, chunk) in inputs.chunks(PACKET_LANES).enumerate() {
+            self.packet(self.first[b] + (c * PACKET_LANES) as u32, chunk);
+        }
+        leaf_ref(first_packet, self.out.packets.len() - first_packet)
+    }
+
+    /// A packet of the primitives `inputs` (indices in the build input, at most four), numbered
+    /// `k0, k0 + 1, …` in BVH order, lane by lane.
+    fn packet(&mut self, k0: u32, inputs: &[u32]) {
+        let mut pk = Packet::EMPTY_PACKET;
+        for (lane, &input) in inputs.iter().enumerate() {
+            let k = k0 + lane as u32;
+            self.out.order[k as usize] = input;
+            pk.prim[lane] = k;
+            match self.triangles[input as usize] {
+                Some(tri) => {
+                    for (vk, p) in tri.iter().enumerate() {
+                        for a in 0..3 {
+                            pk.v[vk][a][lane] = p[a];
                         }
-                        pk.tri_mask |= 1 << lane;
                     }
-                    None => pk.other_mask |= 1 << lane,
+                    pk.tri_mask |= 1 << lane;
                 }
-                lane += 1;
+                None => pk.other_mask |= 1 << lane,
             }
         }
         self.out.packets.push(pk);

@@ -155,8 +155,24 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
                         prefetch_child(nodes, packets, node.child(l));
                     }
                 }
-                let mut hits = [(t0[first], node.child(first)); W];
-                let mut n = 1;
+                let second = mask.trailing_zeros() as usize % W;
+                mask &= mask - 1;
+                let (a, b) = (
+                    (t0[first], node.child(first)),
+                    (t0[second], node.child(second)),
+                );
+                // Of equal entry distances the lower lane goes first, as the sort below keeps.
+                let (near, far) = if b.0 < a.0 { (b, a) } else { (a, b) };
+                if mask == 0 {
+                    // Two children, the commonest case: no sort.
+                    stack.push(far);
+                    cur = near.1;
+                    continue;
+                }
+                // Three or more: insertion sort by entry distance (stable: lanes in order).
+                let mut hits = [near; W];
+                hits[1] = far;
+                let mut n = 2;
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize % W;
                     mask &= mask - 1;
