@@ -28,6 +28,7 @@ py="$venv/bin/python"
 DRJIT_LIBLLVM_PATH="${DRJIT_LIBLLVM_PATH:-$(bash tools/peers/libllvm.sh)}"
 export DRJIT_LIBLLVM_PATH
 cargo build --release -q --bin caustica
+bin="${CARGO_TARGET_DIR:-target}/release/caustica"
 out=target/bench; mkdir -p "$out"
 secs() { sed -E 's/.*render ([0-9.]+) s.*/\1/'; }
 mitsuba() { # variant, output file, extra arguments
@@ -51,7 +52,7 @@ mitsuba llvm_ad_rgb "$out/cornell-mitsuba-llvm.exr" --jit-stats | sed 's/^/  /'
 cts=(); sts=(); lts=()
 for i in $(seq "$runs"); do
   s=$(date +%s.%N)
-  ./target/release/caustica render cornell-box --integrator path --spp 64 --max-depth 8 --sampler "$sampler" \
+  "$bin" render cornell-box --integrator path --spp 64 --max-depth 8 --sampler "$sampler" \
     --threads "$threads" -o "$out/cornell-caustica.exr" -q >/dev/null
   e=$(date +%s.%N); cts+=("$(echo "$e - $s" | bc -l)")
   sts+=("$(mitsuba scalar_rgb "$out/cornell-mitsuba.exr" | secs)")

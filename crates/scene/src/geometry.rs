@@ -216,20 +216,15 @@ impl Geometry {
     fn closest(&self, ray: &Ray, prefetch: bool) -> Option<WideHit> {
         let tr = self.rays(ray)?;
         let (o, d) = (ray.o, ray.d);
-        // In a scene whose records fit the caches the hints would only be extra instructions.
-        let large = std::mem::size_of_val(self.prims.as_slice()) > PREFETCH_MIN_BYTES;
-        let hit = self.bvh.closest(
-            o,
-            d,
-            &tr,
-            ray.t_max,
-            |k, t_max| self.prims[k as usize].intersect(&tr, o, d, t_max),
-            |k| {
-                if prefetch && large {
-                    self.prefetch_record(k);
-                }
-            },
-        );
+        let other = |k: u32, t_max| self.prims[k as usize].intersect(&tr, o, d, t_max);
+        // In a scene whose records fit the caches the hints would only be extra instructions:
+        // there the traversal is the one without the hook (each is compiled on its own).
+        let hit = if prefetch && std::mem::size_of_val(self.prims.as_slice()) > PREFETCH_MIN_BYTES {
+            let hook = |k| self.prefetch_record(k);
+            self.bvh.closest(o, d, &tr, ray.t_max, other, hook)
+        } else {
+            self.bvh.closest(o, d, &tr, ray.t_max, other, |_| {})
+        };
         if self.moving.ids.is_empty() {
             return hit;
         }
