@@ -21,15 +21,8 @@ use workload::{
 };
 
 fn main() {
-    let args: Vec<u32> = std::env::args()
-        .skip(1)
-        .map(|a| a.parse().expect("NPHI NTHETA: two positive integers"))
-        .collect();
-    let (nphi, ntheta) = match args[..] {
-        [p, t] if p >= 3 && t >= 2 => (p, t),
-        [] => (1024, 512),
-        _ => panic!("usage: traversal_counts [NPHI NTHETA] (NPHI ≥ 3, NTHETA ≥ 2)"),
-    };
+    let (nphi, ntheta) =
+        workload::tessellation_from_args(Some((1024, 512)), "traversal_counts [NPHI NTHETA]");
     let mesh = displaced_sphere(nphi, ntheta);
     let geo = Geometry::build(vec![Shape::new(ShapeGeometry::Mesh(mesh), 0)]);
     let bounds = geo.bounds();

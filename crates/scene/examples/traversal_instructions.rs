@@ -54,14 +54,8 @@ fn trace_shadow(geo: &Geometry, rays: &[Ray]) -> u64 {
 }
 
 fn main() {
-    let args: Vec<u32> = std::env::args()
-        .skip(1)
-        .map(|a| a.parse().expect("NPHI NTHETA: two positive integers"))
-        .collect();
-    let (nphi, ntheta) = match args[..] {
-        [p, t] if p >= 3 && t >= 2 => (p, t),
-        _ => panic!("usage: traversal_instructions NPHI NTHETA (NPHI ≥ 3, NTHETA ≥ 2)"),
-    };
+    let (nphi, ntheta) =
+        workload::tessellation_from_args(None, "traversal_instructions NPHI NTHETA");
     let geo = Geometry::build(vec![Shape::new(
         ShapeGeometry::Mesh(workload::displaced_sphere(nphi, ntheta)),
         0,

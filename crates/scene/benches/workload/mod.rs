@@ -24,6 +24,21 @@ pub const INCOHERENT_SEED: u64 = 1;
 pub const SHADOW_SEED: u64 = 2;
 pub const BOUNCE_SEED: u64 = 3;
 
+/// The tessellation `(NPHI, NTHETA)` of [`displaced_sphere`] given as the program's two
+/// arguments, or `default` when there are none (examples that measure the traversal). Exits
+/// with `usage` on anything else.
+pub fn tessellation_from_args(default: Option<(u32, u32)>, usage: &str) -> (u32, u32) {
+    let args: Option<Vec<u32>> = std::env::args().skip(1).map(|a| a.parse().ok()).collect();
+    match (args.as_deref(), default) {
+        (Some(&[p, t]), _) if p >= 3 && t >= 2 => (p, t),
+        (Some([]), Some(d)) => d,
+        _ => {
+            eprintln!("usage: {usage} (NPHI ≥ 3, NTHETA ≥ 2)");
+            std::process::exit(2)
+        }
+    }
+}
+
 /// A sphere displaced by a few sinusoids, tessellated into `2·nphi·(ntheta − 1)` triangles.
 pub fn displaced_sphere(nphi: u32, ntheta: u32) -> TriangleMesh {
     let mut m = TriangleMesh::default();
