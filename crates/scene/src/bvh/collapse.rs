@@ -1,8 +1,7 @@
 //! Collapses obvhs's binary tree into a wide one: every subtree of at most [`LEAF_PRIMS`]
 //! primitives reached as a child becomes one leaf (a run of [`Packet`]s, filled four at a
-//! time), and a node of width `W`
-//! takes its binary children, repeatedly replacing the child of largest surface area by that
-//! child's two children until it has `W`.
+//! time), and a node of width `W` takes its binary children, repeatedly replacing the child of
+//! largest surface area by that child's two children until it has `W`.
 
 use super::packet::{EMPTY, PACKET_LANES, Packet};
 use super::traverse::{MAX_RUN, WideNode, leaf_ref};

@@ -8,8 +8,9 @@
 //! ([`node8`], x86_64), four with SSE everywhere else ([`node4`], the fallback). Both widths
 //! run the same traversals ([`traverse`]), whose box tests are conservative (the far distance
 //! grown by `1 + 2γ₃`, pbrt-v4) and whose triangle tests are bit-identical to the scalar
-//! watertight test, so both find the same closest hit: only the order of the visit differs
-//! (see [`WideBvh::closest`] for the one case where that order shows).
+//! watertight test, so both find the same closest hit: only the order of the visit differs,
+//! and ties at equal distance go to the primitive first in BVH order (see
+//! [`WideBvh::closest`]), so not even they show it.
 
 mod collapse;
 pub mod counts;
@@ -198,10 +199,10 @@ impl WideBvh {
 
     /// The closest hit along the ray `o + t d` (`tr` prepared from it) with `t ∈ (0, t_max)`. Triangles are
     /// tested here; every other primitive `k` (BVH order) by `other(k, t)`, which returns
-    /// `(t, b1, b2)` of a hit closer than `t`. Of hits at exactly the same distance (a ray
-    /// through an edge two triangles share), the first one visited wins; the two widths visit
-    /// in different orders, so there alone they may name different primitives. `on_hit(k)`
-    /// hears of each triangle that becomes the closest hit so far, while the traversal goes on.
+    /// `(t, b1, b2)` of a hit closer than `t`. Of triangles hit at exactly the same distance (a
+    /// ray through an edge two triangles share), the one first in BVH order wins, whatever the
+    /// order of the visit, so both widths name the same primitive. `on_hit(k)` hears of each
+    /// triangle that becomes the closest hit so far, while the traversal goes on.
     #[inline(always)]
     pub fn closest(
         &self,
