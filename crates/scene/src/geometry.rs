@@ -47,10 +47,6 @@ impl PrimGeom {
     }
 }
 
-/// Scenes whose primitive records take more bytes than this have the record of a closest hit
-/// prefetched during the traversal ([`Geometry::prefetch_record`]); as the BVH's own threshold.
-const PREFETCH_MIN_BYTES: usize = 1 << 20;
-
 /// The scene's shapes and their acceleration structure.
 pub struct Geometry {
     pub shapes: Vec<Shape>,
@@ -219,7 +215,7 @@ impl Geometry {
         let other = |k: u32, t_max| self.prims[k as usize].intersect(&tr, o, d, t_max);
         // In a scene whose records fit the caches the hints would only be extra instructions:
         // there the traversal is the one without the hook (each is compiled on its own).
-        let hit = if prefetch && std::mem::size_of_val(self.prims.as_slice()) > PREFETCH_MIN_BYTES {
+        let hit = if prefetch && crate::bvh::prefetch::worth(&self.prims) {
             let hook = |k| self.prefetch_record(k);
             self.bvh.closest(o, d, &tr, ray.t_max, other, hook)
         } else {
@@ -250,40 +246,14 @@ impl Geometry {
     /// Asks the CPU to bring into the cache what [`Self::interaction`] reads of static
     /// primitive `k` (BVH order): its vertices, its ids and its triangle constants. In a scene
     /// larger than the caches these are three misses per hit, which the rest of the traversal
-    /// now hides. A hint: it reads no memory architecturally and never faults.
+    /// now hides.
     #[inline(always)]
     fn prefetch_record(&self, k: u32) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            let k = k as usize;
-            let lines = [
-                self.prims.as_ptr().wrapping_add(k).cast::<i8>(),
-                self.prims
-                    .as_ptr()
-                    .wrapping_add(k + 1)
-                    .cast::<i8>()
-                    .wrapping_sub(1),
-                self.prim_ids.as_ptr().wrapping_add(k).cast(),
-                self.tri_constants.as_ptr().wrapping_add(k).cast(),
-                self.tri_constants
-                    .as_ptr()
-                    .wrapping_add(k + 1)
-                    .cast::<i8>()
-                    .wrapping_sub(1),
-            ];
-            for p in lines {
-                // SAFETY: `prefetcht0` (SSE, in the x86_64 baseline) only hints the cache: it
-                // reads no memory architecturally and cannot fault, whatever the address; the
-                // addresses are formed with `wrapping_add`, so no out-of-bounds pointer
-                // arithmetic happens either.
-                unsafe {
-                    use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-                    _mm_prefetch::<_MM_HINT_T0>(p);
-                }
-            }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        let _ = k;
+        use crate::bvh::prefetch::element;
+        let k = k as usize;
+        element(&self.prims, k);
+        element(&self.prim_ids, k);
+        element(&self.tri_constants, k);
     }
 
     /// Hit of moving triangle `k` (moving-BVH order) at `time` closer than `t_max`.

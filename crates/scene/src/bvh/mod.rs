@@ -18,6 +18,7 @@ mod node4;
 #[cfg(target_arch = "x86_64")]
 mod node8;
 mod packet;
+pub(crate) mod prefetch;
 #[cfg(target_arch = "x86_64")]
 mod ray8;
 mod stack;

@@ -3,6 +3,7 @@
 use super::WideHit;
 use super::counts;
 use super::packet::Packet;
+use super::prefetch;
 use super::stack::{STACK, Stack, StackBuf};
 use crate::shape::mesh::TriangleRay;
 use caustica_core::Vec3;
@@ -37,26 +38,16 @@ pub(super) fn leaf_packets(packets: &[Packet], leaf: u32) -> &[Packet] {
 pub(super) const ROBUST: f32 =
     1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
-/// Trees whose nodes take more bytes than this are prefetched (see [`prefetch_child`]); in a
-/// smaller one, which stays in the caches, the hints are only extra instructions (11 % slower
-/// light tracing of the three-primitive glass sphere when every tree was prefetched).
-const PREFETCH_MIN_BYTES: usize = 1 << 20;
-
-/// Whether traversals of `nodes` prefetch children.
-#[inline(always)]
-fn worth_prefetching<N>(nodes: &[N]) -> bool {
-    std::mem::size_of_val(nodes) > PREFETCH_MIN_BYTES
-}
-
 /// Asks the CPU to bring node or leaf `child` into the cache: its node's lines, or its run's
-/// packets' lines. Called for every child a ray enters, when the node is tested, so that the
-/// loads of the children visited later overlap the work on the nearest one (on incoherent
-/// rays through a tree far larger than the caches, +27 % rays per second on the benchmark's
-/// random rays, +7 % on diffuse bounces, nothing on camera rays: docs/performance.md). A hint:
-/// it reads no memory architecturally and never faults.
+/// packets' lines (two at most). Called for every child a ray enters, when the node is tested,
+/// so that the loads of the children visited later overlap the work on the nearest one (on
+/// incoherent rays through a tree far larger than the caches, +27 % rays per second on the
+/// benchmark's random rays, +7 % on diffuse bounces, nothing on camera rays:
+/// docs/performance.md).
 #[inline(always)]
 fn prefetch_child<N>(nodes: &[N], packets: &[Packet], child: u32) {
-    let (p, bytes): (*const i8, usize) = if child & LEAF == 0 {
+    // Nodes and packets are aligned to cache lines.
+    let (p, bytes): (*const u8, usize) = if child & LEAF == 0 {
         (
             nodes.as_ptr().wrapping_add(child as usize).cast(),
             std::mem::size_of::<N>(),
@@ -71,18 +62,7 @@ fn prefetch_child<N>(nodes: &[N], packets: &[Packet], child: u32) {
             run.min(2) * std::mem::size_of::<Packet>(),
         )
     };
-    #[cfg(target_arch = "x86_64")]
-    for line in (0..bytes).step_by(64) {
-        // SAFETY: `prefetcht0` (SSE, in the x86_64 baseline) only hints the cache: it reads no
-        // memory architecturally and cannot fault, whatever the address; the address is
-        // formed with `wrapping_add`, so no out-of-bounds pointer arithmetic happens either.
-        unsafe {
-            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(line));
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (p, bytes);
+    prefetch::lines(p, bytes);
 }
 
 /// An inner node of `W` children whose boxes one ray tests at once.
@@ -130,7 +110,7 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
     let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
     let mut cur = 0u32;
-    let prefetch = worth_prefetching(nodes);
+    let prefetch = prefetch::worth(nodes);
     loop {
         if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
@@ -252,7 +232,7 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
     let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
     let mut cur = 0u32;
-    let prefetch = worth_prefetching(nodes);
+    let prefetch = prefetch::worth(nodes);
     loop {
         if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
