@@ -42,6 +42,27 @@ impl RadiusBuckets {
         Self { buckets }
     }
 
+    /// This grouping with its points renumbered by *slot*: the buckets laid end to end in
+    /// octave order, each in its tree's order. Also returns the original index of each slot.
+    /// A caller that permutes its records by that order reads the candidates of a query from
+    /// short contiguous runs instead of scattered records (neighbours in a tree are neighbours
+    /// in memory). The candidates of every query, and their order, are unchanged: only their
+    /// numbers are (`for_each_candidate` then yields slots).
+    pub fn into_slot_order(self) -> (Self, Vec<u32>) {
+        let mut order: Vec<u32> = Vec::new();
+        let buckets = self
+            .buckets
+            .into_iter()
+            .map(|(rmax, tree, index)| {
+                let (tree, by_tree) = tree.into_tree_order();
+                let first = order.len() as u32;
+                order.extend(by_tree.iter().map(|&local| index[local as usize]));
+                (rmax, tree, (first..order.len() as u32).collect())
+            })
+            .collect();
+        (Self { buckets }, order)
+    }
+
     /// Calls `f(i)` for every point `i` within its bucket's largest radius of `x` (a superset of
     /// the points whose own ball contains `x`: the caller tests its exact support).
     pub fn for_each_candidate(&self, x: Vec3, mut f: impl FnMut(u32)) {
@@ -50,9 +71,13 @@ impl RadiusBuckets {
         }
     }
 
-    /// Largest radius of any point (0 if none).
-    pub fn max_radius(&self) -> f32 {
-        self.buckets.iter().map(|b| b.0).fold(0.0, f32::max)
+    /// [`Self::for_each_candidate`] with each candidate's squared distance to `x`, `f(i, d²)`
+    /// (m²), which the search computed anyway: a caller can reject by its own radius before
+    /// reading anything else of the point.
+    pub fn for_each_candidate_at(&self, x: Vec3, mut f: impl FnMut(u32, f32)) {
+        for (rmax, tree, index) in &self.buckets {
+            tree.range(x, rmax * rmax, |local, d2| f(index[local as usize], d2));
+        }
     }
 
     /// Number of octaves.
@@ -73,6 +98,45 @@ impl RadiusBuckets {
 mod tests {
     use super::*;
     use caustica_core::sampling::Pcg32;
+
+    /// Slot order: the same candidates in the same order, numbered by slot; the order maps
+    /// each slot back to its point, each point (with a usable radius) once.
+    #[test]
+    fn slot_order_keeps_every_query() {
+        let mut rng = Pcg32::new(8, 1);
+        let n = 3000;
+        let pos: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()))
+            .collect();
+        let mut radii: Vec<f32> = (0..n)
+            .map(|_| 0.01 * 2f32.powf(5.0 * rng.next_f32()))
+            .collect();
+        radii[7] = f32::INFINITY;
+        let b = RadiusBuckets::build(&pos, &radii);
+        let (slots, order) = b.clone().into_slot_order();
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(
+            sorted,
+            (0..n as u32).filter(|&i| i != 7).collect::<Vec<_>>()
+        );
+        // A renumbering indeed: the slots are not the original indices.
+        assert!(order.iter().zip(0..).any(|(&i, s)| i != s));
+        let mut found = 0;
+        for j in 0..200 {
+            let x = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            let (mut a, mut c) = (Vec::new(), Vec::new());
+            b.for_each_candidate(x, |i| a.push(i));
+            slots.for_each_candidate_at(x, |s, d2| {
+                let i = order[s as usize];
+                assert_eq!(d2, pos[i as usize].distance_squared(x));
+                c.push(i)
+            });
+            assert_eq!(a, c, "query {j}");
+            found += a.len();
+        }
+        assert!(found > 1000, "{found}");
+    }
 
     /// The candidates include every point whose ball contains the query (brute force), for
     /// radii spanning six octaves; non-positive and NaN radii are never returned.

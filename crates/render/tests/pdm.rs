@@ -294,7 +294,9 @@ fn pdm_is_deterministic_and_follows_the_caustic_paths_of_pm() {
         d.landings
     );
     if d.collapsed + d.failed == 0 {
-        for (p, q) in pm.caustic.point_photons().iter().zip(&d.photons) {
+        let mut by_trace: Vec<_> = d.traced_index.iter().zip(&d.photons).collect();
+        by_trace.sort_by_key(|(i, _)| **i);
+        for (p, (_, q)) in pm.caustic.point_photons().iter().zip(by_trace) {
             assert_eq!(p.p, q.footprint.center());
             assert_eq!(p.flux, q.flux);
         }

@@ -26,15 +26,10 @@ pub struct DiffPhoton {
 }
 
 impl DiffPhoton {
-    /// Centre of the footprint's reach (m): the middle of its motion segment.
+    /// Centre of the footprint's reach (m): the middle of its motion segment; the radius
+    /// around it is [`FootprintFilter::reach_radius`].
     pub fn reach_center(&self) -> Vec3 {
         self.footprint.center() + self.dt * 0.5
-    }
-
-    /// Radius of the footprint's reach around [`Self::reach_center`] (m): the gather radius
-    /// plus half the motion (seed 000 Q-T11's per-photon bound for segments).
-    pub fn reach_radius(&self) -> f32 {
-        self.footprint.gather_radius() + 0.5 * self.dt.length()
     }
 }
 
@@ -299,7 +294,9 @@ impl FootprintFilter {
     /// For the uniform kernel `A_eff` is eq. 7.7, `A_p + l |D_t x|`, exactly; for other
     /// kernels it is the generalisation that keeps each footprint's integral equal to its flux
     /// (Q-T4; eq. 7.7 would over-count by up to 4/3 for Epanechnikov, 8/5 for Silverman).
-    /// Same side, normal and plane tests as [`Self::weight`], measured from `x'_p`.
+    /// Same side, normal and plane tests as [`Self::weight`], measured from `x'_p`. Out of
+    /// line, so that the common static test inlines into the gathering loops.
+    #[inline(never)]
     fn swept_weight(&self, ph: &DiffPhoton, x: Vec3, n: Vec3) -> Option<f32> {
         let fp = &ph.footprint;
         let z = fp.to_filter(x);
@@ -331,6 +328,19 @@ impl FootprintFilter {
             normal_distance: settings.normal_distance.get(),
             sweep: settings.sweep,
         }
+    }
+
+    /// The radius (m) around [`DiffPhoton::reach_center`] of the ball of the points photon `ph`
+    /// can reach under this filter, the sphere counterpart of [`Self::bounds`]. A point
+    /// [`Self::weight`] accepts lies in the footprint's plane inside its ellipse (eq. 12:
+    /// within the gather radius r of the centre) and at most `normal_distance` r off that
+    /// plane: within r √(1 + d²), d = min(`normal_distance`, 1) as in [`Self::bounds`], of a
+    /// centre on the motion segment, itself within half the motion of the reach centre. The
+    /// factor 1.001 covers the rounding of both tests (relative errors ~10⁻⁶).
+    pub fn reach_radius(&self, ph: &DiffPhoton) -> f32 {
+        let d = self.normal_distance.min(1.0);
+        let r = ph.footprint.gather_radius() * (1.0 + d * d).sqrt() + 0.5 * ph.dt.length();
+        r * 1.001
     }
 
     /// The box `[lo, hi]` of the points photon `ph` can reach under this filter: the ellipse's
