@@ -3,6 +3,7 @@
 pub mod distribution;
 pub mod rng;
 pub mod sampler;
+pub mod sobol;
 pub mod warp;
 
 pub use distribution::Distribution1D;

@@ -6,6 +6,7 @@
 //! are bit-identical for any thread count.
 
 use super::rng::{Pcg32, mix_seed};
+use super::sobol;
 use glam::Vec2;
 
 /// Which sequence a [`Sampler`] draws from.
@@ -31,7 +32,7 @@ impl std::str::FromStr for SamplerKind {
     }
 }
 
-const SOBOL_DIMS: u32 = sobol_burley::NUM_DIMENSIONS;
+const SOBOL_DIMS: u32 = sobol::DIMENSIONS;
 
 /// A deterministic sample generator; see the module docs.
 #[derive(Clone, Debug)]
@@ -39,10 +40,11 @@ pub struct Sampler {
     kind: SamplerKind,
     seed: u64,
     stream_seed: u32,
-    index: u32,
+    /// The stream's point, shuffled once for all its dimensions ([`sobol::shuffled_index`]).
+    shuffled: u32,
     dim: u32,
     rng: Pcg32,
-    /// Four consecutive Sobol dimensions computed at once (`sobol_burley::sample_4d`).
+    /// Four consecutive Sobol dimensions computed at once ([`sobol::sample_4d`]).
     cache: [f32; 4],
     /// Primary-sample-space mode, for Markov chains over paths (Kelemen et al. 2002): `None`
     /// normally (one predictable branch per number).
@@ -64,7 +66,7 @@ impl Sampler {
             kind,
             seed,
             stream_seed: 0,
-            index: 0,
+            shuffled: 0,
             dim: 0,
             rng: Pcg32::new(seed, 0),
             cache: [0.0; 4],
@@ -125,7 +127,7 @@ impl Sampler {
     }
     fn start(&mut self, stream: u64, index: u32) {
         self.stream_seed = (stream ^ (stream >> 32)) as u32;
-        self.index = index;
+        self.shuffled = sobol::shuffled_index(index, self.stream_seed);
         self.dim = 0;
         self.rng = Pcg32::new(mix_seed(stream, &[index as u64]), stream);
     }
@@ -147,7 +149,7 @@ impl Sampler {
                     let lane = (self.dim % 4) as usize;
                     if lane == 0 {
                         self.cache =
-                            sobol_burley::sample_4d(self.index, self.dim / 4, self.stream_seed);
+                            sobol::sample_4d(self.shuffled, self.dim / 4, self.stream_seed);
                     }
                     self.dim += 1;
                     self.cache[lane].min(ONE_MINUS_EPSILON)
