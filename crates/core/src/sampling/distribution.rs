@@ -70,10 +70,13 @@ impl Distribution1D {
         // The number of cdf entries ≤ u, minus one. Short tables (a few lights, a quad light's
         // two triangles) count without branches: the binary search's comparisons are coin flips
         // that a branch predictor loses. Both give the same index, the cdf being sorted.
-        let below = if self.cdf.len() <= SHORT {
-            self.cdf.iter().map(|&c| (c <= u) as usize).sum()
-        } else {
-            self.cdf.partition_point(|&c| c <= u)
+        // One or two entries (a single light, a quad light's two triangles: the commonest
+        // tables) are counted without the vectorised loop's set-up.
+        let below = match *self.cdf {
+            [a, b] => (a <= u) as usize + (b <= u) as usize,
+            [a, b, c] => (a <= u) as usize + (b <= u) as usize + (c <= u) as usize,
+            _ if self.cdf.len() <= SHORT => self.cdf.iter().map(|&c| (c <= u) as usize).sum(),
+            _ => self.cdf.partition_point(|&c| c <= u),
         };
         let mut i = below.saturating_sub(1).min(n - 1);
         while self.pmf[i] == 0.0 && i + 1 < n {
