@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Tests of the Python package (python/): builds its wheel with maturin into a venv kept in
 # target/py-venv (maturin, NumPy and pytest from PyPI), installs it, and runs python/tests
-# against the `caustica` binary of the same build (CAUSTICA_BIN, default target/fast/caustica).
+# against the `caustica` binary of the same build (CAUSTICA_BIN, default
+# ${CARGO_TARGET_DIR:-target}/fast/caustica).
 #
 # The wheel is built with the `fast` profile into the workspace's target directory, so after
 # `cargo test --workspace --profile fast` (which builds the extension crate with the same
@@ -23,4 +24,5 @@ rm -rf target/wheels
 # From outside the source tree, so `import caustica` is the installed package.
 root=$PWD
 cd target
-CAUSTICA_BIN=${CAUSTICA_BIN:-$root/target/fast/caustica} "$root/$venv/bin/python" -m pytest -q -p no:cacheprovider "$root/python/tests" "$@"
+target_dir=${CARGO_TARGET_DIR:-$root/target}
+CAUSTICA_BIN=${CAUSTICA_BIN:-$target_dir/fast/caustica} "$root/$venv/bin/python" -m pytest -q -p no:cacheprovider "$root/python/tests" "$@"

@@ -22,7 +22,6 @@ use std::hint::black_box;
 use caustica_core::sampling::Pcg32;
 use caustica_core::{Frame, Spectrum, Vec3};
 use caustica_differentials::Footprint;
-use caustica_render::RenderStats;
 use caustica_render::integrator::photon_splatting::{ChunkedSum, splat_footprint};
 use caustica_render::photon::differential::{
     DiffPhoton, FootprintFilter, PdmMap, TracedDiffPhotons,
@@ -89,17 +88,7 @@ fn bench(c: &mut Criterion) {
         let filter = FootprintFilter::default();
         let eye = EyeMap::new(vertices.clone());
         let pdm = PdmMap::with_filter(
-            TracedDiffPhotons {
-                photons: photons.clone(),
-                paths: PHOTONS as u64,
-                landings: PHOTONS,
-                collapsed: 0,
-                failed: 0,
-                widened: 0,
-                stats: RenderStats::default(),
-                warning: None,
-                note: None,
-            },
+            TracedDiffPhotons::given(photons.clone(), PHOTONS as u64),
             filter,
         );
         let mut acc: Vec<Vec<ChunkedSum>> = eye

@@ -176,7 +176,6 @@ impl PdmMap {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stats::RenderStats;
     use caustica_core::sampling::Pcg32;
     use caustica_differentials::Footprint;
 
@@ -216,20 +215,7 @@ mod tests {
             });
         }
         let filter = FootprintFilter::default();
-        let map = PdmMap::with_filter(
-            TracedDiffPhotons {
-                photons: photons.clone(),
-                paths: 600,
-                landings: 600,
-                collapsed: 0,
-                failed: 0,
-                widened: 0,
-                stats: RenderStats::default(),
-                warning: None,
-                note: None,
-            },
-            filter,
-        );
+        let map = PdmMap::with_filter(TracedDiffPhotons::given(photons.clone(), 600), filter);
         assert_eq!(map.len(), photons.len());
         let mut found = 0;
         for (k, ph) in photons.iter().enumerate() {

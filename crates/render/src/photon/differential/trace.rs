@@ -52,6 +52,24 @@ pub struct TracedDiffPhotons {
     pub note: Option<String>,
 }
 
+impl TracedDiffPhotons {
+    /// `photons` from `paths` light paths with nothing dropped, widened, noted or warned
+    /// about: a map built from given footprints (tests, benchmarks).
+    pub fn given(photons: Vec<DiffPhoton>, paths: u64) -> Self {
+        Self {
+            landings: photons.len(),
+            photons,
+            paths,
+            collapsed: 0,
+            failed: 0,
+            widened: 0,
+            stats: RenderStats::default(),
+            warning: None,
+            note: None,
+        }
+    }
+}
+
 /// Traces the light paths of `stream` under `budget` — until that many caustic landings
 /// (L S+ D) are found, the paths of [`crate::photon::tracer::trace_photons`] with
 /// `MapKind::Caustic` and the same `stream`, or exactly `N_e` paths — and returns their photon
