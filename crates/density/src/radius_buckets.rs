@@ -66,9 +66,7 @@ impl RadiusBuckets {
     /// Calls `f(i)` for every point `i` within its bucket's largest radius of `x` (a superset of
     /// the points whose own ball contains `x`: the caller tests its exact support).
     pub fn for_each_candidate(&self, x: Vec3, mut f: impl FnMut(u32)) {
-        for (rmax, tree, index) in &self.buckets {
-            tree.range(x, rmax * rmax, |local, _| f(index[local as usize]));
-        }
+        self.for_each_candidate_at(x, |i, _| f(i));
     }
 
     /// [`Self::for_each_candidate`] with each candidate's squared distance to `x`, `f(i, d²)`

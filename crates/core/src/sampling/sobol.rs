@@ -13,8 +13,8 @@
 //!   64 KiB), in place of a loop of data-dependent length whose branch a predictor loses;
 //! * the final scramble is the crate's own (`sobol_burley::parts`).
 //!
-//! Photon paths draw most of their numbers here: the light tracer's and photon tracer's
-//! instructions per path fall by 10 % (docs/performance.md, "Sobol points from tables").
+//! Photon paths draw most of their numbers here: the light tracer's instructions fall by 8 %,
+//! the photon pass's by 5 % (docs/performance.md, issue 26, "Third session").
 
 use sobol_burley::parts::{Int4, hash, hash_int4, owen_scramble_int4_rev, owen_scramble_rev};
 use std::sync::OnceLock;

@@ -336,7 +336,10 @@ impl FootprintFilter {
     /// within the gather radius r of the centre) and at most `normal_distance` r off that
     /// plane: within r √(1 + d²), d = min(`normal_distance`, 1) as in [`Self::bounds`], of a
     /// centre on the motion segment, itself within half the motion of the reach centre. The
-    /// factor 1.001 covers the rounding of both tests (relative errors ~10⁻⁶).
+    /// factor 1.001 covers the rounding of both tests (relative errors ~10⁻⁶). With a
+    /// `normal_distance` above 1 the points farther than r off the plane, which the weight
+    /// would accept, lie outside this ball, as they lie outside [`Self::bounds`]' box: gathering
+    /// and splatting stop at the same slab.
     pub fn reach_radius(&self, ph: &DiffPhoton) -> f32 {
         let d = self.normal_distance.min(1.0);
         let r = ph.footprint.gather_radius() * (1.0 + d * d).sqrt() + 0.5 * ph.dt.length();
