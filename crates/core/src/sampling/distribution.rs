@@ -63,8 +63,27 @@ impl Distribution1D {
     }
     /// Samples an index with `u ∈ [0, 1)`; returns the index, its probability and `u` remapped
     /// to [0, 1) within the chosen bucket (so one number can be reused).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, u: f32) -> (usize, f32, f32) {
+        use crate::sampling::sampler::ONE_MINUS_EPSILON;
+        // The commonest tables, a scene's single light and a quad light's two triangles, are
+        // sampled here without a call, by the table search's own arithmetic (so the same bits).
+        match (&*self.pmf, &*self.cdf) {
+            // One entry: `cdf = [0, 1]`, the index is 0 for every `u`.
+            ([p], [c0, _]) => (0, *p, ((u - c0) / p).clamp(0.0, ONE_MINUS_EPSILON)),
+            // Two entries of positive probability: no zero entry to skip.
+            ([p0, p1], [c0, c1, c2]) if *p0 > 0.0 && *p1 > 0.0 => {
+                let below = (*c0 <= u) as usize + (*c1 <= u) as usize + (*c2 <= u) as usize;
+                let (i, p, c) = if below >= 2 { (1, p1, c1) } else { (0, p0, c0) };
+                (i, *p, ((u - c) / p).clamp(0.0, ONE_MINUS_EPSILON))
+            }
+            _ => self.sample_table(u),
+        }
+    }
+
+    /// [`Self::sample`] by searching the table (any length).
+    #[inline(never)]
+    fn sample_table(&self, u: f32) -> (usize, f32, f32) {
         // First index with cdf[i+1] > u, skipping zero-probability entries.
         let n = self.pmf.len();
         // The number of cdf entries ≤ u, minus one. Short tables (a few lights, a quad light's
@@ -153,6 +172,38 @@ mod tests {
                 .collect();
             for u in us {
                 assert_eq!(d.sample(u).0, by_search(u), "n = {n}, u = {u}");
+            }
+        }
+    }
+
+    #[test]
+    fn one_and_two_entries_give_the_table_search_bits() {
+        // The shortcuts for one and two entries against the search they skip (which handles
+        // any length), on ordinary numbers, on the cdf's entries and on the edges: 0, −0, just
+        // below 1, 1, beyond, NaN. Two-entry tables with a zero weight take the search.
+        let bits = |(i, p, r): (usize, f32, f32)| (i, p.to_bits(), r.to_bits());
+        let mut rng = Pcg32::new(8, 3);
+        let tables: [&[f32]; 9] = [
+            &[1.0],
+            &[0.3],
+            &[7.5e-12],
+            &[3.0e30],
+            &[1.0, 1.0],
+            &[0.2, 0.7],
+            &[3.0e-20, 1.0],
+            &[0.0, 2.0],
+            &[5.0, 0.0],
+        ];
+        for w in tables {
+            let d = Distribution1D::new(w).unwrap();
+            let edges = [0.0, -0.0, 0.999_999_94, 1.0, 1.5, -0.25, f32::NAN];
+            let us = (0..100).map(|_| rng.next_f32()).chain(edges);
+            for u in us.chain(d.cdf.clone()) {
+                assert_eq!(
+                    bits(d.sample(u)),
+                    bits(d.sample_table(u)),
+                    "w = {w:?}, u = {u}"
+                );
             }
         }
     }

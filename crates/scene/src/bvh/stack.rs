@@ -13,7 +13,8 @@ pub(super) type StackBuf = [MaybeUninit<(f32, u32)>; STACK];
 
 pub(super) struct Stack<'a> {
     buf: &'a mut StackBuf,
-    /// Entries `buf[..len]` are initialised (the invariant every method keeps).
+    /// Entries on the stack: the first `min(len, STACK)` in `buf[..]` (initialised, the
+    /// invariant every method keeps), the rest in `spill`, in order.
     len: usize,
     spill: Vec<(f32, u32)>,
 }
@@ -30,29 +31,30 @@ impl<'a> Stack<'a> {
 
     #[inline(always)]
     pub(super) fn push(&mut self, e: (f32, u32)) {
-        // Once spilled, later entries go to the heap too, so pops stay last-in first-out.
+        // One test on the common path: entries beyond the array go to the heap, in order.
         match self.buf.get_mut(self.len) {
-            Some(slot) if self.spill.is_empty() => {
+            Some(slot) => {
                 slot.write(e);
-                self.len += 1;
             }
-            _ => self.spill.push(e),
+            None => self.spill.push(e),
         }
+        self.len += 1;
     }
 
     #[inline(always)]
     pub(super) fn pop(&mut self) -> Option<(f32, u32)> {
-        if let Some(e) = self.spill.pop() {
-            return Some(e);
-        }
         if self.len == 0 {
             return None;
         }
         self.len -= 1;
-        // SAFETY: `len` counts the initialised prefix of `buf`: `push` writes `buf[len]` before
-        // incrementing `len`, and only `pop` decrements it. Before this decrement `len ≥ 1`
-        // entries were initialised, so `buf[len]` (the last of them) is initialised. The index
-        // is in bounds because `len ≤ STACK` always holds (`push` only writes through `get_mut`).
+        if self.len >= STACK {
+            return self.spill.pop();
+        }
+        // SAFETY: entries `0..min(len, STACK)` of `buf` are initialised: `push` writes
+        // `buf[len]` whenever `len < STACK` before incrementing `len`, and only `pop`
+        // decrements it. Before this decrement `len` was in `1..=STACK` here, so `buf[len]`
+        // (now the last entry) was written by the push that made it, and `len < STACK` keeps
+        // the index in bounds.
         Some(unsafe { self.buf[self.len].assume_init() })
     }
 }
