@@ -3,7 +3,7 @@
 //! [`super::node4`]'s SSE test, lane for lane and in the same order, so a box is hit or missed
 //! identically by both.
 
-use super::node4::safe_inverse;
+use super::node4::safe_inverse3;
 use super::traverse::{ROBUST, WideNode};
 use caustica_core::Vec3;
 use std::arch::x86_64::*;
@@ -47,7 +47,7 @@ impl WideNode<8> for Node8 {
 
     #[inline(always)]
     fn ray(o: Vec3, d: Vec3) -> Ray8 {
-        let inv = [safe_inverse(d.x), safe_inverse(d.y), safe_inverse(d.z)];
+        let inv = safe_inverse3(d);
         Ray8 {
             o: o.to_array(),
             inv,
