@@ -48,14 +48,12 @@ impl Channels {
 
     /// A reflectance-like quantity in [0, 1] (albedos, tints) given in RGB, in this path's
     /// lanes. Grey values are flat spectra (returned unchanged).
-    #[inline]
+    #[inline(always)]
     pub fn reflectance(&self, rgb: Spectrum) -> Spectrum {
+        // RGB paths (the default) take their values as they are, without a call.
         match self {
-            Channels::Spectral(wl) if !is_grey(rgb) => {
-                let s = cached_reflectance(rgb.to_rgb());
-                lanes(wl, |l| s.eval(l))
-            }
-            _ => rgb,
+            Channels::Rgb => rgb,
+            Channels::Spectral(wl) => spectral_reflectance(wl, rgb),
         }
     }
 
@@ -152,6 +150,16 @@ fn cached_reflectance(rgb: [f32; 3]) -> RgbReflectance {
             }
         }
     })
+}
+
+/// [`Channels::reflectance`] in spectral mode: grey values are flat spectra.
+#[inline(never)]
+fn spectral_reflectance(wl: &SampledWavelengths, rgb: Spectrum) -> Spectrum {
+    if is_grey(rgb) {
+        return rgb;
+    }
+    let s = cached_reflectance(rgb.to_rgb());
+    lanes(wl, |l| s.eval(l))
 }
 
 #[inline]
