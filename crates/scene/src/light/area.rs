@@ -85,7 +85,7 @@ impl AreaLight {
     }
 
     /// Uniform point by area; `None` for an empty or degenerate shape.
-    #[inline]
+    #[inline(always)]
     fn sample_area(&self, u: Vec2) -> Option<AreaPoint> {
         if self.area <= 0.0 {
             return None;
