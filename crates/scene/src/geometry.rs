@@ -373,6 +373,7 @@ impl Geometry {
     }
 
     /// The full record of a hit found by the traversal.
+    #[inline(always)]
     fn interaction(&self, ray: &Ray, hit: WideHit) -> SurfaceInteraction {
         if let Some(&(s, p)) = (hit.prim as usize)
             .checked_sub(self.prims.len())
