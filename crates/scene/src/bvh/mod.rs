@@ -218,17 +218,7 @@ impl WideBvh {
             Nodes::Four(n) if n.is_empty() => None,
             // SAFETY: four-wide nodes need nothing beyond the target's baseline; the builder's
             // child references index into `n` and `self.packets`.
-            Nodes::Four(n) => unsafe {
-                traverse::closest::<Node4, 4>(
-                    n,
-                    &self.packets,
-                    tr,
-                    &Node4::ray(o, d),
-                    t_max,
-                    other,
-                    on_hit,
-                )
-            },
+            Nodes::Four(n) => unsafe { closest4(n, &self.packets, tr, o, d, t_max, other, on_hit) },
             // SAFETY: eight-wide nodes exist only where AVX2 was detected (`Nodes::Eight`).
             #[cfg(target_arch = "x86_64")]
             Nodes::Eight(n) => unsafe {
@@ -259,9 +249,7 @@ impl WideBvh {
         match &self.nodes {
             Nodes::Four(n) if n.is_empty() => false,
             // SAFETY: as in `closest`.
-            Nodes::Four(n) => unsafe {
-                traverse::any::<Node4, 4>(n, &self.packets, tr, &Node4::ray(o, d), t_max, other)
-            },
+            Nodes::Four(n) => unsafe { any4(n, &self.packets, tr, o, d, t_max, other) },
             // SAFETY: as in `closest`.
             #[cfg(target_arch = "x86_64")]
             Nodes::Eight(n) => unsafe { any8(n, &self.packets, tr, o, d, t_max, other) },
@@ -314,6 +302,48 @@ impl WideBvh {
             _ => (0, 0),
         }
     }
+}
+
+/// The 4-wide closest-hit traversal (the fallback), out of line like [`closest8`], so the
+/// queries that dispatch to either stay small: inlined, its registers and stack were saved and
+/// set up on every query, whichever width ran.
+///
+/// # Safety
+/// As [`traverse::closest`] for four-wide nodes (nothing beyond the target's baseline).
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn closest4(
+    nodes: &[Node4],
+    packets: &[Packet],
+    tr: &TriangleRay,
+    o: Vec3,
+    d: Vec3,
+    t_max: f32,
+    other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
+    on_hit: impl FnMut(u32),
+) -> Option<WideHit> {
+    // SAFETY: the caller's contract.
+    unsafe {
+        traverse::closest::<Node4, 4>(nodes, packets, tr, &Node4::ray(o, d), t_max, other, on_hit)
+    }
+}
+
+/// The 4-wide any-hit traversal, out of line as [`closest4`].
+///
+/// # Safety
+/// As [`closest4`].
+#[inline(never)]
+unsafe fn any4(
+    nodes: &[Node4],
+    packets: &[Packet],
+    tr: &TriangleRay,
+    o: Vec3,
+    d: Vec3,
+    t_max: f32,
+    other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
+) -> bool {
+    // SAFETY: the caller's contract.
+    unsafe { traverse::any::<Node4, 4>(nodes, packets, tr, &Node4::ray(o, d), t_max, other) }
 }
 
 /// The 8-wide closest-hit traversal, compiled for AVX2 (so the node test inlines).
