@@ -127,7 +127,10 @@ impl Sampler {
     }
     fn start(&mut self, stream: u64, index: u32) {
         self.stream_seed = (stream ^ (stream >> 32)) as u32;
-        self.shuffled = sobol::shuffled_index(index, self.stream_seed);
+        // The shuffle is the Sobol points' alone: the independent sampler skips it per sample.
+        if self.kind == SamplerKind::Sobol {
+            self.shuffled = sobol::shuffled_index(index, self.stream_seed);
+        }
         self.dim = 0;
         self.rng = Pcg32::new(mix_seed(stream, &[index as u64]), stream);
     }
