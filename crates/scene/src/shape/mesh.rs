@@ -351,8 +351,8 @@ impl TriangleMesh {
     }
 
     /// [`Self::surface_at`] with the vertex normals `normals` (a moving mesh's at some time).
-    /// Inlined: called once per closest hit, where a call and the copy of its record cost a
-    /// quarter of the work.
+    /// Inlined: it runs once per closest hit, and out of line its call and the copy of its
+    /// record made the hit record cost 186 instructions instead of 150 (Cornell box, callgrind).
     #[inline(always)]
     pub fn surface_with_normals(
         &self,
