@@ -80,6 +80,12 @@ impl Packet {
         }
         let neg = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
         let pos = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
+        // Most packets a ray reaches have every triangle beside it (edge functions of both
+        // signs): stop before the division and the distances, as Embree's test does. A lane
+        // outside here is outside in `inside` below, so the result is the same.
+        if (!(neg & pos)).bitmask() & self.tri_mask == 0 {
+            return None;
+        }
         let det = u + v + w;
         let inv = Vec4::ONE / det;
         let t = Vec4::splat(tr.sz) * (u * az + v * bz + w * cz) * inv;
