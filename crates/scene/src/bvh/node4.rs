@@ -11,19 +11,20 @@ use glam::Vec4;
 #[repr(C, align(64))]
 pub(super) struct Node4 {
     /// `bounds[axis][0]` holds the minima of the four boxes along `axis`, `[1]` the maxima.
-    /// Unused lanes hold the empty box (+∞, −∞), which no ray hits.
+    /// Unused lanes hold the empty box (+∞, −∞).
     bounds: [[Vec4; 2]; 3],
     child: [u32; 4],
+    /// Bit `l` set: lane `l` holds a child (the test's answer is masked with it, as its
+    /// min/max form would see the empty box as the whole space).
+    used: u32,
 }
 
-/// A ray prepared for the slab tests: origin, reciprocal direction (components of magnitude
-/// below 1e-20 replaced by ±1e-20, so the reciprocal stays finite) and, per axis, which of a
-/// box's two planes it meets first.
+/// A ray prepared for the slab tests: origin and reciprocal direction (components of
+/// magnitude below 1e-20 replaced by ±1e-20, so the reciprocal stays finite).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Ray4 {
     o: [Vec4; 3],
     inv: [Vec4; 3],
-    near: [usize; 3],
 }
 
 /// The reciprocal of a direction component, kept finite (see [`Ray4`]).
@@ -56,11 +57,6 @@ impl WideNode<4> for Node4 {
         Ray4 {
             o: [Vec4::splat(o.x), Vec4::splat(o.y), Vec4::splat(o.z)],
             inv: [Vec4::splat(i[0]), Vec4::splat(i[1]), Vec4::splat(i[2])],
-            near: [
-                (i[0] < 0.0) as usize,
-                (i[1] < 0.0) as usize,
-                (i[2] < 0.0) as usize,
-            ],
         }
     }
 
@@ -68,6 +64,7 @@ impl WideNode<4> for Node4 {
         Self {
             bounds: [[Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY)]; 3],
             child: [super::packet::EMPTY; 4],
+            used: 0,
         }
     }
 
@@ -77,6 +74,7 @@ impl WideNode<4> for Node4 {
             self.bounds[a][1][lane] = max[a];
         }
         self.child[lane] = child;
+        self.used |= 1 << lane;
     }
 
     #[inline(always)]
@@ -87,17 +85,21 @@ impl WideNode<4> for Node4 {
     /// SSE2 is part of x86_64 (and glam is scalar elsewhere): nothing for the caller to check.
     #[inline(always)]
     unsafe fn hit(&self, r: &Ray4, t_max: f32) -> (u32, [f32; 4]) {
+        // Per axis the distances to the two planes, (plane − o) · inv; the nearer is the
+        // entry, the farther the exit. Rounding is monotonic, so min/max pick exactly the
+        // plane the direction's sign would (pbrt-v4's slab test, without a per-ray plane
+        // choice to keep in registers).
         let slab = |a: usize| {
-            let n = r.near[a] & 1;
             let b = &self.bounds[a];
-            ((b[n] - r.o[a]) * r.inv[a], (b[n ^ 1] - r.o[a]) * r.inv[a])
+            let (lo, hi) = ((b[0] - r.o[a]) * r.inv[a], (b[1] - r.o[a]) * r.inv[a]);
+            (lo.min(hi), lo.max(hi))
         };
         let (x0, x1) = slab(0);
         let (y0, y1) = slab(1);
         let (z0, z1) = slab(2);
         let t0 = x0.max(y0).max(z0.max(Vec4::ZERO));
         let t1 = x1.min(y1).min(z1.min(Vec4::splat(t_max))) * ROBUST;
-        (t0.cmple(t1).bitmask(), t0.to_array())
+        (t0.cmple(t1).bitmask() & self.used, t0.to_array())
     }
 }
 

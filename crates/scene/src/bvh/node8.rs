@@ -8,16 +8,18 @@ use super::traverse::{ROBUST, WideNode};
 use caustica_core::Vec3;
 use std::arch::x86_64::*;
 
-/// An inner node: the boxes of its eight children, one lane per child: 224 bytes, aligned to
+/// An inner node: the boxes of its eight children, one lane per child: 228 bytes, aligned to
 /// a cache line (so four whole lines).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub(super) struct Node8 {
     /// `bounds[axis][0]` holds the minima of the eight boxes along `axis`, `[1]` the maxima.
-    /// Unused lanes hold the empty box (+∞, −∞), which no ray hits. Each row of eight is
-    /// 32-byte aligned (the struct is 64-byte aligned and rows are 32 bytes), for aligned loads.
+    /// Unused lanes hold the empty box (+∞, −∞). Each row of eight is 32-byte aligned (the
+    /// struct is 64-byte aligned and rows are 32 bytes), for aligned loads.
     bounds: [[[f32; 8]; 2]; 3],
     child: [u32; 8],
+    /// Bit `l` set: lane `l` holds a child (as [`super::node4::Node4`]'s).
+    used: u32,
 }
 
 /// A ray prepared for the slab tests, as [`super::node4::Ray4`] (broadcast to eight lanes in
@@ -26,7 +28,6 @@ pub(super) struct Node8 {
 pub(super) struct Ray8 {
     o: [f32; 3],
     inv: [f32; 3],
-    near: [usize; 3],
 }
 
 impl Node8 {
@@ -47,15 +48,9 @@ impl WideNode<8> for Node8 {
 
     #[inline(always)]
     fn ray(o: Vec3, d: Vec3) -> Ray8 {
-        let inv = safe_inverse3(d);
         Ray8 {
             o: o.to_array(),
-            inv,
-            near: [
-                (inv[0] < 0.0) as usize,
-                (inv[1] < 0.0) as usize,
-                (inv[2] < 0.0) as usize,
-            ],
+            inv: safe_inverse3(d),
         }
     }
 
@@ -63,6 +58,7 @@ impl WideNode<8> for Node8 {
         Self {
             bounds: [[[f32::INFINITY; 8], [f32::NEG_INFINITY; 8]]; 3],
             child: [super::packet::EMPTY; 8],
+            used: 0,
         }
     }
 
@@ -72,6 +68,7 @@ impl WideNode<8> for Node8 {
             self.bounds[a][1][lane] = max[a];
         }
         self.child[lane] = child;
+        self.used |= 1 << lane;
     }
 
     #[inline(always)]
@@ -85,11 +82,9 @@ impl WideNode<8> for Node8 {
     #[inline]
     #[target_feature(enable = "avx2")]
     unsafe fn hit(&self, r: &Ray8, t_max: f32) -> (u32, [f32; 8]) {
-        // Each slab as in `Node4::hit`: (plane − o) · inv, the near plane by the ray's octant.
-        // The rows are 32-byte aligned (see `bounds`), so the aligned loads are sound; the
-        // `& 1` keeps the plane index in bounds.
+        // Each slab as in `Node4::hit`: (plane − o) · inv for both planes, min/max for entry
+        // and exit, with the same operand order.
         let b = &self.bounds;
-        let (n0, n1, n2) = (r.near[0] & 1, r.near[1] & 1, r.near[2] & 1);
         let (ox, oy, oz) = (
             _mm256_set1_ps(r.o[0]),
             _mm256_set1_ps(r.o[1]),
@@ -108,13 +103,15 @@ impl WideNode<8> for Node8 {
                 unsafe { _mm256_load_ps($row.as_ptr()) }
             };
         }
-        let x0 = _mm256_mul_ps(_mm256_sub_ps(load!(b[0][n0]), ox), ix);
-        let x1 = _mm256_mul_ps(_mm256_sub_ps(load!(b[0][n0 ^ 1]), ox), ix);
-        let y0 = _mm256_mul_ps(_mm256_sub_ps(load!(b[1][n1]), oy), iy);
-        let y1 = _mm256_mul_ps(_mm256_sub_ps(load!(b[1][n1 ^ 1]), oy), iy);
-        let z0 = _mm256_mul_ps(_mm256_sub_ps(load!(b[2][n2]), oz), iz);
-        let z1 = _mm256_mul_ps(_mm256_sub_ps(load!(b[2][n2 ^ 1]), oz), iz);
-        // max/min with the same operand order as glam's SSE `Vec4::max`/`min` (`maxps a, b`).
+        let xl = _mm256_mul_ps(_mm256_sub_ps(load!(b[0][0]), ox), ix);
+        let xh = _mm256_mul_ps(_mm256_sub_ps(load!(b[0][1]), ox), ix);
+        let yl = _mm256_mul_ps(_mm256_sub_ps(load!(b[1][0]), oy), iy);
+        let yh = _mm256_mul_ps(_mm256_sub_ps(load!(b[1][1]), oy), iy);
+        let zl = _mm256_mul_ps(_mm256_sub_ps(load!(b[2][0]), oz), iz);
+        let zh = _mm256_mul_ps(_mm256_sub_ps(load!(b[2][1]), oz), iz);
+        let (x0, x1) = (_mm256_min_ps(xl, xh), _mm256_max_ps(xl, xh));
+        let (y0, y1) = (_mm256_min_ps(yl, yh), _mm256_max_ps(yl, yh));
+        let (z0, z1) = (_mm256_min_ps(zl, zh), _mm256_max_ps(zl, zh));
         let t0 = _mm256_max_ps(
             _mm256_max_ps(x0, y0),
             _mm256_max_ps(z0, _mm256_setzero_ps()),
@@ -126,7 +123,7 @@ impl WideNode<8> for Node8 {
             ),
             _mm256_set1_ps(ROBUST),
         );
-        let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t0, t1)) as u32;
+        let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t0, t1)) as u32 & self.used;
         let mut out = [0.0f32; 8];
         // SAFETY: `out` holds eight f32; the unaligned store needs no alignment.
         unsafe { _mm256_storeu_ps(out.as_mut_ptr(), t0) };
