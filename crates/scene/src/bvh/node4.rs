@@ -6,7 +6,7 @@ use caustica_core::{Vec3, Vec3A};
 use glam::Vec4;
 
 /// An inner node: the boxes of its four children, one lane per child. Aligned to a cache
-/// line, so its 112 bytes never straddle three.
+/// line, so its 116 bytes never straddle three.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub(super) struct Node4 {
