@@ -3,12 +3,13 @@
 //! coherent (camera rays, a tile's eye paths), the tree being far larger than the caches.
 //!
 //! Every ray gets exactly the hit the one-ray traversal gives it: the box test is the
-//! one-ray test's arithmetic lane by lane (the near plane chosen per ray by its direction's
-//! signs), the triangle test is the watertight test's operations lane by lane (rays exactly
-//! on an edge fall back to the scalar test, as there), and ties at equal distance go to the
-//! first primitive in BVH order, as there. Only the order of the visit differs, which the tie
-//! rule makes invisible. The rays of a packet must share the triangle test's axis permutation
-//! (the dominant axis of their directions); the caller traces the others one by one.
+//! one-ray test's arithmetic lane by lane (entry and exit per axis the min and max of the two
+//! planes' distances), the triangle test is the watertight test's operations lane by lane
+//! (rays exactly on an edge fall back to the scalar test, as there), and ties at equal
+//! distance go to the first primitive in BVH order, as there. Only the order of the visit
+//! differs, which the tie rule makes invisible. The rays of a packet must share the triangle
+//! test's axis permutation (the dominant axis of their directions); the caller traces the
+//! others one by one.
 
 use super::WideHit;
 use super::node8::Node8;
@@ -27,9 +28,6 @@ pub(super) struct Rays8 {
     o: [[f32; 8]; 3],
     /// Reciprocal directions, as [`super::node4::safe_inverse`] makes them.
     inv: [[f32; 8]; 3],
-    /// All bits set in lane `i` of axis `a` if ray `i`'s reciprocal direction is negative
-    /// there (its near plane is the box's maximum).
-    neg: [[f32; 8]; 3],
     sx: [f32; 8],
     sy: [f32; 8],
     sz: [f32; 8],
@@ -50,7 +48,6 @@ impl Rays8 {
         let mut r = Rays8 {
             o: [[0.0; 8]; 3],
             inv: [[1.0; 8]; 3],
-            neg: [[0.0; 8]; 3],
             sx: [0.0; 8],
             sy: [0.0; 8],
             sz: [0.0; 8],
@@ -76,11 +73,6 @@ impl Rays8 {
             for a in 0..3 {
                 r.o[a][i] = o[a];
                 r.inv[a][i] = inv[a];
-                r.neg[a][i] = if inv[a] < 0.0 {
-                    f32::from_bits(u32::MAX)
-                } else {
-                    0.0
-                };
             }
             (r.sx[i], r.sy[i], r.sz[i]) = (tr.sx, tr.sy, tr.sz);
             r.t_max[i] = *t_max;
@@ -113,12 +105,11 @@ fn store(v: __m256) -> [f32; 8] {
     out
 }
 
-/// The eight rays' origins, reciprocal directions and plane choices in registers.
+/// The eight rays' origins and reciprocal directions in registers.
 #[derive(Clone, Copy)]
 struct Slabs {
     o: [__m256; 3],
     inv: [__m256; 3],
-    neg: [__m256; 3],
 }
 
 impl Slabs {
@@ -128,12 +119,11 @@ impl Slabs {
         Self {
             o: [load(&rays.o[0]), load(&rays.o[1]), load(&rays.o[2])],
             inv: [load(&rays.inv[0]), load(&rays.inv[1]), load(&rays.inv[2])],
-            neg: [load(&rays.neg[0]), load(&rays.neg[1]), load(&rays.neg[2])],
         }
     }
 
     /// The one-ray slab test for eight rays against the box `[lo, hi]`: `(plane − o) · inv`
-    /// per axis, near and far planes chosen per ray by its direction's sign, the far distance
+    /// per axis for both planes, their min and max the entry and exit, the far distance
     /// capped at `t_far` and grown by `1 + 2γ₃`. Returns the entry distances and the mask of
     /// the rays that enter (all bits of a lane set).
     #[inline]
@@ -145,8 +135,9 @@ impl Slabs {
         for a in 0..3 {
             let tl = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(lo[a]), self.o[a]), self.inv[a]);
             let th = _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(hi[a]), self.o[a]), self.inv[a]);
-            near[a] = _mm256_blendv_ps(tl, th, self.neg[a]);
-            far[a] = _mm256_blendv_ps(th, tl, self.neg[a]);
+            // The operand order of `Node8::hit`'s min and max.
+            near[a] = _mm256_min_ps(tl, th);
+            far[a] = _mm256_max_ps(tl, th);
         }
         let t0 = _mm256_max_ps(
             _mm256_max_ps(near[0], near[1]),
