@@ -1,7 +1,9 @@
 //! Unidirectional volumetric path tracer with next-event estimation, MIS (power heuristic)
 //! and Russian roulette. Radiance estimate of one camera ray (W/m²/sr). Its own loop (MIS needs
 //! the previous vertex's pdf at every emitter hit), over the shared segment and vertex code of
-//! [`crate::transport`].
+//! [`crate::transport`]. The path's terms are summed by a [`PathSum`], which lets the
+//! next-event estimates its lanes cover wait and computes them four at a time, the bits
+//! unchanged.
 //!
 //! In media, [`trace_segment`] samples free flights (delta tracking with spectral MIS); at a
 //! medium vertex direct light comes from NEE through the media (phase function against the
@@ -12,7 +14,8 @@
 
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
-use crate::transport::direct::{sample_direct, sample_direct_at};
+use crate::transport::direct::{direct_with, sample_direct, sample_direct_at};
+use crate::transport::direct_lanes::PathSum;
 use crate::transport::limits::russian_roulette;
 use crate::transport::medium::{Segment, trace_segment};
 use crate::transport::vertex::{MediumVertex, Scatterer, Vertex};
@@ -115,7 +118,7 @@ pub fn radiance_with(
     rule: &impl CameraRule,
     mut ch: Channels,
 ) -> Spectrum {
-    let mut l = Spectrum::ZERO;
+    let mut l = PathSum::new(scene);
     // The previous vertex's direct light came from the rule: emission found next is in it.
     let mut prev_direct_by_rule = false;
     let mut beta = Spectrum::ONE;
@@ -151,7 +154,7 @@ pub fn radiance_with(
                                 * light.pdf_li(prev_p, ray.d, Vec3::ZERO, Vec3::ZERO),
                         )
                     };
-                    l += beta * le * w;
+                    l.add(beta * le * w);
                 }
                 break;
             }
@@ -167,7 +170,7 @@ pub fn radiance_with(
                     break;
                 }
                 let mv = MediumVertex::new(scene, p, &ray, m, &ch);
-                l += beta * sample_direct_at(scene, Scatterer::Medium(&mv), sampler, stats, true);
+                l.add(beta * sample_direct_at(scene, Scatterer::Medium(&mv), sampler, stats, true));
                 prev_direct_by_rule = false;
                 let u = sampler.next_2d();
                 let u_rr = sampler.next_1d();
@@ -203,7 +206,7 @@ pub fn radiance_with(
                         scene.light_pmf(si.light) * light.pdf_li(prev_p, ray.d, si.p, si.ng),
                     )
                 };
-                l += beta * le * w;
+                l.add(beta * le * w);
             }
         }
         if depth >= opts.limits.max_depth {
@@ -212,9 +215,9 @@ pub fn radiance_with(
         let v = Vertex::new(scene, si, &ray, &mut ch);
         rule.visit(&v, depth, beta);
         if let Some(lo) = rule.lookup(&v, depth, stats) {
-            l += beta * lo.radiance;
+            l.add(beta * lo.radiance);
             if lo.nee {
-                l += beta * sample_direct(scene, &v, medium, sampler, stats, false);
+                l.add(beta * sample_direct(scene, &v, medium, sampler, stats, false));
             }
             break;
         }
@@ -224,10 +227,17 @@ pub fn radiance_with(
         let by_rule = rule.direct(&v, depth, stats);
         prev_direct_by_rule = matches!(by_rule, Direct::Replace(_));
         if let Direct::Add(ld) | Direct::Replace(ld) = by_rule {
-            l += beta * ld;
+            l.add(beta * ld);
         }
         if flags.is_smooth() && !prev_direct_by_rule {
-            l += beta * sample_direct(scene, &v, medium, sampler, stats, true);
+            // Estimates the lanes cover wait for them (`direct_lanes`); the same numbers, the
+            // same bits.
+            let u_light = sampler.next_1d();
+            let u = sampler.next_2d();
+            if scene.has_media || !l.defer_direct(beta, &v, u_light, u) {
+                let at = Scatterer::Surface { v: &v, medium };
+                l.add(beta * direct_with(scene, at, u_light, u, sampler, stats, true));
+            }
         } else {
             sampler.next_1d();
             sampler.next_2d();
@@ -259,5 +269,5 @@ pub fn radiance_with(
         medium = v.si.medium_toward(wi, medium);
         ray = v.si.spawn_ray(wi);
     }
-    ch.to_rgb(l)
+    ch.to_rgb(l.total(stats))
 }

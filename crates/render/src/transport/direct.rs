@@ -5,9 +5,9 @@
 use crate::stats::RenderStats;
 use crate::transport::medium::shadow_transmittance;
 use crate::transport::vertex::{Scatterer, Vertex};
-use caustica_core::Spectrum;
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
+use caustica_core::{Spectrum, Vec2};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::TransportMode;
 
@@ -31,6 +31,7 @@ pub fn sample_direct(
 /// [`sample_direct`] at any scattering vertex: a surface (BSDF) or a medium point (phase
 /// function; radiance per unit scattering coefficient, W/m²/sr·sr⁻¹·sr — the in-scattered
 /// radiance before σ_s, which the free flight's weight supplies).
+#[inline]
 pub fn sample_direct_at(
     scene: &Scene,
     at: Scatterer,
@@ -40,6 +41,20 @@ pub fn sample_direct_at(
 ) -> Spectrum {
     let u_light = sampler.next_1d();
     let u = sampler.next_2d();
+    direct_with(scene, at, u_light, u, sampler, stats, mis)
+}
+
+/// [`sample_direct_at`] with its three numbers drawn: `u_light` picks the light, `u` the point
+/// on it; `sampler` gives only the shadow ray's two in scenes with media.
+pub fn direct_with(
+    scene: &Scene,
+    at: Scatterer,
+    u_light: f32,
+    u: Vec2,
+    sampler: &mut Sampler,
+    stats: &mut RenderStats,
+    mis: bool,
+) -> Spectrum {
     let Some(dist) = &scene.light_distribution else {
         if scene.has_media {
             sampler.next_2d();

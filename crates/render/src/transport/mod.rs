@@ -19,6 +19,7 @@
 //!   tracer keeps its own MIS loop over [`trace_segment`] and [`Vertex`].
 
 pub mod direct;
+pub mod direct_lanes;
 pub mod emission;
 pub mod eye_walk;
 pub mod light_walk;

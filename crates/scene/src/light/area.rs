@@ -88,6 +88,25 @@ impl AreaLight {
         self.area
     }
 
+    /// The triangle of a triangle list that [`Self::sample_li`] samples with `u` (chosen by
+    /// area), as its vertices and unit normal `[p0, p1, p2, n]`, and the point of the square
+    /// that [`warp::square_to_uniform_triangle`] maps to its barycentrics. `None` where
+    /// `sample_li` finds no point: not a triangle list, no area, a degenerate triangle. For
+    /// code that samples triangle lights its own way with the same numbers (the path tracer's
+    /// next-event estimation in lanes).
+    #[inline(always)]
+    pub fn triangle_sample(&self, u: Vec2) -> Option<(&[Vec3A; 4], Vec2)> {
+        if self.area <= 0.0 || !matches!(self.shape, AreaShape::Triangles(_)) {
+            return None;
+        }
+        let (i, _, ux) = self.tri_dist.as_ref()?.sample(u.x);
+        let tri = self.tri_points.get(i)?;
+        if tri[3] == Vec3A::ZERO {
+            return None;
+        }
+        Some((tri, Vec2::new(ux, u.y)))
+    }
+
     /// Uniform point by area; `None` for an empty or degenerate shape.
     #[inline(always)]
     fn sample_area(&self, u: Vec2) -> Option<AreaPoint> {
@@ -96,14 +115,9 @@ impl AreaLight {
         }
         match &self.shape {
             AreaShape::Triangles(_) => {
-                let dist = self.tri_dist.as_ref()?;
-                let (i, _, ux) = dist.sample(u.x);
-                let [p0, p1, p2, n] = *self.tri_points.get(i)?;
-                let b = warp::square_to_uniform_triangle(Vec2::new(ux, u.y));
+                let (&[p0, p1, p2, n], w) = self.triangle_sample(u)?;
+                let b = warp::square_to_uniform_triangle(w);
                 let p = p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y;
-                if n == Vec3A::ZERO {
-                    return None;
-                }
                 Some(AreaPoint {
                     p: p.into(),
                     n: n.into(),
