@@ -61,13 +61,6 @@ impl Distribution1D {
     pub fn pmf(&self, i: usize) -> f32 {
         self.pmf[i]
     }
-    /// The cumulative table: `n + 1` entries from 0 to 1, entry `i` the probability of the
-    /// indices below `i` (rounded once from double precision). For code that samples the
-    /// table its own way and must agree with [`Self::sample`] bit for bit.
-    #[inline]
-    pub fn cdf(&self) -> &[f32] {
-        &self.cdf
-    }
     /// Samples an index with `u ∈ [0, 1)`; returns the index, its probability and `u` remapped
     /// to [0, 1) within the chosen bucket (so one number can be reused).
     #[inline(always)]
@@ -139,18 +132,6 @@ mod tests {
         let r = chi_square(&obs, &exp);
         assert!(r.passed(), "{r}");
         assert!(Distribution1D::new(&[0.0, f32::NAN]).is_none());
-    }
-
-    #[test]
-    fn cdf_is_the_table_sample_inverts() {
-        let d = Distribution1D::new(&[1.0, 0.0, 3.0]).unwrap();
-        assert_eq!(d.cdf(), &[0.0, 0.25, 0.25, 1.0]);
-        // Each u lands in the bucket whose cdf interval holds it, remapped within it.
-        for (u, i, r) in [(0.1f32, 0, 0.4f32), (0.25, 2, 0.0), (0.625, 2, 0.5)] {
-            let (k, _, ur) = d.sample(u);
-            assert_eq!((k, ur), (i, r), "u = {u}");
-            assert!(d.cdf()[k] <= u && u < d.cdf()[k + 1]);
-        }
     }
 
     #[test]
