@@ -292,8 +292,9 @@ impl<'a> PathSum<'a> {
     /// Adds `beta` times next-event estimation at `v` with the numbers `u_light`, `u` (those
     /// [`super::direct::sample_direct`] draws), to be computed in the lanes; false, adding
     /// nothing, when the lanes do not cover it (not a Lambertian surface, not RGB, not a
-    /// triangle light). The caller has checked that the scene has no media.
-    #[inline]
+    /// triangle light). The caller has checked that the scene has no media. Inlined into the
+    /// path loop: out of line it cost 1 % more instructions on the Cornell box.
+    #[inline(always)]
     pub fn defer_direct(&mut self, beta: Spectrum, v: &Vertex, u_light: f32, u: Vec2) -> bool {
         let Bsdf::Lambertian(lambertian) = &v.bsdf else {
             return false;
