@@ -420,7 +420,7 @@ mod tests {
         out
     }
 
-    /// Paths of one to seven estimates with terms between them: the lanes' sum equals
+    /// Paths of one to seven estimates with up to seven terms before each: the lanes' sum equals
     /// `l += term` with the scalar estimates, bit for bit, for one- and two-sided lights.
     #[test]
     fn lanes_give_the_scalar_estimates_and_sum_bit_for_bit() {
@@ -440,9 +440,13 @@ mod tests {
                 let mut lanes = PathSum::new(&scene);
                 let mut scalar_rays = 0;
                 for v in path {
-                    let term = Spectrum::new(rng.next_f32(), rng.next_f32(), 0.0);
-                    l += term;
-                    lanes.add(term);
+                    // Zero to seven terms before each estimate: the held terms also fill the
+                    // tail (sixteen) before four estimates wait.
+                    for _ in 0..(rng.next_u32() % 8) {
+                        let term = Spectrum::new(rng.next_f32(), rng.next_f32(), 0.0);
+                        l += term;
+                        lanes.add(term);
+                    }
                     let beta = Spectrum::new(rng.next_f32(), 1.0, rng.next_f32() * 4.0);
                     let (u_light, u) = (rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32()));
                     let at = Scatterer::Surface { v, medium: NONE };
