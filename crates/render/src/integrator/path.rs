@@ -234,7 +234,7 @@ pub fn radiance_with(
             // same bits.
             let u_light = sampler.next_1d();
             let u = sampler.next_2d();
-            if scene.has_media || !l.defer_direct(beta, &v, u_light, u) {
+            if !l.defer_direct(beta, &v, u_light, u) {
                 let at = Scatterer::Surface { v: &v, medium };
                 l.add(beta * direct_with(scene, at, u_light, u, sampler, stats, true));
             }
