@@ -1,13 +1,15 @@
 //! Next-event estimation in the Cornell box one vertex at a time
 //! (`transport::direct::direct_with`, with its shadow ray) against the path tracer's lanes
-//! (`transport::direct_lanes::PathSum`: the estimates deferred, computed four at a time, the
+//! (`transport::direct_lanes::DirectBatch`: the estimates deferred, computed four at a time, the
 //! shadow rays traced after), for issue 26's deliverable 3 (SIMD across paths).
 //!
 //! The vertices are the first hits of 2¹² camera rays off the light (Lambertian surfaces; few
 //! enough to stay in the caches), each with three random numbers for its estimate. A
-//! `PathSum` takes `g` estimates, as a path with `g` vertices would (the Cornell box's paths
-//! average 3.15): with `g = 4` the lanes are full. Checks that both sums are equal bit for bit,
-//! then prints nanoseconds per estimate, the best of `reps` passes of 16 rounds.
+//! path takes `g` estimates, as a path with `g` vertices would (the Cornell box's paths average
+//! 3.15). With a batch per path, as before the batch was shared, the lanes are full at `g = 4`;
+//! with one batch for all paths (finished every 32 paths, as the pixel driver does) they are
+//! full whatever `g`. Checks that all sums are equal bit for bit, then prints nanoseconds per
+//! estimate, the best of `reps` passes of 16 rounds.
 //!
 //! ```text
 //! cargo run --release -p caustica-render --example nee_lanes -- [reps]
@@ -19,7 +21,7 @@ use caustica_loader::builtin_scene;
 use caustica_render::RenderStats;
 use caustica_render::transport::Vertex;
 use caustica_render::transport::direct::direct_with;
-use caustica_render::transport::direct_lanes::PathSum;
+use caustica_render::transport::direct_lanes::DirectBatch;
 use caustica_render::transport::vertex::Scatterer;
 use caustica_scene::intersection::NONE;
 use std::time::Instant;
@@ -66,21 +68,26 @@ fn main() {
             .collect()
     };
     let mut stats_lanes = RenderStats::default();
-    let mut lanes = |g: usize| -> Vec<Spectrum> {
-        verts
-            .chunks(g)
-            .map(|path| {
-                let mut l = PathSum::new(&scene);
+    // Paths of `g` estimates, the batch finished every `every` paths.
+    let mut lanes = |g: usize, every: usize| -> Vec<Spectrum> {
+        let mut out = Vec::with_capacity(n / g + 1);
+        let mut batch = DirectBatch::default();
+        for paths in verts.chunks(g * every) {
+            for path in paths.chunks(g) {
+                let mut l = batch.path(&scene);
                 for (v, u_light, u) in path {
                     assert!(l.defer_direct(Spectrum::ONE, v, *u_light, *u));
                 }
-                l.total(&mut stats_lanes)
-            })
-            .collect()
+                assert!(l.total().is_none());
+            }
+            batch.finish(&mut stats_lanes, |_, l| out.push(l));
+        }
+        out
     };
     for g in 1..=4 {
         let bits = |s: Vec<Spectrum>| s.iter().map(|s| s.c.map(f32::to_bits)).collect::<Vec<_>>();
-        assert_eq!(bits(scalar(g)), bits(lanes(g)), "paths of {g}");
+        assert_eq!(bits(scalar(g)), bits(lanes(g, 1)), "paths of {g}");
+        assert_eq!(bits(scalar(g)), bits(lanes(g, 32)), "paths of {g}, shared");
     }
     println!("{n} estimates, the lanes' sums equal the scalar ones bit for bit");
 
@@ -96,9 +103,12 @@ fn main() {
         best * 1e9 / (n * ROUNDS) as f64
     };
     let one = time(&mut || scalar(4));
-    let per_path: Vec<f64> = (1..=4).map(|g| time(&mut || lanes(g))).collect();
-    println!(
-        "ns per estimate: one at a time {one:.1}; lanes, paths of 1 / 2 / 3 / 4 estimates: {:.1} / {:.1} / {:.1} / {:.1} (best of {reps})",
-        per_path[0], per_path[1], per_path[2], per_path[3]
-    );
+    for (every, what) in [(1, "a batch per path"), (32, "a batch per 32 paths")] {
+        let ns: Vec<f64> = (1..=4).map(|g| time(&mut || lanes(g, every))).collect();
+        println!(
+            "ns per estimate, {what}, paths of 1 / 2 / 3 / 4 estimates: {:.1} / {:.1} / {:.1} / {:.1} (best of {reps})",
+            ns[0], ns[1], ns[2], ns[3]
+        );
+    }
+    println!("one at a time: {one:.1}");
 }

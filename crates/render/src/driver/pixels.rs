@@ -12,6 +12,7 @@ use crate::film::Film;
 use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
+use crate::transport::direct_lanes::DirectBatch;
 use caustica_core::sampling::Sampler;
 use caustica_core::{Spectrum, Vec2};
 use rayon::prelude::*;
@@ -19,6 +20,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Target number of samples per pass (keeps passes short enough for Ctrl-C and checkpoints).
 const SAMPLES_PER_PASS: u64 = 1 << 18;
+
+/// Samples whose radiance may wait in a row's [`DirectBatch`] before it is finished: enough that
+/// the lanes run full, few enough that the held terms stay in the first-level cache.
+const WAITING_SAMPLES: usize = 32;
 
 /// Renders into `film` by calling `sample(sampler, raster)` for every pixel sample; the closure
 /// returns radiance (W/m²/sr) and must draw all its random numbers from `sampler`.
@@ -32,13 +37,32 @@ pub fn render_pixels<F>(
 where
     F: Fn(&mut Sampler, Vec2, &mut RenderStats) -> Spectrum + Sync,
 {
+    render_pixels_batched(film, filter, opts, stage, |s, raster, _, st| {
+        Some(sample(s, raster, st))
+    })
+}
+
+/// [`render_pixels`] whose closure may leave a sample's radiance waiting in the row's
+/// [`DirectBatch`] (returning `None`): the path tracer's next-event estimates computed across
+/// samples. The batch is finished every [`WAITING_SAMPLES`] waiting samples and at the row's end;
+/// the film's exact sums do not depend on the order samples arrive in, so the image is the same.
+pub fn render_pixels_batched<'s, F>(
+    film: &mut Film,
+    filter: &Filter,
+    opts: &RenderOptions,
+    stage: &Stage,
+    sample: F,
+) -> RenderStats
+where
+    F: Fn(&mut Sampler, Vec2, &mut DirectBatch<'s>, &mut RenderStats) -> Option<Spectrum> + Sync,
+{
     let (stats, _) = render_rows(
         film,
         filter,
         opts,
         stage,
         false,
-        |s, raster, _, _: &mut Vec<()>, st| sample(s, raster, st),
+        |s, raster, _, _: &mut Vec<()>, batch, st| sample(s, raster, batch, st),
     );
     stats
 }
@@ -60,12 +84,19 @@ where
     F: Fn(&mut Sampler, Vec2, u32, &mut Vec<R>, &mut RenderStats) -> Spectrum + Sync,
     R: Send,
 {
-    render_rows(film, filter, opts, stage, true, sample)
+    render_rows(
+        film,
+        filter,
+        opts,
+        stage,
+        true,
+        |s, raster, pixel, out, _, st| Some(sample(s, raster, pixel, out, st)),
+    )
 }
 
 /// The pixel driver: rows outside [`Film::rows`] are skipped, or rendered for their records
 /// only when `all_rows`.
-fn render_rows<F, R>(
+fn render_rows<'s, F, R>(
     film: &mut Film,
     filter: &Filter,
     opts: &RenderOptions,
@@ -74,7 +105,15 @@ fn render_rows<F, R>(
     sample: F,
 ) -> (RenderStats, Vec<R>)
 where
-    F: Fn(&mut Sampler, Vec2, u32, &mut Vec<R>, &mut RenderStats) -> Spectrum + Sync,
+    F: Fn(
+            &mut Sampler,
+            Vec2,
+            u32,
+            &mut Vec<R>,
+            &mut DirectBatch<'s>,
+            &mut RenderStats,
+        ) -> Option<Spectrum>
+        + Sync,
     R: Send,
 {
     let mut records = Vec::new();
@@ -127,7 +166,23 @@ where
                     return (st, out);
                 }
                 let mut sampler = Sampler::new(opts.sampler, opts.seed);
-                for x in 0..w {
+                let mut batch = DirectBatch::default();
+                // The pixel (column) of each sample waiting in `batch`, in order.
+                let mut waiting: Vec<usize> = Vec::new();
+                let mut nonfinite = 0u64;
+                let mut add = |x: usize, l: Spectrum| {
+                    if !keep {
+                        return;
+                    }
+                    if l.is_finite() {
+                        for (acc, v) in sum_row[x].iter_mut().zip(l.c) {
+                            *acc += ExactSum::from_f32(v);
+                        }
+                    } else {
+                        nonfinite += 1;
+                    }
+                };
+                for (x, count) in count_row.iter_mut().enumerate() {
                     // The full-film pixel.
                     let (fx, fy) = (x as u32 + x0, y as u32 + y0);
                     for s in first..first + pass_spp {
@@ -135,20 +190,21 @@ where
                         let offset = filter.sample(sampler.next_2d());
                         let raster = Vec2::new(fx as f32 + 0.5, fy as f32 + 0.5) + offset;
                         let pixel = (y * w + x) as u32;
-                        let l = sample(&mut sampler, raster, pixel, &mut out, &mut st);
-                        if !keep {
-                            continue;
+                        match sample(&mut sampler, raster, pixel, &mut out, &mut batch, &mut st) {
+                            Some(l) => add(x, l),
+                            None => waiting.push(x),
                         }
-                        if l.is_finite() {
-                            for (acc, v) in sum_row[x].iter_mut().zip(l.c) {
-                                *acc += ExactSum::from_f32(v);
-                            }
-                        } else {
-                            st.nonfinite += 1;
-                        }
-                        count_row[x] += 1;
+                    }
+                    if keep {
+                        *count += pass_spp;
+                    }
+                    if waiting.len() >= WAITING_SAMPLES {
+                        batch.finish(&mut st, |i, l| add(waiting[i], l));
+                        waiting.clear();
                     }
                 }
+                batch.finish(&mut st, |i, l| add(waiting[i], l));
+                st.nonfinite += nonfinite;
                 st.samples += (w as u64) * pass_spp as u64;
                 let total = samples_done.fetch_add(w as u64 * pass_spp as u64, Ordering::Relaxed)
                     + w as u64 * pass_spp as u64;
@@ -170,4 +226,53 @@ where
         }
     }
     (stats, records)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::{Clock, RenderControl};
+    use crate::integrator::path::{PathOnly, camera_radiance};
+    use caustica_core::sampling::SamplerKind;
+    use caustica_loader::builtin_scene;
+    use std::sync::atomic::AtomicUsize;
+
+    /// The path tracer's samples, left waiting in the rows' batches across samples and pixels,
+    /// reach the film as the same samples computed one by one: the same sums bit for bit, so
+    /// each reached its own pixel; and the same shadow rays.
+    #[test]
+    fn waiting_samples_reach_their_own_pixels_bit_for_bit() {
+        let mut builder = builtin_scene("cornell-box").unwrap();
+        let mut camera = builder.camera().unwrap().clone();
+        (camera.width, camera.height) = (24, 20);
+        builder.set_camera(camera);
+        let scene = builder.build().unwrap();
+        let opts = RenderOptions {
+            spp: 5,
+            sampler: SamplerKind::Independent,
+            ..RenderOptions::default()
+        };
+        let filter = Filter::new(scene.settings.filter);
+        let (clock, ctl) = (Clock::start(&opts), RenderControl::silent());
+        let stage = clock.stage(&ctl);
+        let waited = AtomicUsize::new(0);
+        let mut batched = Film::new(24, 20);
+        let stats =
+            render_pixels_batched(&mut batched, &filter, &opts, &stage, |s, raster, b, st| {
+                let l = camera_radiance(&scene, raster, s, &opts, st, &PathOnly, b);
+                waited.fetch_add(l.is_none() as usize, Ordering::Relaxed);
+                l
+            });
+        let mut one = Film::new(24, 20);
+        let stats_one = render_pixels(&mut one, &filter, &opts, &stage, |s, raster, st| {
+            let mut b = DirectBatch::one_by_one();
+            camera_radiance(&scene, raster, s, &opts, st, &PathOnly, &mut b).unwrap()
+        });
+        assert_eq!(batched.count, one.count);
+        assert!(batched.sum == one.sum, "the films differ");
+        assert_eq!(stats.rays, stats_one.rays);
+        // Most samples waited (the scene's surfaces are Lambertian, its light a quad).
+        let waited = waited.into_inner();
+        assert!(waited > 24 * 20 * 5 / 2, "{waited} samples waited");
+    }
 }

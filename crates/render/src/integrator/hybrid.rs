@@ -33,7 +33,7 @@ use super::light_tracer::{Connect, trace_light_path_with};
 use super::path::{CameraRule, camera_radiance};
 use crate::control::Stage;
 use crate::driver::light_paths::render_paths;
-use crate::driver::pixels::render_pixels;
+use crate::driver::pixels::render_pixels_batched;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::options::RenderOptions;
@@ -98,9 +98,15 @@ pub fn render(
     ));
     let started = Instant::now();
     let camera_stage = stage.part(share, 1.0).labelled("path tracing");
-    stats += render_pixels(film, filter, opts, &camera_stage, |sampler, raster, st| {
-        camera_radiance(scene, raster, sampler, opts, st, &BesideLightTracer)
-    });
+    stats += render_pixels_batched(
+        film,
+        filter,
+        opts,
+        &camera_stage,
+        |sampler, raster, b, st| {
+            camera_radiance(scene, raster, sampler, opts, st, &BesideLightTracer, b)
+        },
+    );
     notes.push(format!(
         "hybrid: {traced} light paths in {light_secs:.2} s, {:.1} camera samples per pixel in {:.2} s",
         film.mean_samples(),

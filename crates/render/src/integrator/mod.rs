@@ -11,7 +11,7 @@ pub mod sppm;
 
 use crate::control::{Clock, RenderControl};
 use crate::driver::light_paths::{CHUNK as LIGHT_CHUNK, render_paths};
-use crate::driver::pixels::render_pixels;
+use crate::driver::pixels::render_pixels_batched;
 use crate::error::{OptionError, RenderError};
 use crate::film::Film;
 use crate::filter::Filter;
@@ -535,9 +535,15 @@ pub fn render(
         }
         IntegratorKind::Path => {
             let stage = stage.labelled("path tracing");
-            render_pixels(&mut film, &filter, opts, &stage, |sampler, raster, st| {
-                path::camera_radiance(scene, raster, sampler, opts, st, &path::PathOnly)
-            })
+            render_pixels_batched(
+                &mut film,
+                &filter,
+                opts,
+                &stage,
+                |sampler, raster, b, st| {
+                    path::camera_radiance(scene, raster, sampler, opts, st, &path::PathOnly, b)
+                },
+            )
         }
         IntegratorKind::Hybrid => {
             hybrid::render(scene, opts, &stage, &mut film, &filter, &mut notes)

@@ -1,9 +1,9 @@
 //! Unidirectional volumetric path tracer with next-event estimation, MIS (power heuristic)
 //! and Russian roulette. Radiance estimate of one camera ray (W/m²/sr). Its own loop (MIS needs
 //! the previous vertex's pdf at every emitter hit), over the shared segment and vertex code of
-//! [`crate::transport`]. The path's terms are summed by a [`PathSum`], which lets the
-//! next-event estimates its lanes cover wait and computes them four at a time, the bits
-//! unchanged.
+//! [`crate::transport`]. The path's terms are summed by a [`PathSum`] of a [`DirectBatch`], which
+//! lets the next-event estimates its lanes cover wait and computes them four at a time across
+//! consecutive paths, the bits unchanged.
 //!
 //! In media, [`trace_segment`] samples free flights (delta tracking with spectral MIS); at a
 //! medium vertex direct light comes from NEE through the media (phase function against the
@@ -15,7 +15,7 @@
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use crate::transport::direct::{direct_with, sample_direct, sample_direct_at};
-use crate::transport::direct_lanes::PathSum;
+use crate::transport::direct_lanes::DirectBatch;
 use crate::transport::limits::russian_roulette;
 use crate::transport::medium::{Segment, trace_segment};
 use crate::transport::vertex::{MediumVertex, Scatterer, Vertex};
@@ -90,35 +90,60 @@ impl CameraRule for PathOnly {}
 
 /// The radiance (W/m²/sr, linear sRGB) of one camera sample at `raster` under `rule` (the path
 /// tracer's is [`PathOnly`]): the lens sample, the time, the path's wavelengths in spectral mode,
-/// then the path, in that sampler order.
-pub fn camera_radiance(
-    scene: &Scene,
+/// then the path, in that sampler order. `None` when the radiance waits in `batch` (see
+/// [`radiance_deferred`]).
+pub fn camera_radiance<'s>(
+    scene: &'s Scene,
     raster: Vec2,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
     rule: &impl CameraRule,
-) -> Spectrum {
+    batch: &mut DirectBatch<'s>,
+) -> Option<Spectrum> {
     let u_lens = sampler.next_2d();
     let time = scene.sample_time(|| sampler.next_1d());
     let ray = scene.camera.generate_ray(raster, u_lens).ray.at_time(time);
     let ch = scene.sample_channels(|| sampler.next_1d());
-    radiance_with(scene, ray, sampler, opts, stats, rule, ch)
+    radiance_deferred(scene, ray, sampler, opts, stats, rule, ch, batch)
+}
+
+/// [`radiance_deferred`] computed at once: every next-event estimate where the path finds it.
+pub fn radiance_with(
+    scene: &Scene,
+    ray: Ray,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+    rule: &impl CameraRule,
+    ch: Channels,
+) -> Spectrum {
+    let mut batch = DirectBatch::one_by_one();
+    let l = radiance_deferred(scene, ray, sampler, opts, stats, rule, ch, &mut batch);
+    debug_assert!(
+        l.is_some(),
+        "a batch that computes one by one holds nothing back"
+    );
+    l.unwrap_or(Spectrum::ZERO)
 }
 
 /// The radiance arriving at the camera along `ray` under a [`CameraRule`], for a path with lanes `ch` (the rules of the photon
 /// family run in RGB, their estimates being RGB); the result is in linear sRGB. Same sampler
-/// use whatever the rule does.
-pub fn radiance_with(
-    scene: &Scene,
+/// use whatever the rule does. `None` when a next-event estimate waits in `batch`'s lanes: its
+/// [`DirectBatch::finish`] gives the radiance then (only paths in RGB wait, so it needs no
+/// conversion).
+#[allow(clippy::too_many_arguments)]
+pub fn radiance_deferred<'s>(
+    scene: &'s Scene,
     mut ray: Ray,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
     rule: &impl CameraRule,
     mut ch: Channels,
-) -> Spectrum {
-    let mut l = PathSum::new(scene);
+    batch: &mut DirectBatch<'s>,
+) -> Option<Spectrum> {
+    let mut l = batch.path(scene);
     // The previous vertex's direct light came from the rule: emission found next is in it.
     let mut prev_direct_by_rule = false;
     let mut beta = Spectrum::ONE;
@@ -269,5 +294,5 @@ pub fn radiance_with(
         medium = v.si.medium_toward(wi, medium);
         ray = v.si.spawn_ray(wi);
     }
-    ch.to_rgb(l.total(stats))
+    l.total().map(|l| ch.to_rgb(l))
 }

@@ -11,11 +11,11 @@
 //! Ctrl-C, checkpoints, `--resume`) and the pixel driver.
 
 use super::IntegratorKind;
-use super::path::{CameraRule, Direct, Lookup, radiance_with};
+use super::path::{CameraRule, Direct, Lookup, radiance_deferred};
 use crate::control::Stage;
 use crate::driver::iteration_state::{IterationState, resume_pooled};
 use crate::driver::iterations::{run_iterations, shard_iterations};
-use crate::driver::pixels::render_pixels;
+use crate::driver::pixels::render_pixels_batched;
 use crate::error::OptionError;
 use crate::film::Film;
 use crate::filter::Filter;
@@ -281,11 +281,11 @@ pub(crate) fn render(
             diffuse: s.diffuse_aperture,
         };
         let pixels = st.part(0.5, 1.0).labelled("looking up cones");
-        stats += render_pixels(f, filter, &o, &pixels, |sampler, raster, sst| {
+        stats += render_pixels_batched(f, filter, &o, &pixels, |sampler, raster, b, sst| {
             let u_lens = sampler.next_2d();
             let time = scene.sample_time(|| sampler.next_1d());
             let ray = scene.camera.generate_ray(raster, u_lens).ray.at_time(time);
-            radiance_with(scene, ray, sampler, &o, sst, &camera, Channels::Rgb)
+            radiance_deferred(scene, ray, sampler, &o, sst, &camera, Channels::Rgb, b)
         });
         stats
     });

@@ -1,16 +1,15 @@
-//! Next-event estimation four vertices at a time: SIMD across the vertices of a path (issue 26,
+//! Next-event estimation four vertices at a time: SIMD across the vertices of paths (issue 26,
 //! deliverable 3).
 //!
 //! The path tracer defers the estimate at a vertex the lanes cover — a Lambertian surface, a
-//! path in RGB, a triangle area light picked, a scene without media — and [`PathSum`] computes
-//! the waiting ones in SSE lanes (glam's `Vec4`, structure of arrays) when four wait or the path
-//! ends. Each lane repeats the arithmetic of [`super::direct::direct_with`] in the same order
-//! (`AreaLight::sample_li`'s area sampling, the Lambertian BSDF's value and density, the
-//! same-side test, the power heuristic, `SurfaceInteraction::spawn_ray_to`), so an estimate is
-//! the scalar one bit for bit; and [`PathSum`] adds a path's terms in the order the path found
-//! them, so its radiance is bit for bit the same too. The shadow rays are traced one by one:
-//! eight-ray streams would need eight estimates, more than a path has (docs/performance.md,
-//! issue 26, sixth session).
+//! path in RGB, a triangle area light picked, a scene without media — and [`DirectBatch`]
+//! computes the waiting ones in SSE lanes (glam's `Vec4`, structure of arrays) four at a time,
+//! the estimates of consecutive paths side by side. Each lane repeats the arithmetic of
+//! [`super::direct::direct_with`] in the same order (`AreaLight::sample_li`'s area sampling, the
+//! Lambertian BSDF's value and density, the same-side test, the power heuristic,
+//! `SurfaceInteraction::spawn_ray_to`), so an estimate is the scalar one bit for bit; and a
+//! path's [`PathSum`] adds its terms in the order the path found them, so its radiance is bit for
+//! bit the same too. The shadow rays are traced one by one (docs/performance.md, issue 26).
 
 use crate::stats::RenderStats;
 use crate::transport::vertex::Vertex;
@@ -22,8 +21,6 @@ use glam::{BVec4A, Vec4};
 
 /// Estimates computed together.
 const LANES: usize = 4;
-/// Terms a [`PathSum`] holds after its first waiting estimate before it computes them.
-const TAIL: usize = 16;
 
 /// The waiting estimates' inputs, lane `k` for the `k`-th: the vertex as the lanes read it and
 /// the light sample's choices, stored in place (structure of arrays) as each is deferred.
@@ -250,53 +247,158 @@ fn estimate(r: &Lanes) -> Estimates {
     }
 }
 
-/// A path's radiance (W/m²/sr) as the sum of its terms in the order the path finds them, with
-/// next-event estimates waiting for the lanes: the terms after the first waiting estimate are
-/// held until it is computed, then added in order, so the sum is bit for bit `l += term`'s.
-pub struct PathSum<'a> {
-    scene: &'a Scene,
-    /// The terms before the first waiting estimate, summed.
-    sum: Spectrum,
-    /// The terms after it: a value, or (`true`) the throughput of a waiting estimate.
-    tail: [(Spectrum, bool); TAIL],
-    len: usize,
+/// A term a path holds after its first waiting estimate: a value, or (`slot` not [`PLAIN`]) the
+/// throughput by which the estimate of that slot is multiplied.
+#[derive(Clone, Copy)]
+struct Term {
+    value: Spectrum,
+    slot: u32,
+}
+
+/// The slot of a [`Term`] that is a value.
+const PLAIN: u32 = u32::MAX;
+
+/// Paths whose next-event estimates share the lanes. The estimates of consecutive paths fill
+/// them (a Cornell-box path has 3.15 on average, a lane call takes four), and the radiance of a
+/// path that left one waiting is known at [`Self::finish`]. The pixel driver keeps one per row
+/// and finishes it every few dozen waiting paths and at the row's end; the film's sums do not
+/// depend on the order the samples arrive in.
+///
+/// Each path's terms are added in the order the path found them, the scalar code's `l += term`,
+/// so its radiance is bit for bit what it would be without the lanes.
+#[derive(Default)]
+pub struct DirectBatch<'a> {
+    /// The scene of the waiting estimates (their shadow rays).
+    scene: Option<&'a Scene>,
+    /// False: nothing waits, every estimate is computed at once ([`Self::one_by_one`]).
+    off: bool,
     lanes: Lanes,
+    /// Lanes filled: lane `k` holds the estimate of slot `est.len() − count + k`.
     count: usize,
-    /// Shadow rays traced.
+    /// Each waiting estimate (W/m²/sr, before the path's throughput), once computed.
+    est: Vec<Spectrum>,
+    /// The terms of the waiting paths after their first waiting estimate.
+    terms: Vec<Term>,
+    /// Each waiting path: the sum of its terms before its first waiting estimate, and its run
+    /// of `terms`.
+    paths: Vec<(Spectrum, u32, u32)>,
+    /// Shadow rays traced since the last [`Self::finish`].
     rays: u64,
 }
 
-impl<'a> PathSum<'a> {
-    pub fn new(scene: &'a Scene) -> Self {
+impl<'a> DirectBatch<'a> {
+    /// A batch that holds nothing back: its paths compute every estimate where they find it and
+    /// their [`PathSum::total`] is always known (for callers that need a radiance at once).
+    pub fn one_by_one() -> Self {
         Self {
-            scene,
-            sum: Spectrum::ZERO,
-            tail: [(Spectrum::ZERO, false); TAIL],
-            len: 0,
-            lanes: Lanes::default(),
-            count: 0,
-            rays: 0,
+            off: true,
+            ..Self::default()
         }
     }
 
+    /// The sum of a new path's terms.
+    #[inline]
+    pub fn path(&mut self, scene: &'a Scene) -> PathSum<'_, 'a> {
+        let start = self.terms.len() as u32;
+        PathSum {
+            scene,
+            batch: self,
+            sum: Spectrum::ZERO,
+            waiting: false,
+            start,
+        }
+    }
+
+    /// Paths waiting for [`Self::finish`].
+    pub fn waiting(&self) -> usize {
+        self.paths.len()
+    }
+
+    /// Computes the estimates in the lanes and traces their shadow rays.
+    fn compute(&mut self, scene: &Scene) {
+        let e = estimate(&self.lanes);
+        let base = self.est.len() - self.count;
+        // The lanes that wait and need a shadow ray (the others hold stale inputs).
+        let mut rays = e.ray & ((1 << self.count) - 1);
+        while rays != 0 {
+            let k = rays.trailing_zeros() as usize & (LANES - 1);
+            rays &= rays - 1;
+            self.rays += 1;
+            let ray = Ray::with_t_max(e.o.lane(k), e.dir.lane(k), get(e.t_max, k))
+                .at_time(get(self.lanes.time, k));
+            if !scene.occluded(&ray) {
+                let c = e.c.lane(k);
+                self.est[base + k] = Spectrum::new(c.x, c.y, c.z);
+            }
+        }
+        self.count = 0;
+    }
+
+    /// Computes what waits and gives `deliver(i, radiance)` (W/m²/sr) for the `i`-th waiting
+    /// path (in the order their [`PathSum::total`] returned `None`); the shadow rays traced are
+    /// counted in `stats`. The batch is then empty. Out of line: it runs once per few dozen paths.
+    #[inline(never)]
+    pub fn finish(&mut self, stats: &mut RenderStats, mut deliver: impl FnMut(usize, Spectrum)) {
+        if self.count > 0
+            && let Some(scene) = self.scene
+        {
+            self.compute(scene);
+        }
+        for (i, &(mut sum, start, end)) in self.paths.iter().enumerate() {
+            for t in &self.terms[start as usize..end as usize] {
+                if t.slot == PLAIN {
+                    sum += t.value;
+                } else {
+                    sum += t.value * self.est[t.slot as usize];
+                }
+            }
+            deliver(i, sum);
+        }
+        self.est.clear();
+        self.terms.clear();
+        self.paths.clear();
+        stats.rays += std::mem::take(&mut self.rays);
+    }
+}
+
+/// A path's radiance (W/m²/sr) as the sum of its terms in the order the path finds them, with
+/// next-event estimates waiting for the lanes of its [`DirectBatch`]: the terms after the first
+/// waiting estimate are held until it is computed, then added in order, so the sum is bit for
+/// bit `l += term`'s.
+pub struct PathSum<'b, 'a> {
+    scene: &'a Scene,
+    batch: &'b mut DirectBatch<'a>,
+    /// The terms before the first waiting estimate, summed.
+    sum: Spectrum,
+    /// True once an estimate waits: terms go to the batch.
+    waiting: bool,
+    /// The path's first term in the batch's terms.
+    start: u32,
+}
+
+impl<'b, 'a> PathSum<'b, 'a> {
     /// Adds `term`.
     #[inline]
     pub fn add(&mut self, term: Spectrum) {
-        if self.len == 0 {
-            self.sum += term;
+        if self.waiting {
+            self.batch.terms.push(Term {
+                value: term,
+                slot: PLAIN,
+            });
         } else {
-            self.push((term, false));
+            self.sum += term;
         }
     }
 
     /// Adds `beta` times next-event estimation at `v` with the numbers `u_light`, `u` (those
     /// [`super::direct::sample_direct`] draws), to be computed in the lanes; false, adding
     /// nothing, when the lanes do not cover it (a scene with media, whose shadow rays draw
-    /// numbers of their own; not a Lambertian surface; not RGB; not a triangle light). Inlined
-    /// into the path loop: out of line it cost 1 % more instructions on the Cornell box.
+    /// numbers of their own; not a Lambertian surface; not RGB; not a triangle light) or the
+    /// batch computes one by one. Inlined into the path loop: out of line it cost 1 % more
+    /// instructions on the Cornell box.
     #[inline(always)]
     pub fn defer_direct(&mut self, beta: Spectrum, v: &Vertex, u_light: f32, u: Vec2) -> bool {
-        if self.scene.has_media {
+        if self.scene.has_media || self.batch.off {
             return false;
         }
         let Bsdf::Lambertian(lambertian) = &v.bsdf else {
@@ -315,7 +417,8 @@ impl<'a> PathSum<'a> {
         let Some((tri, w)) = light.triangle_sample(u) else {
             return false;
         };
-        let (k, r) = (self.count, &mut self.lanes);
+        let b = &mut *self.batch;
+        let (k, r) = (b.count, &mut b.lanes);
         let v3 = |v: Vec3| v.to_array();
         r.p.set(k, v3(v.si.p));
         r.ng.set(k, v3(v.si.ng));
@@ -335,64 +438,29 @@ impl<'a> PathSum<'a> {
         set(&mut r.area, k, light.area());
         set(&mut r.two_sided, k, light.two_sided as u8 as f32);
         set(&mut r.time, k, v.si.time);
-        self.count += 1;
-        self.push((beta, true));
-        if self.count == LANES {
-            self.flush();
+        b.terms.push(Term {
+            value: beta,
+            slot: b.est.len() as u32,
+        });
+        b.est.push(Spectrum::ZERO);
+        b.count += 1;
+        b.scene = Some(self.scene);
+        self.waiting = true;
+        if b.count == LANES {
+            b.compute(self.scene);
         }
         true
     }
 
-    #[inline]
-    fn push(&mut self, entry: (Spectrum, bool)) {
-        self.tail[self.len % TAIL] = entry;
-        self.len += 1;
-        if self.len == TAIL {
-            self.flush();
+    /// The path's radiance, or `None` when an estimate waits: the batch's
+    /// [`DirectBatch::finish`] gives it then.
+    pub fn total(self) -> Option<Spectrum> {
+        if !self.waiting {
+            return Some(self.sum);
         }
-    }
-
-    /// Computes the waiting estimates and adds the held terms.
-    fn flush(&mut self) {
-        if self.len == 0 {
-            return;
-        }
-        let mut est = [Spectrum::ZERO; LANES];
-        if self.count > 0 {
-            let e = estimate(&self.lanes);
-            // The lanes that wait and need a shadow ray (the others hold stale inputs).
-            let mut rays = e.ray & ((1 << self.count) - 1);
-            while rays != 0 {
-                let k = rays.trailing_zeros() as usize & (LANES - 1);
-                rays &= rays - 1;
-                self.rays += 1;
-                let ray = Ray::with_t_max(e.o.lane(k), e.dir.lane(k), get(e.t_max, k))
-                    .at_time(get(self.lanes.time, k));
-                if !self.scene.occluded(&ray) {
-                    let c = e.c.lane(k);
-                    est[k] = Spectrum::new(c.x, c.y, c.z);
-                }
-            }
-        }
-        let mut k = 0;
-        for &(term, waiting) in &self.tail[..self.len] {
-            if waiting {
-                self.sum += term * est[k];
-                k += 1;
-            } else {
-                self.sum += term;
-            }
-        }
-        self.len = 0;
-        self.count = 0;
-    }
-
-    /// The path's radiance; the shadow rays traced are counted in `stats`. (By reference: a
-    /// move would copy the lanes.)
-    pub fn total(&mut self, stats: &mut RenderStats) -> Spectrum {
-        self.flush();
-        stats.rays += std::mem::take(&mut self.rays);
-        self.sum
+        let end = self.batch.terms.len() as u32;
+        self.batch.paths.push((self.sum, self.start, end));
+        None
     }
 }
 
@@ -423,33 +491,45 @@ mod tests {
         out
     }
 
-    /// Paths of one to seven estimates with up to seven terms before each: the lanes' sum equals
-    /// `l += term` with the scalar estimates, bit for bit, for one- and two-sided lights.
+    /// Paths of zero to seven estimates with up to seven terms before each and after the last,
+    /// sharing a batch finished after every one to nine paths: each path's radiance equals
+    /// `l += term` with the scalar estimates, bit for bit, for one- and two-sided lights, and
+    /// arrives for the right path.
     #[test]
     fn lanes_give_the_scalar_estimates_and_sum_bit_for_bit() {
         let mut scene = builtin_scene("cornell-box").unwrap().build().unwrap();
         let mut rng = Pcg32::new(9, 4);
         let mut sampler = Sampler::new(SamplerKind::Independent, 1);
-        let mut stats = RenderStats::default();
-        let (mut lit, mut deferred, mut rays) = (0, 0, 0);
+        let (mut lit, mut deferred, mut rays, mut paths, mut waited) = (0, 0, 0, 0, 0);
         for two_sided in [false, true] {
             let Some(Light::Area(light)) = scene.lights.first_mut() else {
                 panic!("the Cornell box's light")
             };
             light.two_sided = two_sided;
             let verts = vertices(&scene, 3000, &mut rng);
-            for path in verts.chunks(7) {
+            let mut batch = DirectBatch::default();
+            // The scalar sums of the paths waiting in `batch`, and the shadow rays they traced.
+            let (mut want, mut scalar_rays) = (Vec::new(), 0);
+            let mut finish_after = 1;
+            let mut verts = verts.iter();
+            loop {
+                let n = rng.next_u32() as usize % 8;
+                let path: Vec<&Vertex> = verts.by_ref().take(n).collect();
+                if path.len() < n {
+                    break;
+                }
+                paths += 1;
                 let mut l = Spectrum::ZERO;
-                let mut lanes = PathSum::new(&scene);
-                let mut scalar_rays = 0;
-                for v in path {
-                    // Zero to seven terms before each estimate: the held terms also fill the
-                    // tail (sixteen) before four estimates wait.
+                let mut lanes = batch.path(&scene);
+                let terms = |l: &mut Spectrum, lanes: &mut PathSum, rng: &mut Pcg32| {
                     for _ in 0..(rng.next_u32() % 8) {
                         let term = Spectrum::new(rng.next_f32(), rng.next_f32(), 0.0);
-                        l += term;
+                        *l += term;
                         lanes.add(term);
                     }
+                };
+                for v in path {
+                    terms(&mut l, &mut lanes, &mut rng);
                     let beta = Spectrum::new(rng.next_f32(), 1.0, rng.next_f32() * 4.0);
                     let (u_light, u) = (rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32()));
                     let at = Scatterer::Surface { v, medium: NONE };
@@ -464,27 +544,47 @@ mod tests {
                         lanes.add(beta * e);
                     }
                 }
-                let before = stats.rays;
-                let got = lanes.total(&mut stats);
-                assert_eq!(
-                    got.c.map(f32::to_bits),
-                    l.c.map(f32::to_bits),
-                    "{got:?} {l:?}"
-                );
-                assert_eq!(stats.rays - before, scalar_rays, "shadow rays");
-                rays += scalar_rays;
+                terms(&mut l, &mut lanes, &mut rng);
+                let bits = |s: Spectrum| s.c.map(f32::to_bits);
+                match lanes.total() {
+                    Some(got) => assert_eq!(bits(got), bits(l), "{got:?} {l:?}"),
+                    None => want.push(l),
+                }
+                if batch.waiting() >= finish_after {
+                    let mut stats = RenderStats::default();
+                    let mut got = Vec::new();
+                    batch.finish(&mut stats, |i, l| got.push((i, l)));
+                    assert_eq!(got.len(), want.len());
+                    for ((i, got), (j, l)) in got.into_iter().zip(want.iter().enumerate()) {
+                        assert_eq!((i, bits(got)), (j, bits(*l)), "{got:?} {l:?}");
+                    }
+                    assert_eq!(stats.rays, scalar_rays, "shadow rays");
+                    assert_eq!(batch.waiting(), 0);
+                    waited += want.len();
+                    rays += scalar_rays;
+                    (want, scalar_rays) = (Vec::new(), 0);
+                    finish_after = 1 + rng.next_u32() as usize % 9;
+                }
             }
         }
-        // In a scene with media the shadow rays draw numbers of their own: nothing waits.
+        // In a scene with media the shadow rays draw numbers of their own, and a batch that
+        // computes one by one holds nothing back: nothing waits.
         let fog = builtin_scene("fog-box").unwrap().build().unwrap();
-        let mut l = PathSum::new(&fog);
+        let mut batch = DirectBatch::default();
+        let mut l = batch.path(&fog);
         for v in &vertices(&fog, 50, &mut rng) {
             assert!(!l.defer_direct(Spectrum::ONE, v, 0.5, Vec2::splat(0.5)));
         }
-        // Most vertices are deferred and many lit: the comparison covers the lanes.
+        let mut one_by_one = DirectBatch::one_by_one();
+        let mut l = one_by_one.path(&scene);
+        for v in &vertices(&scene, 50, &mut rng) {
+            assert!(!l.defer_direct(Spectrum::ONE, v, 0.5, Vec2::splat(0.5)));
+        }
+        // Most vertices are deferred and many lit, most paths wait: the comparison covers the
+        // lanes.
         assert!(
-            deferred > 5000 && lit > 2500 && rays > 3000,
-            "{deferred} {lit} {rays}"
+            deferred > 5000 && lit > 2500 && rays > 3000 && waited > paths / 2,
+            "{deferred} {lit} {rays} {waited} of {paths}"
         );
     }
 }
