@@ -62,8 +62,9 @@ const MAX_NULL_CROSSINGS: u32 = 256;
 /// Traces `ray` (origin off any surface) from medium `*medium` to the next scattering event or
 /// non-null surface, crossing index-matched boundaries and updating `*medium` as it goes. `ch`:
 /// the lanes of the path (the media's coefficients and the Beer–Lambert absorption inside
-/// dielectrics at its wavelengths).
-#[inline]
+/// dielectrics at its wavelengths). The case without media is inlined into the caller (a call
+/// and a copy of the hit record fewer per segment); the walk through media is not.
+#[inline(always)]
 pub fn trace_segment(
     scene: &Scene,
     ray: &Ray,
@@ -84,6 +85,19 @@ pub fn trace_segment(
             },
         };
     }
+    trace_segment_in_media(scene, ray, medium, sampler, stats, ch)
+}
+
+/// [`trace_segment`] in a scene with media.
+#[inline(never)]
+fn trace_segment_in_media(
+    scene: &Scene,
+    ray: &Ray,
+    medium: &mut u32,
+    sampler: &mut Sampler,
+    stats: &mut RenderStats,
+    ch: &Channels,
+) -> Segment {
     walk_spans(scene, ray, medium, stats, ch, |span, _| {
         let m = &scene.media[span.medium as usize];
         let mut ts = TrackingSampler::new(sampler.next_1d(), sampler.next_1d());
