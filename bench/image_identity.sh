@@ -7,6 +7,7 @@
 #   BASE_BIN=a NEW_BIN=b bench/image_identity.sh  # compares two binaries already built
 #   NEW_EXTRA="--no-auto-bandwidth" bench/image_identity.sh REV   # extra options for the new
 #                                                 # binary only (a default it changed on purpose)
+#   INTEGRATORS="path hybrid pcf" bench/image_identity.sh REV   # only these integrators
 #
 # Output: docs/results/image-identity/report.md (one row per render: identical / differs /
 # both fail with the same message / one fails) and a non-zero exit if anything differs.
@@ -30,7 +31,8 @@ if [ -z "${NEW_BIN:-}" ]; then
     NEW_BIN=$root/target/release/caustica
 fi
 
-integrators=(path lighttrace pm dpm pdm pds)
+# shellcheck disable=SC2206 # INTEGRATORS is a list of names
+integrators=(${INTEGRATORS:-path hybrid pcf lighttrace pm dpm pdm pds})
 # The scenes both builds have.
 scenes=($("$BASE_BIN" scenes))
 for f in scenes/mitsuba/*.xml; do scenes+=("$f"); done
@@ -45,6 +47,7 @@ photon_opts() {
         # An explicit smoothing: the scenes' own changed with the automatic choice (issue 16).
         pdm) echo "--photons 5000 --global-photons 20000 --smoothing 4" ;;
         pds) echo "--photons 5000 --global-photons 20000 --smoothing 4" ;;
+        hybrid | pcf) echo "--photons 5000" ;;
         *) echo "" ;;
     esac
 }
