@@ -296,9 +296,10 @@ impl<'a> DirectBatch<'a> {
         }
     }
 
-    /// The sum of a new path's terms.
+    /// The sum of a new path's terms. A batch serves one scene: the last path's.
     #[inline]
     pub fn path(&mut self, scene: &'a Scene) -> PathSum<'_, 'a> {
+        self.scene = Some(scene);
         let start = self.terms.len() as u32;
         PathSum {
             scene,
@@ -444,7 +445,6 @@ impl<'b, 'a> PathSum<'b, 'a> {
         });
         b.est.push(Spectrum::ZERO);
         b.count += 1;
-        b.scene = Some(self.scene);
         self.waiting = true;
         if b.count == LANES {
             b.compute(self.scene);
