@@ -9,6 +9,9 @@
 #    plus each map's build), alternating pm and pdm runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Valgrind cannot run AVX-512 code: build for any x86-64, as the earlier records were (a set
+# RUSTFLAGS, even empty, replaces .cargo/config.toml's target-cpu=native).
+export RUSTFLAGS="${RUSTFLAGS-}"
 reps="${1:-15}"
 runs="${2:-3}"
 cargo build --release -q --bin caustica

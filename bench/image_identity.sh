@@ -8,6 +8,7 @@
 #   NEW_EXTRA="--no-auto-bandwidth" bench/image_identity.sh REV   # extra options for the new
 #                                                 # binary only (a default it changed on purpose)
 #   INTEGRATORS="path hybrid pcf" bench/image_identity.sh REV   # only these integrators
+#   SCENES="fog-box scenes/mitsuba/x.xml" bench/image_identity.sh REV   # only these scenes
 #
 # Output: docs/results/image-identity/report.md (one row per render: identical / differs /
 # both fail with the same message / one fails) and a non-zero exit if anything differs.
@@ -33,9 +34,14 @@ fi
 
 # shellcheck disable=SC2206 # INTEGRATORS is a list of names
 integrators=(${INTEGRATORS:-path hybrid pcf lighttrace pm dpm pdm pds})
-# The scenes both builds have.
-scenes=($("$BASE_BIN" scenes))
-for f in scenes/mitsuba/*.xml; do scenes+=("$f"); done
+# The scenes both builds have (or the list in SCENES: built-in names and paths to XML files).
+if [ -n "${SCENES:-}" ]; then
+    # shellcheck disable=SC2206 # SCENES is a list of names
+    scenes=($SCENES)
+else
+    scenes=($("$BASE_BIN" scenes))
+    for f in scenes/mitsuba/*.xml; do scenes+=("$f"); done
+fi
 
 # Small settings: a few samples per pixel, few photons, one thread count (the renders are
 # deterministic whatever the threads; the tests check that separately).

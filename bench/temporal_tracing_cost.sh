@@ -9,6 +9,9 @@
 # 3. BVH closest-hit queries, static vs moving (criterion, crates/scene/benches/motion_bvh.rs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Valgrind cannot run AVX-512 code: build for any x86-64, as the earlier records were (a set
+# RUSTFLAGS, even empty, replaces .cargo/config.toml's target-cpu=native).
+export RUSTFLAGS="${RUSTFLAGS-}"
 reps="${1:-15}"
 cargo build --release -q -p caustica-render --example temporal_tracing_cost
 ex=./target/release/examples/temporal_tracing_cost

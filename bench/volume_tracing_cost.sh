@@ -9,6 +9,9 @@
 #    and, for the last column, the kernel build): unaffected by machine load.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Valgrind cannot run AVX-512 code: build for any x86-64, as the earlier records were (a set
+# RUSTFLAGS, even empty, replaces .cargo/config.toml's target-cpu=native).
+export RUSTFLAGS="${RUSTFLAGS-}"
 reps="${1:-7}"
 cargo build --profile fast -q -p caustica-render --example tracing_cost
 ex=./target/fast/examples/tracing_cost
