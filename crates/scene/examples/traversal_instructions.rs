@@ -3,7 +3,9 @@
 //! timing, does not move with the machine's load. Each function traces one ray set of the BVH
 //! benchmark's workload (`benches/workload`) on `displaced_sphere(NPHI, NTHETA)`, with 16 384
 //! rays per set; the printed checksums (hit distances and primitives) show that a change to the
-//! traversal kept every hit.
+//! traversal kept every hit. The camera rays and the shadow segments are also traced eight at a
+//! time (`intersect_stream`, `occluded_stream`; the camera's in row order, eight pixels of a row
+//! to a packet).
 //!
 //!     cargo run --release -p caustica-scene --example traversal_instructions -- 64 32
 
@@ -53,6 +55,25 @@ fn trace_shadow(geo: &Geometry, rays: &[Ray]) -> u64 {
     rays.iter().filter(|r| geo.occluded(r)).count() as u64
 }
 
+/// Full hit records of camera rays traced eight at a time (`intersect_stream`): distances and
+/// primitives.
+#[inline(never)]
+fn trace_camera_stream(geo: &Geometry, rays: &[Ray]) -> u64 {
+    let mut out = Vec::with_capacity(rays.len());
+    geo.intersect_stream(rays, &mut out);
+    out.iter().flatten().fold(0u64, |s, si| {
+        s.wrapping_add(u64::from(si.t.to_bits()) ^ u64::from(si.prim))
+    })
+}
+
+/// Shadow segments eight at a time (`occluded_stream`): how many are blocked.
+#[inline(never)]
+fn trace_shadow_stream(geo: &Geometry, rays: &[Ray]) -> u64 {
+    let mut out = Vec::with_capacity(rays.len());
+    geo.occluded_stream(rays, &mut out);
+    out.iter().filter(|&&b| b).count() as u64
+}
+
 fn main() {
     let (nphi, ntheta) =
         workload::tessellation_from_args(None, "traversal_instructions NPHI NTHETA");
@@ -65,10 +86,12 @@ fn main() {
     let random = workload::incoherent_rays(RAYS, &bounds, workload::INCOHERENT_SEED);
     let shadow = workload::shadow_rays(RAYS, &bounds, workload::SHADOW_SEED);
     println!(
-        "checksums: camera {} random {} intersect {} shadow {}",
+        "checksums: camera {} random {} intersect {} shadow {} camera-stream {} shadow-stream {}",
         trace_camera(&geo, &camera),
         !trace_random(&geo, &random),
         trace_intersect(&geo, &random),
-        trace_shadow(&geo, &shadow)
+        trace_shadow(&geo, &shadow),
+        trace_camera_stream(&geo, &camera),
+        trace_shadow_stream(&geo, &shadow)
     );
 }

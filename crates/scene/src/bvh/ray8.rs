@@ -219,9 +219,12 @@ pub(super) unsafe fn closest8(
                     tris &= tris - 1;
                     let p = pk.prim[l];
                     let mut on_edge = 0;
-                    let accept = triangle8(pk, l, rays, t_best, &mut on_edge);
+                    let accept = triangle8(pk, l, rays, t_best, active, &mut on_edge);
                     // Rays exactly on an edge: the scalar test, as the one-ray traversal does.
                     let mut edge = on_edge & active;
+                    if accept.is_none() && edge == 0 {
+                        continue;
+                    }
                     let tb = store(t_best);
                     let mut t_new = tb;
                     while edge != 0 {
@@ -238,26 +241,28 @@ pub(super) unsafe fn closest8(
                             found |= 1 << i;
                         }
                     }
-                    let (t, v1, v2, less, equal) = accept;
-                    // Ties (equal distance) win only against a later primitive of a ray's own.
-                    let mut take = less & active & !on_edge;
-                    let mut ties = equal & active & !on_edge & found;
-                    while ties != 0 {
-                        let i = ties.trailing_zeros() as usize & 7;
-                        ties &= ties - 1;
-                        if p < prim[i] {
-                            take |= 1 << i;
+                    if let Some((t, v1, v2, less, equal)) = accept {
+                        // Ties (equal distance) win only against a later primitive of a ray's
+                        // own.
+                        let mut take = less & active & !on_edge;
+                        let mut ties = equal & active & !on_edge & found;
+                        while ties != 0 {
+                            let i = ties.trailing_zeros() as usize & 7;
+                            ties &= ties - 1;
+                            if p < prim[i] {
+                                take |= 1 << i;
+                            }
                         }
+                        let mut bits = take;
+                        while bits != 0 {
+                            let i = bits.trailing_zeros() as usize & 7;
+                            bits &= bits - 1;
+                            t_new[i] = t[i];
+                            prim[i] = p;
+                            (b1[i], b2[i]) = (v1[i], v2[i]);
+                        }
+                        found |= take;
                     }
-                    let mut bits = take;
-                    while bits != 0 {
-                        let i = bits.trailing_zeros() as usize & 7;
-                        bits &= bits - 1;
-                        t_new[i] = t[i];
-                        prim[i] = p;
-                        (b1[i], b2[i]) = (v1[i], v2[i]);
-                    }
-                    found |= take;
                     t_best = load(&t_new);
                 }
                 let mut others = pk.other_mask;
@@ -359,7 +364,8 @@ pub(super) unsafe fn any8(
                     let l = tris.trailing_zeros() as usize & 3;
                     tris &= tris - 1;
                     let mut on_edge = 0;
-                    let (_, _, _, less, _) = triangle8(pk, l, rays, t_max, &mut on_edge);
+                    let less = triangle8(pk, l, rays, t_max, active, &mut on_edge)
+                        .map_or(0, |(_, _, _, less, _)| less);
                     let mut hit = less & active & !on_edge;
                     let mut edge = on_edge & active;
                     let tm = &rays.t_max;
@@ -404,7 +410,10 @@ pub(super) unsafe fn any8(
 /// The watertight test of triangle `l` of `pk` against the eight rays, lane by lane the
 /// scalar test's operations: `(t, b1, b2, t < t_best, t = t_best)` (the masks for hits with
 /// `t > 0` inside the triangle), and in `on_edge` the rays exactly on an edge (an edge
-/// function exactly zero), which the caller decides with the scalar test.
+/// function exactly zero), which the caller decides with the scalar test. `None` when every
+/// ray of `active` off an edge passes beside the triangle (edge functions of both signs): then
+/// none of them can hit it, and the test stops before its division, as the one-ray packet
+/// test does.
 #[inline]
 #[target_feature(enable = "avx2")]
 fn triangle8(
@@ -412,8 +421,9 @@ fn triangle8(
     l: usize,
     rays: &Rays8,
     t_best: __m256,
+    active: u32,
     on_edge: &mut u32,
-) -> ([f32; 8], [f32; 8], [f32; 8], u32, u32) {
+) -> Option<([f32; 8], [f32; 8], [f32; 8], u32, u32)> {
     let [kx, ky, kz] = rays.k.map(|k| k.min(2));
     let (ox, oy, oz) = (load(&rays.o[kx]), load(&rays.o[ky]), load(&rays.o[kz]));
     let (sx, sy, sz) = (load(&rays.sx), load(&rays.sy), load(&rays.sz));
@@ -445,6 +455,10 @@ fn triangle8(
     *on_edge = _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(eq0(u), eq0(v)), eq0(w))) as u32;
     let neg = _mm256_or_ps(_mm256_or_ps(lt0(u), lt0(v)), lt0(w));
     let pos = _mm256_or_ps(_mm256_or_ps(gt0(u), gt0(v)), gt0(w));
+    let beside = _mm256_movemask_ps(_mm256_and_ps(neg, pos)) as u32;
+    if active & !beside & !*on_edge == 0 {
+        return None;
+    }
     let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
     let inv = _mm256_div_ps(_mm256_set1_ps(1.0), det);
     let sum = _mm256_add_ps(
@@ -461,13 +475,13 @@ fn triangle8(
     );
     let less = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_LT_OS>(t, t_best));
     let equal = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_EQ_OQ>(t, t_best));
-    (
+    Some((
         store(t),
         store(_mm256_mul_ps(v, inv)),
         store(_mm256_mul_ps(w, inv)),
         _mm256_movemask_ps(less) as u32,
         _mm256_movemask_ps(equal) as u32,
-    )
+    ))
 }
 
 /// The least lane of `v` (lanes not to count hold +∞ already).
