@@ -241,7 +241,14 @@ pub(super) unsafe fn closest8(
                             found |= 1 << i;
                         }
                     }
-                    if let Some((t, v1, v2, less, equal)) = accept {
+                    if let Some(Accept8 {
+                        t,
+                        b1: v1,
+                        b2: v2,
+                        less,
+                        equal,
+                    }) = accept
+                    {
                         // Ties (equal distance) win only against a later primitive of a ray's
                         // own.
                         let mut take = less & active & !on_edge;
@@ -364,8 +371,8 @@ pub(super) unsafe fn any8(
                     let l = tris.trailing_zeros() as usize & 3;
                     tris &= tris - 1;
                     let mut on_edge = 0;
-                    let less = triangle8(pk, l, rays, t_max, active, &mut on_edge)
-                        .map_or(0, |(_, _, _, less, _)| less);
+                    let less =
+                        triangle8(pk, l, rays, t_max, active, &mut on_edge).map_or(0, |a| a.less);
                     let mut hit = less & active & !on_edge;
                     let mut edge = on_edge & active;
                     let tm = &rays.t_max;
@@ -407,9 +414,19 @@ pub(super) unsafe fn any8(
     }
 }
 
+/// What [`triangle8`] finds for eight rays: per lane the distance and barycentrics, and the
+/// masks of the hits with `t > 0` inside the triangle that are closer than the ray's best
+/// (`less`) or as close (`equal`).
+struct Accept8 {
+    t: [f32; 8],
+    b1: [f32; 8],
+    b2: [f32; 8],
+    less: u32,
+    equal: u32,
+}
+
 /// The watertight test of triangle `l` of `pk` against the eight rays, lane by lane the
-/// scalar test's operations: `(t, b1, b2, t < t_best, t = t_best)` (the masks for hits with
-/// `t > 0` inside the triangle), and in `on_edge` the rays exactly on an edge (an edge
+/// scalar test's operations ([`Accept8`]), and in `on_edge` the rays exactly on an edge (an edge
 /// function exactly zero), which the caller decides with the scalar test. `None` when every
 /// ray of `active` off an edge passes beside the triangle (edge functions of both signs): then
 /// none of them can hit it, and the test stops before its division, as the one-ray packet
@@ -423,7 +440,7 @@ fn triangle8(
     t_best: __m256,
     active: u32,
     on_edge: &mut u32,
-) -> Option<([f32; 8], [f32; 8], [f32; 8], u32, u32)> {
+) -> Option<Accept8> {
     let [kx, ky, kz] = rays.k.map(|k| k.min(2));
     let (ox, oy, oz) = (load(&rays.o[kx]), load(&rays.o[ky]), load(&rays.o[kz]));
     let (sx, sy, sz) = (load(&rays.sx), load(&rays.sy), load(&rays.sz));
@@ -475,13 +492,13 @@ fn triangle8(
     );
     let less = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_LT_OS>(t, t_best));
     let equal = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_EQ_OQ>(t, t_best));
-    Some((
-        store(t),
-        store(_mm256_mul_ps(v, inv)),
-        store(_mm256_mul_ps(w, inv)),
-        _mm256_movemask_ps(less) as u32,
-        _mm256_movemask_ps(equal) as u32,
-    ))
+    Some(Accept8 {
+        t: store(t),
+        b1: store(_mm256_mul_ps(v, inv)),
+        b2: store(_mm256_mul_ps(w, inv)),
+        less: _mm256_movemask_ps(less) as u32,
+        equal: _mm256_movemask_ps(equal) as u32,
+    })
 }
 
 /// The least lane of `v` (lanes not to count hold +∞ already).
