@@ -39,6 +39,7 @@ mitsuba() { # variant, output file, extra arguments
 echo "date: $(date -u '+%Y-%m-%d %H:%M:%S UTC'); host: $(nproc) cores; threads: $threads; runs: $runs; sampler (caustica): $sampler"
 dirty=$(git status --porcelain -- crates Cargo.toml Cargo.lock | awk '{print $NF}' | tr '\n' ' ')
 echo "caustica: $(git rev-parse --short HEAD)${dirty:+, built with these files differing from it in the working tree: $dirty}"
+echo "rustflags: ${RUSTFLAGS-$(grep -m1 '^rustflags' .cargo/config.toml 2>/dev/null || echo none) (.cargo/config.toml)}"
 "$py" -c 'import mitsuba, drjit; print(f"mitsuba {mitsuba.__version__}, drjit {drjit.__version__}")'
 echo "libLLVM: $DRJIT_LIBLLVM_PATH$( [ -f "$(dirname "$DRJIT_LIBLLVM_PATH")/../../../VERSION" ] && echo " (Debian libllvm19 $(cat "$(dirname "$DRJIT_LIBLLVM_PATH")/../../../VERSION"))")"
 

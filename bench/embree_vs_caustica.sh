@@ -26,6 +26,7 @@ if [ "$commit" != unknown ] && [ -n "$(git status --porcelain -- crates/core cra
     commit="$commit, with uncommitted changes under crates/core or crates/scene"
 fi
 echo "caustica $commit; nproc $(nproc); $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'); $(rustc --version)" >&2
+echo "rustflags: ${RUSTFLAGS-$(grep -m1 '^rustflags' .cargo/config.toml 2>/dev/null || echo none) (.cargo/config.toml)}" >&2
 cd bench/embree
 cargo build --release --quiet
 exec cargo run --release --quiet -- "$@"
