@@ -55,8 +55,10 @@ run() {
 SCENE=cornell-box
 PATH_OPTS=(--integrator path --spp 4 --width 64 --seed 7)
 LT_OPTS=(--integrator lighttrace --spp 2 --width 64 --seed 3)
-# Shards long enough (about 0.4 s each on one thread) for the injected kill to land mid-render.
-RAY_OPTS=(--integrator path --spp 256 --width 64 --seed 5)
+# Shards long enough for the injected kill (0.3 s in) to land mid-render: about 1 s each on one
+# thread here (at 256 spp a shard took 0.26 s once builds targeted the building CPU, and the
+# kill came after it had finished).
+RAY_OPTS=(--integrator path --spp 1024 --width 64 --seed 5)
 SECONDS=0
 
 echo "# (a) unsharded references ($CAUSTICA)"
