@@ -26,7 +26,7 @@ echo "| mesh | camera (closest) | random (closest) | random (\`intersect\`) | sh
 echo "|---|---:|---:|---:|---:|---:|---:|---|"
 for m in "${meshes[@]}"; do
     sums="$(valgrind --tool=callgrind --callgrind-out-file="$out" "$bin" "${m%,*}" "${m#*,}" 2>/dev/null)"
-    row="$(callgrind_annotate --inclusive=yes "$out" 2>/dev/null \
+    row="$(callgrind_annotate --inclusive=yes --threshold=100 "$out" 2>/dev/null \
         | awk '$0 !~ /=>/ && /traversal_instructions::trace_(camera|random|intersect|shadow|camera_stream|shadow_stream) / {
               gsub(",", "", $1); n = split($(NF-1), a, "::"); v[a[n]] = sprintf("%.0f", $1 / 16384) }
               END { printf "%s | %s | %s | %s | %s | %s", v["trace_camera"], v["trace_random"], v["trace_intersect"], v["trace_shadow"], v["trace_camera_stream"], v["trace_shadow_stream"] }')"
