@@ -3,8 +3,8 @@
 //! ([`packet`]) of up to four primitives tested at once.
 //!
 //! The tree comes from the `obvhs` crate's binary PLOC build (with reinsertion, single
-//! threaded, so it is the same whatever the thread count), collapsed ([`collapse`]) to the
-//! node width the CPU runs best ([`BvhWidth::detect`]): eight children per node with AVX2
+//! threaded, so it is the same whatever the thread count), collapsed ([`collapse`], by the
+//! surface area heuristic) to the node width the CPU runs best ([`BvhWidth::detect`]): eight children per node with AVX2
 //! ([`node8`], x86_64), four with SSE everywhere else ([`node4`], the fallback). Both widths
 //! run the same traversals ([`traverse`]), whose box tests are conservative (the far distance
 //! grown by `1 + 2γ₃`, pbrt-v4) and whose triangle tests are bit-identical to the scalar
@@ -128,17 +128,7 @@ impl WideBvh {
         if bounds.is_empty() {
             return Self::default();
         }
-        let oboxes: Vec<obvhs::aabb::Aabb> = bounds
-            .iter()
-            .map(|b| obvhs::aabb::Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max)))
-            .collect();
-        let params = obvhs::BvhBuildParams {
-            // Leaves of one primitive: packets are formed by the collapse from whole subtrees.
-            max_prims_per_leaf: 1,
-            ..obvhs::BvhBuildParams::medium_build()
-        };
-        let bvh2 =
-            obvhs::bvh2::builder::build_bvh2(&oboxes, params, &mut std::time::Duration::default());
+        let bvh2 = binary_tree(bounds);
         match width {
             #[cfg(target_arch = "x86_64")]
             BvhWidth::Eight if width.supported() => {
@@ -255,6 +245,20 @@ impl WideBvh {
             Nodes::Eight(n) => unsafe { any8(n, &self.packets, tr, o, d, t_max, other) },
         }
     }
+}
+
+/// obvhs's binary tree over `bounds` (non-empty), one primitive per leaf: packets are formed by
+/// the collapse from whole subtrees.
+fn binary_tree(bounds: &[Aabb]) -> obvhs::bvh2::Bvh2 {
+    let oboxes: Vec<obvhs::aabb::Aabb> = bounds
+        .iter()
+        .map(|b| obvhs::aabb::Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max)))
+        .collect();
+    let params = obvhs::BvhBuildParams {
+        max_prims_per_leaf: 1,
+        ..obvhs::BvhBuildParams::medium_build()
+    };
+    obvhs::bvh2::builder::build_bvh2(&oboxes, params, &mut std::time::Duration::default())
 }
 
 /// A ray of a packet of eight: origin, direction, `t_max` and the prepared triangle ray.
