@@ -4,12 +4,13 @@
 //!
 //! The tree comes from the `obvhs` crate's binary PLOC build (with reinsertion, single
 //! threaded, so it is the same whatever the thread count), collapsed ([`collapse`], by the
-//! surface area heuristic) to the node width the CPU runs best ([`BvhWidth::detect`]): eight children per node with AVX2
-//! ([`node8`], x86_64), four with SSE everywhere else ([`node4`], the fallback). Both widths
-//! run the same traversals ([`traverse`]), whose box tests are conservative (the far distance
-//! grown by `1 + 2γ₃`, pbrt-v4) and whose triangle tests are bit-identical to the scalar
-//! watertight test, so both find the same closest hit: only the order of the visit differs,
-//! and ties at equal distance go to the primitive first in BVH order (see
+//! surface area heuristic) to the node width the CPU runs best ([`BvhWidth::detect`]): eight
+//! children per node with AVX2 ([`node8`], x86_64), four with SSE everywhere else ([`node4`],
+//! the fallback). Both widths run the same traversals ([`traverse`]), whose box tests are
+//! conservative (the far distance grown by `1 + 2γ₃`, pbrt-v4) and whose triangle tests are
+//! bit-identical to the scalar watertight test, so both find the same closest hit: only the
+//! order of the visit differs, and ties at equal distance go to the primitive first in BVH
+//! order (see
 //! [`WideBvh::closest`]), so not even they show it.
 
 mod collapse;
