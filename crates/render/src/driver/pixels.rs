@@ -56,14 +56,15 @@ pub fn render_pixels_batched<'s, F>(
 where
     F: Fn(&mut Sampler, Vec2, &mut DirectBatch<'s>, &mut RenderStats) -> Option<Spectrum> + Sync,
 {
-    let (stats, _) = render_rows(
-        film,
-        filter,
-        opts,
-        stage,
-        false,
-        |s, raster, _, _: &mut Vec<()>, batch, st| sample(s, raster, batch, st),
-    );
+    let sample = |s: &mut Sampler,
+                  raster,
+                  _,
+                  _: &mut Vec<()>,
+                  batch: &mut DirectBatch<'s>,
+                  st: &mut RenderStats| { sample(s, raster, batch, st) };
+    let (stats, _) = render_rows(film, opts, stage, false, |r, out, st, add| {
+        samples_in_order(r, filter, opts, &sample, out, st, add)
+    });
     stats
 }
 
@@ -84,36 +85,134 @@ where
     F: Fn(&mut Sampler, Vec2, u32, &mut Vec<R>, &mut RenderStats) -> Spectrum + Sync,
     R: Send,
 {
-    render_rows(
-        film,
-        filter,
-        opts,
-        stage,
-        true,
-        |s, raster, pixel, out, _, st| Some(sample(s, raster, pixel, out, st)),
-    )
+    let sample =
+        |s: &mut Sampler,
+         raster,
+         pixel,
+         out: &mut Vec<R>,
+         _: &mut DirectBatch,
+         st: &mut RenderStats| { Some(sample(s, raster, pixel, out, st)) };
+    render_rows(film, opts, stage, true, |r, out, st, add| {
+        samples_in_order(r, filter, opts, &sample, out, st, add)
+    })
+}
+
+/// One row's samples in a pass: pixels `0..width` of film row `y` (full-film row `fy`, first
+/// full-film column `x0`), each with the sample indices `first .. first + spp`, taken pixel by
+/// pixel in index order.
+#[derive(Clone, Copy, Debug)]
+pub struct RowSamples {
+    /// The row within the film's window.
+    pub y: usize,
+    /// The full-film row and the full-film column of the window's first pixel.
+    pub fy: u32,
+    pub x0: u32,
+    pub width: usize,
+    /// The pass's first sample index and its samples per pixel.
+    pub first: u32,
+    pub spp: u32,
+}
+
+impl RowSamples {
+    /// The samples in order: `(x, full-film x, sample index)` with `x` the window's column.
+    pub fn iter(&self) -> impl Iterator<Item = (usize, u32, u32)> + '_ {
+        (0..self.width).flat_map(move |x| {
+            (self.first..self.first + self.spp).map(move |s| (x, x as u32 + self.x0, s))
+        })
+    }
+
+    /// Starts `sampler` on the sample `(fx, s)` of this row (see [`RowSamples::iter`]) and draws
+    /// its raster position through `filter`: the first two numbers of every camera sample.
+    #[inline]
+    pub fn start(
+        &self,
+        sampler: &mut Sampler,
+        filter: &Filter,
+        opts: &RenderOptions,
+        fx: u32,
+        s: u32,
+    ) -> Vec2 {
+        sampler.start_pixel_sample(fx, self.fy, opts.first_sample.wrapping_add(s));
+        let offset = filter.sample(sampler.next_2d());
+        Vec2::new(fx as f32 + 0.5, self.fy as f32 + 0.5) + offset
+    }
+}
+
+/// Renders into `film` with `row`, which computes the samples of a [`RowSamples`] in any order
+/// and hands each sample's radiance (W/m²/sr) to `add(x, radiance)`; its random numbers must come
+/// from samplers started by [`RowSamples::start`]. The film's exact sums do not depend on the
+/// order, so the image is the same whatever order `row` chooses: the path tracer's lanes
+/// ([`crate::integrator::path_lanes`]) take a row's samples eight at a time.
+pub fn render_pixels_rows<F>(
+    film: &mut Film,
+    opts: &RenderOptions,
+    stage: &Stage,
+    row: F,
+) -> RenderStats
+where
+    F: Fn(&RowSamples, &mut RenderStats, &mut dyn FnMut(usize, Spectrum)) + Sync,
+{
+    let (stats, _) = render_rows(film, opts, stage, false, |r, _: &mut Vec<()>, st, add| {
+        row(r, st, add)
+    });
+    stats
+}
+
+/// The per-sample row of [`render_pixels_batched`] and [`render_pixels_collect`]: each sample in
+/// order, radiance that waits in the row's [`DirectBatch`] delivered every
+/// [`WAITING_SAMPLES`] waiting samples and at the row's end.
+fn samples_in_order<'s, F, R>(
+    r: &RowSamples,
+    filter: &Filter,
+    opts: &RenderOptions,
+    sample: &F,
+    out: &mut Vec<R>,
+    st: &mut RenderStats,
+    add: &mut dyn FnMut(usize, Spectrum),
+) where
+    F: Fn(
+        &mut Sampler,
+        Vec2,
+        u32,
+        &mut Vec<R>,
+        &mut DirectBatch<'s>,
+        &mut RenderStats,
+    ) -> Option<Spectrum>,
+{
+    let mut sampler = Sampler::new(opts.sampler, opts.seed);
+    let mut batch = DirectBatch::default();
+    // The pixel (column) of each sample waiting in `batch`, in order.
+    let mut waiting: Vec<usize> = Vec::new();
+    let mut last_x = usize::MAX;
+    for (x, fx, s) in r.iter() {
+        if x != last_x {
+            last_x = x;
+            if waiting.len() >= WAITING_SAMPLES {
+                batch.finish(st, |i, l| add(waiting[i], l));
+                waiting.clear();
+            }
+        }
+        let raster = r.start(&mut sampler, filter, opts, fx, s);
+        let pixel = (r.y * r.width + x) as u32;
+        match sample(&mut sampler, raster, pixel, out, &mut batch, st) {
+            Some(l) => add(x, l),
+            None => waiting.push(x),
+        }
+    }
+    batch.finish(st, |i, l| add(waiting[i], l));
 }
 
 /// The pixel driver: rows outside [`Film::rows`] are skipped, or rendered for their records
-/// only when `all_rows`.
-fn render_rows<'s, F, R>(
+/// only when `all_rows`; `row` renders a row's samples (see [`render_pixels_rows`]).
+fn render_rows<F, R>(
     film: &mut Film,
-    filter: &Filter,
     opts: &RenderOptions,
     stage: &Stage,
     all_rows: bool,
-    sample: F,
+    row: F,
 ) -> (RenderStats, Vec<R>)
 where
-    F: Fn(
-            &mut Sampler,
-            Vec2,
-            u32,
-            &mut Vec<R>,
-            &mut DirectBatch<'s>,
-            &mut RenderStats,
-        ) -> Option<Spectrum>
-        + Sync,
+    F: Fn(&RowSamples, &mut Vec<R>, &mut RenderStats, &mut dyn FnMut(usize, Spectrum)) + Sync,
     R: Send,
 {
     let mut records = Vec::new();
@@ -165,10 +264,6 @@ where
                 if !keep && !all_rows {
                     return (st, out);
                 }
-                let mut sampler = Sampler::new(opts.sampler, opts.seed);
-                let mut batch = DirectBatch::default();
-                // The pixel (column) of each sample waiting in `batch`, in order.
-                let mut waiting: Vec<usize> = Vec::new();
                 let mut nonfinite = 0u64;
                 let mut add = |x: usize, l: Spectrum| {
                     if !keep {
@@ -182,28 +277,20 @@ where
                         nonfinite += 1;
                     }
                 };
-                for (x, count) in count_row.iter_mut().enumerate() {
-                    // The full-film pixel.
-                    let (fx, fy) = (x as u32 + x0, y as u32 + y0);
-                    for s in first..first + pass_spp {
-                        sampler.start_pixel_sample(fx, fy, opts.first_sample.wrapping_add(s));
-                        let offset = filter.sample(sampler.next_2d());
-                        let raster = Vec2::new(fx as f32 + 0.5, fy as f32 + 0.5) + offset;
-                        let pixel = (y * w + x) as u32;
-                        match sample(&mut sampler, raster, pixel, &mut out, &mut batch, &mut st) {
-                            Some(l) => add(x, l),
-                            None => waiting.push(x),
-                        }
-                    }
-                    if keep {
+                let r = RowSamples {
+                    y,
+                    fy: y as u32 + y0,
+                    x0,
+                    width: w,
+                    first,
+                    spp: pass_spp,
+                };
+                row(&r, &mut out, &mut st, &mut add);
+                if keep {
+                    for count in count_row.iter_mut() {
                         *count += pass_spp;
                     }
-                    if waiting.len() >= WAITING_SAMPLES {
-                        batch.finish(&mut st, |i, l| add(waiting[i], l));
-                        waiting.clear();
-                    }
                 }
-                batch.finish(&mut st, |i, l| add(waiting[i], l));
                 st.nonfinite += nonfinite;
                 st.samples += (w as u64) * pass_spp as u64;
                 let total = samples_done.fetch_add(w as u64 * pass_spp as u64, Ordering::Relaxed)

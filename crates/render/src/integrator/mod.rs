@@ -3,6 +3,7 @@
 pub mod hybrid;
 pub mod light_tracer;
 pub mod path;
+pub mod path_lanes;
 pub mod pcf;
 pub mod photon_mapping;
 pub mod photon_splatting;
@@ -11,7 +12,7 @@ pub mod sppm;
 
 use crate::control::{Clock, RenderControl};
 use crate::driver::light_paths::{CHUNK as LIGHT_CHUNK, render_paths};
-use crate::driver::pixels::render_pixels_batched;
+use crate::driver::pixels::{render_pixels_batched, render_pixels_rows};
 use crate::error::{OptionError, RenderError};
 use crate::film::Film;
 use crate::filter::Filter;
@@ -532,6 +533,12 @@ pub fn render(
             iterations = Some(s.as_ref().map_or(0, |s| s.iterations));
             state = s;
             st
+        }
+        IntegratorKind::Path if path_lanes::covers(scene) => {
+            let stage = stage.labelled("path tracing");
+            render_pixels_rows(&mut film, opts, &stage, |r, st, add| {
+                path_lanes::render_row(scene, opts, &filter, r, st, add)
+            })
         }
         IntegratorKind::Path => {
             let stage = stage.labelled("path tracing");

@@ -101,11 +101,18 @@ pub fn camera_radiance<'s>(
     rule: &impl CameraRule,
     batch: &mut DirectBatch<'s>,
 ) -> Option<Spectrum> {
+    let (ray, ch) = camera_ray(scene, raster, sampler);
+    radiance_deferred(scene, ray, sampler, opts, stats, rule, ch, batch)
+}
+
+/// The camera ray of a sample at `raster` and its path's lanes: the lens sample, the time, then
+/// the wavelengths in spectral mode, in that sampler order.
+#[inline]
+pub fn camera_ray(scene: &Scene, raster: Vec2, sampler: &mut Sampler) -> (Ray, Channels) {
     let u_lens = sampler.next_2d();
     let time = scene.sample_time(|| sampler.next_1d());
     let ray = scene.camera.generate_ray(raster, u_lens).ray.at_time(time);
-    let ch = scene.sample_channels(|| sampler.next_1d());
-    radiance_deferred(scene, ray, sampler, opts, stats, rule, ch, batch)
+    (ray, scene.sample_channels(|| sampler.next_1d()))
 }
 
 /// [`radiance_deferred`] computed at once: every next-event estimate where the path finds it.

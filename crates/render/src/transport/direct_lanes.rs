@@ -20,41 +20,41 @@ use caustica_scene::light::Light;
 use glam::{BVec4A, Vec4};
 
 /// Estimates computed together.
-const LANES: usize = 4;
+pub(crate) const LANES: usize = 4;
 
 /// The waiting estimates' inputs, lane `k` for the `k`-th: the vertex as the lanes read it and
 /// the light sample's choices, stored in place (structure of arrays) as each is deferred.
 #[derive(Clone, Copy, Default)]
-struct Lanes {
+pub(crate) struct Lanes {
     /// Position (m), geometric normal, shading frame.
-    p: V3,
-    ng: V3,
-    s: V3,
-    t: V3,
-    n: V3,
+    pub(crate) p: V3,
+    pub(crate) ng: V3,
+    pub(crate) s: V3,
+    pub(crate) t: V3,
+    pub(crate) n: V3,
     /// Direction back along the incoming ray, local frame.
-    wo: V3,
+    pub(crate) wo: V3,
     /// The Lambertian BSDF's value, albedo / π (sr⁻¹), per channel.
-    f: V3,
+    pub(crate) f: V3,
     /// The picked light's probability.
-    pmf: Vec4,
+    pub(crate) pmf: Vec4,
     /// The light's triangle: vertices and unit normal.
-    tri: [V3; 4],
+    pub(crate) tri: [V3; 4],
     /// The point of the square the triangle warp maps.
-    ux: Vec4,
-    uy: Vec4,
+    pub(crate) ux: Vec4,
+    pub(crate) uy: Vec4,
     /// The light's radiance (W/m²/sr), total area (m²) and sidedness (1 for two-sided).
-    radiance: V3,
-    area: Vec4,
-    two_sided: Vec4,
+    pub(crate) radiance: V3,
+    pub(crate) area: Vec4,
+    pub(crate) two_sided: Vec4,
     /// Scene time of the vertex (frames).
-    time: Vec4,
+    pub(crate) time: Vec4,
 }
 
 /// Lane `k` of `v`, by its address: glam's `Index` matches on the lane, a jump through a
 /// table that a varying `k` mispredicts.
 #[inline(always)]
-fn get(v: Vec4, k: usize) -> f32 {
+pub(crate) fn get(v: Vec4, k: usize) -> f32 {
     v.to_array()[k & (LANES - 1)]
 }
 
@@ -68,10 +68,10 @@ fn set(v: &mut Vec4, k: usize, x: f32) {
 
 /// Three coordinates in four lanes.
 #[derive(Clone, Copy, Default)]
-struct V3 {
-    x: Vec4,
-    y: Vec4,
-    z: Vec4,
+pub(crate) struct V3 {
+    pub(crate) x: Vec4,
+    pub(crate) y: Vec4,
+    pub(crate) z: Vec4,
 }
 
 impl V3 {
@@ -83,7 +83,7 @@ impl V3 {
         set(&mut self.z, k, v[2]);
     }
     #[inline(always)]
-    fn lane(&self, l: usize) -> Vec3 {
+    pub(crate) fn lane(&self, l: usize) -> Vec3 {
         Vec3::new(get(self.x, l), get(self.y, l), get(self.z, l))
     }
     /// glam's `Vec3::dot`: `(x x' + y y') + z z'`.
@@ -149,17 +149,17 @@ impl V3 {
 
 /// The four lanes' estimates (W/m²/sr) when their shadow rays are unblocked, and the shadow
 /// rays: origins, directions, lengths, and (bit `k`) whether lane `k` needs one.
-struct Estimates {
-    c: V3,
-    o: V3,
-    dir: V3,
-    t_max: Vec4,
-    ray: u32,
+pub(crate) struct Estimates {
+    pub(crate) c: V3,
+    pub(crate) o: V3,
+    pub(crate) dir: V3,
+    pub(crate) t_max: Vec4,
+    pub(crate) ray: u32,
 }
 
 /// Next-event estimation in the four lanes of `r`.
 #[inline(never)]
-fn estimate(r: &Lanes) -> Estimates {
+pub(crate) fn estimate(r: &Lanes) -> Estimates {
     let zero = Vec4::ZERO;
     let Lanes {
         p, ng, s, t, n, wo, ..

@@ -1,0 +1,660 @@
+//! The path tracer with eight camera paths side by side in SIMD lanes (issue 26, deliverable
+//! 3): a wavefront over a row's samples, as Mitsuba 3's vectorised variants run their paths.
+//! Each lane holds one path from its camera ray to its end and then takes the row's next
+//! sample. Per vertex, the closest hits, the material's albedo, the light's triangle and the
+//! shadow rays are found lane by lane through the scene's scalar queries; the shading frame,
+//! the direction back, next-event estimation ([`direct_lanes::estimate`], four lanes at a
+//! time), cosine sampling, the same-side test, roulette and the spawned rays are computed in
+//! the lanes (arrays of eight floats that the compiler vectorises).
+//!
+//! It is the estimator of [`super::path::radiance_deferred`] with [`super::path::PathOnly`],
+//! the same bits: each lane repeats the scalar loop's operations in its order and draws its
+//! numbers from its own sampler in the scalar loop's order, and a path's terms are added in the
+//! order the path finds them. The film's exact sums do not depend on the order in which samples
+//! end, so the image is the scalar loop's bit for bit (tested). The lanes cover scenes whose
+//! surfaces are all diffuse, without media, environment lights or spectral rendering
+//! ([`covers`]); the pixel driver renders the others with the scalar loop. Next-event estimates
+//! the four-lane kernel does not cover (a light that is not a triangle list, no light) are
+//! computed per lane by [`direct_with`].
+
+// Loops over the lane number read as the SIMD code they become (one operation, eight lanes).
+#![allow(clippy::needless_range_loop)]
+
+use crate::driver::pixels::RowSamples;
+use crate::filter::Filter;
+use crate::options::RenderOptions;
+use crate::stats::RenderStats;
+use crate::transport::direct::direct_with;
+use crate::transport::direct_lanes::{self, LANES, Lanes};
+use crate::transport::vertex::{Scatterer, Vertex};
+use caustica_core::sampling::Sampler;
+use caustica_core::sampling::warp::power_heuristic;
+use caustica_core::{Channels, Frame, INV_PI, PI, Ray, Spectrum, Vec2, Vec3};
+use caustica_scene::Scene;
+use caustica_scene::bsdf::Bsdf;
+use caustica_scene::intersection::{NONE, SurfaceInteraction};
+use caustica_scene::light::Light;
+use caustica_scene::material::Material;
+use glam::Vec4;
+
+/// Paths side by side.
+const W: usize = 8;
+/// One float per lane.
+type F = [f32; W];
+
+/// `f(k)` for every lane `k`.
+#[inline(always)]
+fn lanes(f: impl FnMut(usize) -> f32) -> F {
+    std::array::from_fn(f)
+}
+
+/// Three coordinates in the lanes.
+#[derive(Clone, Copy, Default)]
+struct V {
+    x: F,
+    y: F,
+    z: F,
+}
+
+impl V {
+    #[inline(always)]
+    fn get(&self, k: usize) -> Vec3 {
+        Vec3::new(self.x[k], self.y[k], self.z[k])
+    }
+    #[inline(always)]
+    fn set(&mut self, k: usize, v: Vec3) {
+        (self.x[k], self.y[k], self.z[k]) = (v.x, v.y, v.z);
+    }
+    /// glam's `Vec3::dot`: `(x x' + y y') + z z'`.
+    #[inline(always)]
+    fn dot(&self, o: &V) -> F {
+        lanes(|k| self.x[k] * o.x[k] + self.y[k] * o.y[k] + self.z[k] * o.z[k])
+    }
+    /// Lanes `4h .. 4h + 4` for the four-lane kernel.
+    #[inline(always)]
+    fn half(&self, h: usize) -> direct_lanes::V3 {
+        direct_lanes::V3 {
+            x: half(&self.x, h),
+            y: half(&self.y, h),
+            z: half(&self.z, h),
+        }
+    }
+}
+
+/// Lanes `4h .. 4h + 4` of `a`.
+#[inline(always)]
+fn half(a: &F, h: usize) -> Vec4 {
+    Vec4::from_slice(&a[LANES * h..LANES * (h + 1)])
+}
+
+/// True if the lanes cover `scene`: every material diffuse, no participating media, no
+/// environment lights, RGB rendering.
+pub fn covers(scene: &Scene) -> bool {
+    !scene.has_media
+        && !scene.spectral
+        && scene.infinite_lights.is_empty()
+        && scene
+            .materials
+            .iter()
+            .all(|m| matches!(m, Material::Diffuse { .. }))
+}
+
+/// The paths in the lanes.
+struct Paths {
+    samplers: [Sampler; W],
+    /// Bit `k`: lane `k` holds a path.
+    alive: u32,
+    /// The film column of each lane's sample.
+    x: [usize; W],
+    /// Edges traced so far.
+    depth: [u32; W],
+    /// The ray to trace next, and its time (frames).
+    o: V,
+    d: V,
+    time: F,
+    /// Throughput and radiance so far (W/m²/sr), RGB.
+    beta: V,
+    l: V,
+    /// The previous vertex, for MIS of emission found by BSDF sampling.
+    prev_delta: [bool; W],
+    prev_pdf: F,
+    prev_p: V,
+}
+
+/// What a vertex's lanes read: the hits, the numbers drawn there and the light sampled.
+struct Hits {
+    /// Bit `k`: lane `k` shades a vertex.
+    shade: u32,
+    /// Bit `k`: lane `k`'s next-event estimate is the four-lane kernel's; the other shading
+    /// lanes compute theirs by [`direct_with`].
+    nee: u32,
+    si: [Option<SurfaceInteraction>; W],
+    p: V,
+    ng: V,
+    ns: V,
+    dpdu: V,
+    albedo: V,
+    /// The numbers of next-event estimation, then those of the BSDF and of roulette.
+    u_light: F,
+    u_nee: [F; 2],
+    u_bsdf: [F; 2],
+    u_rr: F,
+    /// The light sample for the kernel ([`direct_lanes::Lanes`]' fields).
+    pmf: F,
+    tri: [V; 4],
+    ux: F,
+    uy: F,
+    radiance: V,
+    area: F,
+    two_sided: F,
+}
+
+impl Default for Hits {
+    fn default() -> Self {
+        Self {
+            shade: 0,
+            nee: 0,
+            si: [None; W],
+            p: V::default(),
+            ng: V::default(),
+            ns: V::default(),
+            dpdu: V::default(),
+            albedo: V::default(),
+            u_light: [0.0; W],
+            u_nee: [[0.0; W]; 2],
+            u_bsdf: [[0.0; W]; 2],
+            u_rr: [0.0; W],
+            pmf: [1.0; W],
+            tri: [V::default(); 4],
+            ux: [0.0; W],
+            uy: [0.0; W],
+            radiance: V::default(),
+            area: [1.0; W],
+            two_sided: [0.0; W],
+        }
+    }
+}
+
+/// Renders the samples of row `r` eight at a time, each sample's radiance (W/m²/sr, linear
+/// sRGB) to `add(x, radiance)`. `scene` must be one the lanes [`covers`].
+pub fn render_row(
+    scene: &Scene,
+    opts: &RenderOptions,
+    filter: &Filter,
+    r: &RowSamples,
+    stats: &mut RenderStats,
+    add: &mut dyn FnMut(usize, Spectrum),
+) {
+    debug_assert!(covers(scene));
+    let mut samples = r.iter();
+    let mut paths = Paths {
+        samplers: std::array::from_fn(|_| Sampler::new(opts.sampler, opts.seed)),
+        alive: 0,
+        x: [0; W],
+        depth: [0; W],
+        o: V::default(),
+        d: V::default(),
+        time: [0.0; W],
+        beta: V::default(),
+        l: V::default(),
+        prev_delta: [true; W],
+        prev_pdf: [0.0; W],
+        prev_p: V::default(),
+    };
+    let mut hits = Hits::default();
+    loop {
+        // New samples in the lanes whose paths ended.
+        for k in 0..W {
+            if paths.alive >> k & 1 == 1 {
+                continue;
+            }
+            let Some((x, fx, s)) = samples.next() else {
+                break;
+            };
+            let sampler = &mut paths.samplers[k];
+            let raster = r.start(sampler, filter, opts, fx, s);
+            let (ray, _) = super::path::camera_ray(scene, raster, sampler);
+            paths.alive |= 1 << k;
+            paths.x[k] = x;
+            paths.depth[k] = 0;
+            paths.o.set(k, ray.o);
+            paths.d.set(k, ray.d);
+            paths.time[k] = ray.time;
+            paths.beta.set(k, Vec3::ONE);
+            paths.l.set(k, Vec3::ZERO);
+            paths.prev_delta[k] = true;
+            paths.prev_pdf[k] = 0.0;
+            paths.prev_p.set(k, Vec3::ZERO);
+        }
+        if paths.alive == 0 {
+            return;
+        }
+        trace(scene, opts, &mut paths, &mut hits, stats, add);
+        shade(scene, opts.limits.rr_depth, &mut paths, &hits, stats, add);
+    }
+}
+
+/// Ends lane `k`'s path: its radiance to its pixel.
+#[inline]
+fn end(paths: &mut Paths, k: usize, add: &mut dyn FnMut(usize, Spectrum)) {
+    let l = paths.l.get(k);
+    add(paths.x[k], Spectrum::new(l.x, l.y, l.z));
+    paths.alive &= !(1 << k);
+}
+
+/// Adds `term` to lane `k`'s radiance (the scalar loop's `l += term`).
+#[inline(always)]
+fn add_term(paths: &mut Paths, k: usize, term: Spectrum) {
+    paths.l.x[k] += term.c[0];
+    paths.l.y[k] += term.c[1];
+    paths.l.z[k] += term.c[2];
+}
+
+/// Lane `k`'s throughput.
+#[inline(always)]
+fn beta(paths: &Paths, k: usize) -> Spectrum {
+    let b = paths.beta.get(k);
+    Spectrum::new(b.x, b.y, b.z)
+}
+
+/// The lanes' closest hits, lane by lane: emission found there (MIS against the previous
+/// vertex's BSDF sampling), the paths that end, and for the others the vertex, the numbers it
+/// draws and the light its next-event estimate samples.
+fn trace(
+    scene: &Scene,
+    opts: &RenderOptions,
+    paths: &mut Paths,
+    h: &mut Hits,
+    stats: &mut RenderStats,
+    add: &mut dyn FnMut(usize, Spectrum),
+) {
+    (h.shade, h.nee) = (0, 0);
+    for k in 0..W {
+        if paths.alive >> k & 1 == 0 {
+            continue;
+        }
+        stats.rays += 1;
+        let ray = Ray::new(paths.o.get(k), paths.d.get(k)).at_time(paths.time[k]);
+        // No environment lights ([`covers`]): a ray that leaves finds nothing.
+        let Some(si) = scene.intersect(&ray) else {
+            end(paths, k, add);
+            continue;
+        };
+        paths.depth[k] += 1;
+        if si.light != NONE {
+            let light = &scene.lights[si.light as usize];
+            let le =
+                scene.light_emission(si.light as usize, light.le(si.ng, -ray.d), &Channels::Rgb);
+            if !le.is_black() {
+                let w = if paths.prev_delta[k] {
+                    1.0
+                } else {
+                    power_heuristic(
+                        paths.prev_pdf[k],
+                        scene.light_pmf(si.light)
+                            * light.pdf_li(paths.prev_p.get(k), ray.d, si.p, si.ng),
+                    )
+                };
+                let term = beta(paths, k) * le * w;
+                add_term(paths, k, term);
+            }
+        }
+        if paths.depth[k] >= opts.limits.max_depth {
+            end(paths, k, add);
+            continue;
+        }
+        // Every material is diffuse ([`covers`]).
+        let Bsdf::Lambertian(lambertian) =
+            scene.materials[si.material as usize].bsdf(&si, &mut Channels::Rgb)
+        else {
+            unreachable!("the lanes cover diffuse surfaces only");
+        };
+        h.shade |= 1 << k;
+        h.p.set(k, si.p);
+        h.ng.set(k, si.ng);
+        h.ns.set(k, si.ns);
+        h.dpdu.set(k, si.dpdu);
+        h.albedo.set(k, Vec3::from_array(lambertian.albedo.c));
+        h.si[k] = Some(si);
+        // The scalar loop's numbers at a vertex: next-event estimation's three, the BSDF's
+        // three, roulette's one.
+        let s = &mut paths.samplers[k];
+        h.u_light[k] = s.next_1d();
+        let u_nee = s.next_2d();
+        (h.u_nee[0][k], h.u_nee[1][k]) = (u_nee.x, u_nee.y);
+        s.next_1d(); // the BSDF's lobe number, which the Lambertian BSDF ignores
+        let u = s.next_2d();
+        (h.u_bsdf[0][k], h.u_bsdf[1][k]) = (u.x, u.y);
+        h.u_rr[k] = s.next_1d();
+        // The light the estimate samples, when the kernel covers it (`PathSum::defer_direct`).
+        let Some(dist) = &scene.light_distribution else {
+            continue;
+        };
+        let (li, pmf, _) = dist.sample(h.u_light[k]);
+        let Some(Light::Area(light)) = scene.lights.get(li) else {
+            continue;
+        };
+        let Some((tri, w)) = light.triangle_sample(u_nee) else {
+            continue;
+        };
+        h.nee |= 1 << k;
+        h.pmf[k] = pmf;
+        for (lane, corner) in h.tri.iter_mut().zip(tri) {
+            lane.set(k, Vec3::from(*corner));
+        }
+        (h.ux[k], h.uy[k]) = (w.x, w.y);
+        h.radiance.set(k, Vec3::from_array(light.radiance.c));
+        h.area[k] = light.area();
+        h.two_sided[k] = light.two_sided as u8 as f32;
+    }
+}
+
+/// The vertices of the shading lanes: the frame, next-event estimation, the sampled direction,
+/// roulette and the spawned rays; the paths that end there end.
+fn shade(
+    scene: &Scene,
+    rr_depth: u32,
+    paths: &mut Paths,
+    h: &Hits,
+    stats: &mut RenderStats,
+    add: &mut dyn FnMut(usize, Spectrum),
+) {
+    if h.shade == 0 {
+        return;
+    }
+    let (p, ng, ns, dpdu) = (&h.p, &h.ng, &h.ns, &h.dpdu);
+    // `Frame::from_normal_tangent(ns, dpdu)`: dpdu made orthogonal to ns and normalised.
+    let nd = ns.dot(dpdu);
+    let s0 = V {
+        x: lanes(|k| dpdu.x[k] - ns.x[k] * nd[k]),
+        y: lanes(|k| dpdu.y[k] - ns.y[k] * nd[k]),
+        z: lanes(|k| dpdu.z[k] - ns.z[k] * nd[k]),
+    };
+    let len2 = s0.dot(&s0);
+    let len = lanes(|k| len2[k].sqrt());
+    let mut s = V {
+        x: lanes(|k| s0.x[k] / len[k]),
+        y: lanes(|k| s0.y[k] / len[k]),
+        z: lanes(|k| s0.z[k] / len[k]),
+    };
+    // `n.cross(s)` (glam's order of the products).
+    let mut t = V {
+        x: lanes(|k| ns.y[k] * s.z[k] - s.y[k] * ns.z[k]),
+        y: lanes(|k| ns.z[k] * s.x[k] - s.z[k] * ns.x[k]),
+        z: lanes(|k| ns.x[k] * s.y[k] - s.x[k] * ns.y[k]),
+    };
+    for k in 0..W {
+        // A tangent along the normal: the frame of the normal alone.
+        if h.shade >> k & 1 == 1 && len2[k] < 1e-12 {
+            let f = Frame::from_normal(ns.get(k));
+            s.set(k, f.s);
+            t.set(k, f.t);
+        }
+    }
+    // `frame.to_local(−d)`.
+    let d = &paths.d;
+    let back = V {
+        x: lanes(|k| -d.x[k]),
+        y: lanes(|k| -d.y[k]),
+        z: lanes(|k| -d.z[k]),
+    };
+    let wo = V {
+        x: back.dot(&s),
+        y: back.dot(&t),
+        z: back.dot(ns),
+    };
+
+    // Next-event estimation: the kernel's lanes four at a time, the others one by one.
+    let f = V {
+        x: lanes(|k| h.albedo.x[k] * INV_PI),
+        y: lanes(|k| h.albedo.y[k] * INV_PI),
+        z: lanes(|k| h.albedo.z[k] * INV_PI),
+    };
+    for half_ in 0..W / LANES {
+        let quad = h.nee >> (LANES * half_) & 0xF;
+        if quad == 0 {
+            continue;
+        }
+        let lanes_in = Lanes {
+            p: p.half(half_),
+            ng: ng.half(half_),
+            s: s.half(half_),
+            t: t.half(half_),
+            n: ns.half(half_),
+            wo: wo.half(half_),
+            f: f.half(half_),
+            pmf: half(&h.pmf, half_),
+            tri: h.tri.map(|c| c.half(half_)),
+            ux: half(&h.ux, half_),
+            uy: half(&h.uy, half_),
+            radiance: h.radiance.half(half_),
+            area: half(&h.area, half_),
+            two_sided: half(&h.two_sided, half_),
+            time: half(&paths.time, half_),
+        };
+        let e = direct_lanes::estimate(&lanes_in);
+        for j in 0..LANES {
+            if quad >> j & 1 == 0 {
+                continue;
+            }
+            let k = LANES * half_ + j;
+            let mut est = Spectrum::ZERO;
+            if e.ray >> j & 1 == 1 {
+                stats.rays += 1;
+                let ray =
+                    Ray::with_t_max(e.o.lane(j), e.dir.lane(j), direct_lanes::get(e.t_max, j))
+                        .at_time(paths.time[k]);
+                if !scene.occluded(&ray) {
+                    let c = e.c.lane(j);
+                    est = Spectrum::new(c.x, c.y, c.z);
+                }
+            }
+            let term = beta(paths, k) * est;
+            add_term(paths, k, term);
+        }
+    }
+    for k in 0..W {
+        if (h.shade & !h.nee) >> k & 1 == 0 {
+            continue;
+        }
+        let Some(si) = h.si[k] else { continue };
+        let ray = Ray::new(paths.o.get(k), paths.d.get(k)).at_time(paths.time[k]);
+        let v = Vertex::new(scene, si, &ray, &mut Channels::Rgb);
+        let at = Scatterer::Surface {
+            v: &v,
+            medium: NONE,
+        };
+        let u = Vec2::new(h.u_nee[0][k], h.u_nee[1][k]);
+        let e = direct_with(
+            scene,
+            at,
+            h.u_light[k],
+            u,
+            &mut paths.samplers[k],
+            stats,
+            true,
+        );
+        let term = beta(paths, k) * e;
+        add_term(paths, k, term);
+    }
+
+    // The Lambertian BSDF's sample (`sample_two_sided` around the concentric map lifted to the
+    // hemisphere), in the local frame.
+    let [u0, u1] = &h.u_bsdf;
+    let ox = lanes(|k| 2.0 * u0[k] - 1.0);
+    let oy = lanes(|k| 2.0 * u1[k] - 1.0);
+    let mut lx = [0.0f32; W];
+    let mut ly = [0.0f32; W];
+    for k in 0..W {
+        // `warp::square_to_disk_concentric` (sine and cosine lane by lane: glibc's).
+        if ox[k] == 0.0 && oy[k] == 0.0 {
+            continue;
+        }
+        let (r, theta) = if ox[k].abs() > oy[k].abs() {
+            (ox[k], 0.25 * PI * (oy[k] / ox[k]))
+        } else {
+            (oy[k], 0.5 * PI - 0.25 * PI * (ox[k] / oy[k]))
+        };
+        (lx[k], ly[k]) = (r * theta.cos(), r * theta.sin());
+    }
+    let z = lanes(|k| (1.0 - (lx[k] * lx[k] + ly[k] * ly[k])).max(0.0).sqrt());
+    let pdf = lanes(|k| z[k] * INV_PI);
+    // Mirrored back below the surface when `wo` is.
+    let lz = lanes(|k| if wo.z[k] < 0.0 { -z[k] } else { z[k] });
+    // `frame.to_world(wi)`: (s x + t y) + n z.
+    let wi = V {
+        x: lanes(|k| s.x[k] * lx[k] + t.x[k] * ly[k] + ns.x[k] * lz[k]),
+        y: lanes(|k| s.y[k] * lx[k] + t.y[k] * ly[k] + ns.y[k] * lz[k]),
+        z: lanes(|k| s.z[k] * lx[k] + t.z[k] * ly[k] + ns.z[k] * lz[k]),
+    };
+    // `Vertex::same_side_consistent(−d, wi, wi_local)`.
+    let back_ng = back.dot(ng);
+    let wi_ng = wi.dot(ng);
+    let consistent = lanes(|k| {
+        let geo = back_ng[k] * wi_ng[k] > 0.0;
+        let shade = wo.z[k] * lz[k] > 0.0;
+        (geo == shade) as u32 as f32
+    });
+    // The BSDF's weight is its albedo.
+    let beta = V {
+        x: lanes(|k| paths.beta.x[k] * h.albedo.x[k]),
+        y: lanes(|k| paths.beta.y[k] * h.albedo.y[k]),
+        z: lanes(|k| paths.beta.z[k] * h.albedo.z[k]),
+    };
+    // `russian_roulette`: past `rr_depth`, survive with q = min(max β, 0.95), then β / q as
+    // β · (1/q) (`Spectrum`'s division).
+    let q = lanes(|k| beta.x[k].max(beta.y[k]).max(beta.z[k]).min(0.95));
+    let inv_q = lanes(|k| 1.0 / q[k]);
+    // `SurfaceInteraction::spawn_ray(wi)`: the origin off the surface along ±ng.
+    let offset = lanes(|k| {
+        let m = |a: f32, b: f32| if a > b { a } else { b };
+        1e-4 * (1.0 + m(p.x[k].abs(), m(p.y[k].abs(), p.z[k].abs())))
+    });
+    let side = lanes(|k| if wi_ng[k] >= 0.0 { 1.0 } else { -1.0 });
+    let o = V {
+        x: lanes(|k| p.x[k] + ng.x[k] * (side[k] * offset[k])),
+        y: lanes(|k| p.y[k] + ng.y[k] * (side[k] * offset[k])),
+        z: lanes(|k| p.z[k] + ng.z[k] * (side[k] * offset[k])),
+    };
+    for k in 0..W {
+        if h.shade >> k & 1 == 0 {
+            continue;
+        }
+        // No sample for a grazing `wo` or a direction on the horizon; an inconsistent side.
+        if wo.z[k] == 0.0 || z[k] <= 0.0 || consistent[k] == 0.0 {
+            end(paths, k, add);
+            continue;
+        }
+        paths.prev_delta[k] = false;
+        paths.prev_pdf[k] = pdf[k];
+        paths.prev_p.set(k, p.get(k));
+        let mut b = beta.get(k);
+        if b == Vec3::ZERO {
+            end(paths, k, add);
+            continue;
+        }
+        if paths.depth[k] >= rr_depth {
+            if h.u_rr[k] >= q[k] {
+                end(paths, k, add);
+                continue;
+            }
+            b = Vec3::new(b.x * inv_q[k], b.y * inv_q[k], b.z * inv_q[k]);
+        }
+        paths.beta.set(k, b);
+        paths.o.set(k, o.get(k));
+        paths.d.set(k, wi.get(k));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::{Clock, RenderControl};
+    use crate::driver::pixels::{render_pixels_batched, render_pixels_rows};
+    use crate::film::Film;
+    use crate::integrator::path::{PathOnly, camera_radiance};
+    use caustica_core::sampling::SamplerKind;
+    use caustica_loader::builtin_scene;
+    use caustica_scene::light::PointLight;
+
+    /// The film and the rays traced of `scene` rendered by the lanes and by the scalar loop.
+    fn both(scene: &Scene, opts: &RenderOptions, w: u32, h: u32) -> [(Film, u64); 2] {
+        let filter = Filter::new(scene.settings.filter);
+        let (clock, ctl) = (Clock::start(opts), RenderControl::silent());
+        let stage = clock.stage(&ctl);
+        let mut lanes = Film::new(w as usize, h as usize);
+        let st = render_pixels_rows(&mut lanes, opts, &stage, |r, st, add| {
+            render_row(scene, opts, &filter, r, st, add)
+        });
+        let mut scalar = Film::new(w as usize, h as usize);
+        let st_scalar =
+            render_pixels_batched(&mut scalar, &filter, opts, &stage, |s, raster, b, st| {
+                camera_radiance(scene, raster, s, opts, st, &PathOnly, b)
+            });
+        [(lanes, st.rays), (scalar, st_scalar.rays)]
+    }
+
+    /// The Cornell box at `w × h`, with a point light beside its area light when `point`.
+    fn cornell(w: u32, h: u32, point: bool) -> Scene {
+        let mut builder = builtin_scene("cornell-box").unwrap();
+        let mut camera = builder.camera().unwrap().clone();
+        (camera.width, camera.height) = (w, h);
+        builder.set_camera(camera);
+        if point {
+            builder.add_light(Light::Point(PointLight::new(
+                Vec3::new(0.3, 0.5, 0.2),
+                Spectrum::new(0.4, 0.3, 0.2),
+            )));
+        }
+        builder.build().unwrap()
+    }
+
+    /// The lanes give the scalar loop's image bit for bit, and trace the same rays: with both
+    /// samplers, short and long paths (roulette from the second vertex on), and a point light
+    /// whose estimates the four-lane kernel leaves to `direct_with`.
+    #[test]
+    fn the_lanes_render_the_scalar_loops_image_bit_for_bit() {
+        let (w, h) = (23, 17);
+        for point in [false, true] {
+            let scene = cornell(w, h, point);
+            assert!(covers(&scene));
+            for (sampler, max_depth, rr_depth) in [
+                (SamplerKind::Independent, 8, 5),
+                (SamplerKind::Sobol, 8, 5),
+                (SamplerKind::Independent, 3, 1),
+                (SamplerKind::Sobol, 40, 2),
+            ] {
+                let mut opts = RenderOptions {
+                    spp: 5,
+                    sampler,
+                    seed: 3,
+                    ..RenderOptions::default()
+                };
+                opts.limits.max_depth = max_depth;
+                opts.limits.rr_depth = rr_depth;
+                let [(lanes, rays), (scalar, scalar_rays)] = both(&scene, &opts, w, h);
+                let case = format!("point light {point}, {sampler:?}, depth {max_depth}");
+                assert_eq!(lanes.count, scalar.count, "{case}");
+                assert!(lanes.sum == scalar.sum, "{case}: the films differ");
+                assert_eq!(rays, scalar_rays, "{case}");
+                // The image is not black: the comparison covers lit paths.
+                assert!(lanes.sum.iter().any(|p| p[0].to_f64() > 0.0), "{case}");
+            }
+        }
+    }
+
+    /// Glass, metal, media, environment light and spectral rendering go to the scalar loop.
+    #[test]
+    fn the_lanes_cover_diffuse_rgb_scenes_without_media_only() {
+        assert!(covers(
+            &builtin_scene("cornell-box").unwrap().build().unwrap()
+        ));
+        for name in ["glass-sphere", "metal-ring", "fog-box", "caustic-box"] {
+            let scene = builtin_scene(name).unwrap().build().unwrap();
+            assert!(!covers(&scene), "{name}");
+        }
+        let mut spectral = builtin_scene("cornell-box").unwrap().build().unwrap();
+        spectral.set_spectral(true).unwrap();
+        assert!(!covers(&spectral));
+    }
+}
