@@ -35,6 +35,15 @@ pub struct PerspectiveCamera {
     pub near_clip: f32,
 }
 
+/// A primary ray in camera space: origin, unit direction, the length of the unnormalised
+/// direction `w` and the focus scale (see [`PerspectiveCamera::generate_ray`]).
+struct CameraSpaceRay {
+    o: Vec3,
+    d: Vec3,
+    len: f32,
+    scale: f32,
+}
+
 /// A direction from a scene point to the camera, for light tracing.
 #[derive(Clone, Copy, Debug)]
 pub struct CameraSample {
@@ -162,8 +171,34 @@ impl PerspectiveCamera {
     /// models (v = point on the plane z = 1).
     pub fn generate_ray(&self, raster: Vec2, u_lens: Vec2) -> RayDifferential {
         let ext = self.screen_half_extent();
-        let v = self.raster_to_plane(raster, ext);
+        let c = self.camera_space_ray(raster, u_lens, ext);
         let (dvx, dvy) = self.plane_steps(ext);
+        let (d, len, scale) = (c.d, c.len, c.scale);
+        let dd = |dv: Vec3| {
+            let dw = dv * scale;
+            (dw - d * d.dot(dw)) / len
+        };
+        let m = &self.to_world;
+        RayDifferential {
+            ray: self.world_ray(&c),
+            dodx: m.transform_vector3(dvx * self.near_clip),
+            dody: m.transform_vector3(dvy * self.near_clip),
+            dddx: m.transform_vector3(dd(dvx)),
+            dddy: m.transform_vector3(dd(dvy)),
+        }
+    }
+
+    /// [`Self::generate_ray`]'s ray without its differentials, the same bits, for a camera whose
+    /// [`Self::screen_half_extent`] is `ext` (computed once by callers that make many rays).
+    #[inline]
+    pub fn ray(&self, raster: Vec2, u_lens: Vec2, ext: Vec2) -> Ray {
+        self.world_ray(&self.camera_space_ray(raster, u_lens, ext))
+    }
+
+    /// The ray through `raster` in camera space (see [`Self::generate_ray`]).
+    #[inline(always)]
+    fn camera_space_ray(&self, raster: Vec2, u_lens: Vec2, ext: Vec2) -> CameraSpaceRay {
+        let v = self.raster_to_plane(raster, ext);
         let (pl, scale) = if self.lens_radius > 0.0 {
             (self.lens_point(u_lens).0, self.focus())
         } else {
@@ -172,20 +207,22 @@ impl PerspectiveCamera {
         // Unnormalised direction w = scale·v − pl, with w.z = scale.
         let w = v * scale - pl;
         let len = w.length();
-        let d = w / len;
-        let dd = |dv: Vec3| {
-            let dw = dv * scale;
-            (dw - d * d.dot(dw)) / len
-        };
-        let o = pl + w * (self.near_clip / scale);
-        let m = &self.to_world;
-        RayDifferential {
-            ray: Ray::new(m.transform_point3(o), m.transform_vector3(d).normalize()),
-            dodx: m.transform_vector3(dvx * self.near_clip),
-            dody: m.transform_vector3(dvy * self.near_clip),
-            dddx: m.transform_vector3(dd(dvx)),
-            dddy: m.transform_vector3(dd(dvy)),
+        CameraSpaceRay {
+            o: pl + w * (self.near_clip / scale),
+            d: w / len,
+            len,
+            scale,
         }
+    }
+
+    /// A camera-space ray in world space.
+    #[inline(always)]
+    fn world_ray(&self, c: &CameraSpaceRay) -> Ray {
+        let m = &self.to_world;
+        Ray::new(
+            m.transform_point3(c.o),
+            m.transform_vector3(c.d).normalize(),
+        )
     }
 
     /// Raster position (pixels) at which the camera-space point `pc` is seen through the

@@ -101,17 +101,24 @@ pub fn camera_radiance<'s>(
     rule: &impl CameraRule,
     batch: &mut DirectBatch<'s>,
 ) -> Option<Spectrum> {
-    let (ray, ch) = camera_ray(scene, raster, sampler);
+    let ext = scene.camera.screen_half_extent();
+    let (ray, ch) = camera_ray(scene, raster, ext, sampler);
     radiance_deferred(scene, ray, sampler, opts, stats, rule, ch, batch)
 }
 
 /// The camera ray of a sample at `raster` and its path's lanes: the lens sample, the time, then
-/// the wavelengths in spectral mode, in that sampler order.
+/// the wavelengths in spectral mode, in that sampler order. `ext` is the camera's
+/// [`caustica_scene::camera::PerspectiveCamera::screen_half_extent`].
 #[inline]
-pub fn camera_ray(scene: &Scene, raster: Vec2, sampler: &mut Sampler) -> (Ray, Channels) {
+pub fn camera_ray(
+    scene: &Scene,
+    raster: Vec2,
+    ext: Vec2,
+    sampler: &mut Sampler,
+) -> (Ray, Channels) {
     let u_lens = sampler.next_2d();
     let time = scene.sample_time(|| sampler.next_1d());
-    let ray = scene.camera.generate_ray(raster, u_lens).ray.at_time(time);
+    let ray = scene.camera.ray(raster, u_lens, ext).at_time(time);
     (ray, scene.sample_channels(|| sampler.next_1d()))
 }
 

@@ -108,10 +108,8 @@ struct Paths {
     x: [usize; W],
     /// Edges traced so far.
     depth: [u32; W],
-    /// The ray to trace next, and its time (frames).
-    o: V,
-    d: V,
-    time: F,
+    /// The ray each lane traces next (at the sample's time).
+    ray: [Ray; W],
     /// Throughput and radiance so far (W/m²/sr), RGB.
     beta: V,
     l: V,
@@ -192,9 +190,7 @@ pub fn render_row(
         alive: 0,
         x: [0; W],
         depth: [0; W],
-        o: V::default(),
-        d: V::default(),
-        time: [0.0; W],
+        ray: [Ray::new(Vec3::ZERO, Vec3::Z); W],
         beta: V::default(),
         l: V::default(),
         prev_delta: [true; W],
@@ -202,6 +198,7 @@ pub fn render_row(
         prev_p: V::default(),
     };
     let mut hits = Hits::default();
+    let ext = scene.camera.screen_half_extent();
     loop {
         // New samples in the lanes whose paths ended.
         for k in 0..W {
@@ -213,13 +210,11 @@ pub fn render_row(
             };
             let sampler = &mut paths.samplers[k];
             let raster = r.start(sampler, filter, opts, fx, s);
-            let (ray, _) = super::path::camera_ray(scene, raster, sampler);
+            let (ray, _) = super::path::camera_ray(scene, raster, ext, sampler);
             paths.alive |= 1 << k;
             paths.x[k] = x;
             paths.depth[k] = 0;
-            paths.o.set(k, ray.o);
-            paths.d.set(k, ray.d);
-            paths.time[k] = ray.time;
+            paths.ray[k] = ray;
             paths.beta.set(k, Vec3::ONE);
             paths.l.set(k, Vec3::ZERO);
             paths.prev_delta[k] = true;
@@ -274,9 +269,9 @@ fn trace(
             continue;
         }
         stats.rays += 1;
-        let ray = Ray::new(paths.o.get(k), paths.d.get(k)).at_time(paths.time[k]);
+        let ray = &paths.ray[k];
         // No environment lights ([`covers`]): a ray that leaves finds nothing.
-        let Some(si) = scene.intersect(&ray) else {
+        let Some(si) = scene.intersect(ray) else {
             end(paths, k, add);
             continue;
         };
@@ -392,12 +387,12 @@ fn shade(
         }
     }
     // `frame.to_local(−d)`.
-    let d = &paths.d;
     let back = V {
-        x: lanes(|k| -d.x[k]),
-        y: lanes(|k| -d.y[k]),
-        z: lanes(|k| -d.z[k]),
+        x: lanes(|k| -paths.ray[k].d.x),
+        y: lanes(|k| -paths.ray[k].d.y),
+        z: lanes(|k| -paths.ray[k].d.z),
     };
+    let time = lanes(|k| paths.ray[k].time);
     let wo = V {
         x: back.dot(&s),
         y: back.dot(&t),
@@ -430,7 +425,7 @@ fn shade(
             radiance: h.radiance.half(half_),
             area: half(&h.area, half_),
             two_sided: half(&h.two_sided, half_),
-            time: half(&paths.time, half_),
+            time: half(&time, half_),
         };
         let e = direct_lanes::estimate(&lanes_in);
         for j in 0..LANES {
@@ -443,7 +438,7 @@ fn shade(
                 stats.rays += 1;
                 let ray =
                     Ray::with_t_max(e.o.lane(j), e.dir.lane(j), direct_lanes::get(e.t_max, j))
-                        .at_time(paths.time[k]);
+                        .at_time(time[k]);
                 if !scene.occluded(&ray) {
                     let c = e.c.lane(j);
                     est = Spectrum::new(c.x, c.y, c.z);
@@ -458,8 +453,7 @@ fn shade(
             continue;
         }
         let Some(si) = h.si[k] else { continue };
-        let ray = Ray::new(paths.o.get(k), paths.d.get(k)).at_time(paths.time[k]);
-        let v = Vertex::new(scene, si, &ray, &mut Channels::Rgb);
+        let v = Vertex::new(scene, si, &paths.ray[k], &mut Channels::Rgb);
         let at = Scatterer::Surface {
             v: &v,
             medium: NONE,
@@ -561,8 +555,7 @@ fn shade(
             b = Vec3::new(b.x * inv_q[k], b.y * inv_q[k], b.z * inv_q[k]);
         }
         paths.beta.set(k, b);
-        paths.o.set(k, o.get(k));
-        paths.d.set(k, wi.get(k));
+        paths.ray[k] = Ray::new(o.get(k), wi.get(k)).at_time(time[k]);
     }
 }
 
