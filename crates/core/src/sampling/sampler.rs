@@ -111,11 +111,25 @@ impl Sampler {
     /// Positions the sampler on sample `index` of pixel `(x, y)`. Like paths, samples are
     /// grouped in blocks of 2¹⁶ (the Sobol generator's limit), each with its own scramble.
     pub fn start_pixel_sample(&mut self, x: u32, y: u32, index: u32) {
-        let pixel = mix_seed(
+        let stream = self.pixel_stream(x, y, index);
+        self.start_in_stream(stream, index);
+    }
+
+    /// The stream of sample `index` of pixel `(x, y)`: the same for the 2¹⁶ indices of its block,
+    /// so a caller that starts many samples of one pixel can compute it once and start each by
+    /// [`Self::start_in_stream`].
+    #[inline]
+    pub fn pixel_stream(&self, x: u32, y: u32, index: u32) -> u64 {
+        mix_seed(
             self.seed,
             &[x as u64, y as u64, (index >> 16) as u64, 0x5049_5845],
-        );
-        self.start(pixel, index & 0xFFFF);
+        )
+    }
+
+    /// [`Self::start_pixel_sample`] with the sample's [`Self::pixel_stream`] known.
+    #[inline]
+    pub fn start_in_stream(&mut self, stream: u64, index: u32) {
+        self.start(stream, index & 0xFFFF);
     }
     /// Positions the sampler on light/photon path number `path` (of pass `pass`).
     ///

@@ -97,6 +97,15 @@ where
     })
 }
 
+/// The sampler stream ([`Sampler::pixel_stream`]) of the last pixel and block of sample
+/// indices started in a row.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PixelStream {
+    /// The full-film column and the block of sample indices (`index >> 16`).
+    key: Option<(u32, u32)>,
+    stream: u64,
+}
+
 /// One row's samples in a pass: pixels `0..width` of film row `y` (full-film row `fy`, first
 /// full-film column `x0`), each with the sample indices `first .. first + spp`, taken pixel by
 /// pixel in index order.
@@ -123,16 +132,27 @@ impl RowSamples {
 
     /// Starts `sampler` on the sample `(fx, s)` of this row (see [`RowSamples::iter`]) and draws
     /// its raster position through `filter`: the first two numbers of every camera sample.
+    /// `stream` keeps the last pixel's sampler stream for the next sample of the same pixel
+    /// (start it as [`PixelStream::default`]).
     #[inline]
     pub fn start(
         &self,
         sampler: &mut Sampler,
+        stream: &mut PixelStream,
         filter: &Filter,
         opts: &RenderOptions,
         fx: u32,
         s: u32,
     ) -> Vec2 {
-        sampler.start_pixel_sample(fx, self.fy, opts.first_sample.wrapping_add(s));
+        let index = opts.first_sample.wrapping_add(s);
+        let key = Some((fx, index >> 16));
+        if stream.key != key {
+            *stream = PixelStream {
+                key,
+                stream: sampler.pixel_stream(fx, self.fy, index),
+            };
+        }
+        sampler.start_in_stream(stream.stream, index);
         let offset = filter.sample(sampler.next_2d());
         Vec2::new(fx as f32 + 0.5, self.fy as f32 + 0.5) + offset
     }
@@ -184,6 +204,7 @@ fn samples_in_order<'s, F, R>(
     // The pixel (column) of each sample waiting in `batch`, in order.
     let mut waiting: Vec<usize> = Vec::new();
     let mut last_x = usize::MAX;
+    let mut stream = PixelStream::default();
     for (x, fx, s) in r.iter() {
         if x != last_x {
             last_x = x;
@@ -192,7 +213,7 @@ fn samples_in_order<'s, F, R>(
                 waiting.clear();
             }
         }
-        let raster = r.start(&mut sampler, filter, opts, fx, s);
+        let raster = r.start(&mut sampler, &mut stream, filter, opts, fx, s);
         let pixel = (r.y * r.width + x) as u32;
         match sample(&mut sampler, raster, pixel, out, &mut batch, st) {
             Some(l) => add(x, l),

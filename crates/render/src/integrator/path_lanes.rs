@@ -20,7 +20,7 @@
 // Loops over the lane number read as the SIMD code they become (one operation, eight lanes).
 #![allow(clippy::needless_range_loop)]
 
-use crate::driver::pixels::RowSamples;
+use crate::driver::pixels::{PixelStream, RowSamples};
 use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
@@ -199,6 +199,7 @@ pub fn render_row(
     };
     let mut hits = Hits::default();
     let ext = scene.camera.screen_half_extent();
+    let mut stream = PixelStream::default();
     loop {
         // New samples in the lanes whose paths ended.
         for k in 0..W {
@@ -209,7 +210,7 @@ pub fn render_row(
                 break;
             };
             let sampler = &mut paths.samplers[k];
-            let raster = r.start(sampler, filter, opts, fx, s);
+            let raster = r.start(sampler, &mut stream, filter, opts, fx, s);
             let (ray, _) = super::path::camera_ray(scene, raster, ext, sampler);
             paths.alive |= 1 << k;
             paths.x[k] = x;
