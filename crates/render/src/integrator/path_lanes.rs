@@ -31,7 +31,6 @@ use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
 use caustica_core::{Channels, Frame, INV_PI, PI, Ray, Spectrum, Vec2, Vec3};
 use caustica_scene::Scene;
-use caustica_scene::bsdf::Bsdf;
 use caustica_scene::intersection::{NONE, SurfaceInteraction};
 use caustica_scene::light::Light;
 use caustica_scene::material::Material;
@@ -299,18 +298,18 @@ fn trace(
             end(paths, k, add);
             continue;
         }
-        // Every material is diffuse ([`covers`]).
-        let Bsdf::Lambertian(lambertian) =
-            scene.materials[si.material as usize].bsdf(&si, &mut Channels::Rgb)
-        else {
+        // Every material is diffuse ([`covers`]): `Material::bsdf` gives the Lambertian BSDF of
+        // albedo `reflectance(uv)` in RGB.
+        let Material::Diffuse { reflectance } = &scene.materials[si.material as usize] else {
             unreachable!("the lanes cover diffuse surfaces only");
         };
+        let albedo = reflectance.eval(si.uv);
         h.shade |= 1 << k;
         h.p.set(k, si.p);
         h.ng.set(k, si.ng);
         h.ns.set(k, si.ns);
         h.dpdu.set(k, si.dpdu);
-        h.albedo.set(k, Vec3::from_array(lambertian.albedo.c));
+        h.albedo.set(k, Vec3::from_array(albedo.c));
         h.si[k] = Some(si);
         // The scalar loop's numbers at a vertex: next-event estimation's three, the BSDF's
         // three, roulette's one.
@@ -478,20 +477,27 @@ fn shade(
     let [u0, u1] = &h.u_bsdf;
     let ox = lanes(|k| 2.0 * u0[k] - 1.0);
     let oy = lanes(|k| 2.0 * u1[k] - 1.0);
+    // `warp::square_to_disk_concentric`, both of its cases computed and one kept (no branch
+    // for the CPU to mispredict); the sine and cosine lane by lane (glibc's).
+    let around_x = lanes(|k| (ox[k].abs() > oy[k].abs()) as u32 as f32);
+    let r = lanes(|k| if around_x[k] != 0.0 { ox[k] } else { oy[k] });
+    let theta_x = lanes(|k| 0.25 * PI * (oy[k] / ox[k]));
+    let theta_y = lanes(|k| 0.5 * PI - 0.25 * PI * (ox[k] / oy[k]));
+    let theta = lanes(|k| {
+        if around_x[k] != 0.0 {
+            theta_x[k]
+        } else {
+            theta_y[k]
+        }
+    });
     let mut lx = [0.0f32; W];
     let mut ly = [0.0f32; W];
     for k in 0..W {
-        // `warp::square_to_disk_concentric` (sine and cosine lane by lane: glibc's).
-        if ox[k] == 0.0 && oy[k] == 0.0 {
-            continue;
-        }
-        let (r, theta) = if ox[k].abs() > oy[k].abs() {
-            (ox[k], 0.25 * PI * (oy[k] / ox[k]))
-        } else {
-            (oy[k], 0.5 * PI - 0.25 * PI * (ox[k] / oy[k]))
-        };
-        (lx[k], ly[k]) = (r * theta.cos(), r * theta.sin());
+        (lx[k], ly[k]) = (r[k] * theta[k].cos(), r[k] * theta[k].sin());
     }
+    let centre = lanes(|k| (ox[k] == 0.0 && oy[k] == 0.0) as u32 as f32);
+    let lx = lanes(|k| if centre[k] != 0.0 { 0.0 } else { lx[k] });
+    let ly = lanes(|k| if centre[k] != 0.0 { 0.0 } else { ly[k] });
     let z = lanes(|k| (1.0 - (lx[k] * lx[k] + ly[k] * ly[k])).max(0.0).sqrt());
     let pdf = lanes(|k| z[k] * INV_PI);
     // Mirrored back below the surface when `wo` is.
