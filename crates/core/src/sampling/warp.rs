@@ -13,10 +13,13 @@ pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
+    // Both cases computed and one kept: the choice is a coin flip for the CPU, which a branch
+    // mispredicts half the time (docs/performance.md, issue 26).
+    let (theta_x, theta_y) = (0.25 * PI * (o.y / o.x), 0.5 * PI - 0.25 * PI * (o.x / o.y));
     let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, 0.25 * PI * (o.y / o.x))
+        (o.x, theta_x)
     } else {
-        (o.y, 0.5 * PI - 0.25 * PI * (o.x / o.y))
+        (o.y, theta_y)
     };
     Vec2::new(r * theta.cos(), r * theta.sin())
 }
