@@ -310,7 +310,6 @@ fn trace(
         h.ns.set(k, si.ns);
         h.dpdu.set(k, si.dpdu);
         h.albedo.set(k, Vec3::from_array(albedo.c));
-        h.si[k] = Some(si);
         // The scalar loop's numbers at a vertex: next-event estimation's three, the BSDF's
         // three, roulette's one.
         let s = &mut paths.samplers[k];
@@ -321,27 +320,38 @@ fn trace(
         let u = s.next_2d();
         (h.u_bsdf[0][k], h.u_bsdf[1][k]) = (u.x, u.y);
         h.u_rr[k] = s.next_1d();
-        // The light the estimate samples, when the kernel covers it (`PathSum::defer_direct`).
-        let Some(dist) = &scene.light_distribution else {
-            continue;
-        };
-        let (li, pmf, _) = dist.sample(h.u_light[k]);
-        let Some(Light::Area(light)) = scene.lights.get(li) else {
-            continue;
-        };
-        let Some((tri, w)) = light.triangle_sample(u_nee) else {
-            continue;
-        };
-        h.nee |= 1 << k;
-        h.pmf[k] = pmf;
-        for (lane, corner) in h.tri.iter_mut().zip(tri) {
-            lane.set(k, Vec3::from(*corner));
+        if light_sample(scene, h, k, u_nee) {
+            h.nee |= 1 << k;
+        } else {
+            // Kept for `direct_with` (a record copied per vertex only where it is needed).
+            h.si[k] = Some(si);
         }
-        (h.ux[k], h.uy[k]) = (w.x, w.y);
-        h.radiance.set(k, Vec3::from_array(light.radiance.c));
-        h.area[k] = light.area();
-        h.two_sided[k] = light.two_sided as u8 as f32;
     }
+}
+
+/// The light sample of lane `k`'s next-event estimate for the kernel, when the kernel covers it
+/// (`PathSum::defer_direct`'s conditions): true once stored in `h`.
+#[inline(always)]
+fn light_sample(scene: &Scene, h: &mut Hits, k: usize, u_nee: Vec2) -> bool {
+    let Some(dist) = &scene.light_distribution else {
+        return false;
+    };
+    let (li, pmf, _) = dist.sample(h.u_light[k]);
+    let Some(Light::Area(light)) = scene.lights.get(li) else {
+        return false;
+    };
+    let Some((tri, w)) = light.triangle_sample(u_nee) else {
+        return false;
+    };
+    h.pmf[k] = pmf;
+    for (lane, corner) in h.tri.iter_mut().zip(tri) {
+        lane.set(k, Vec3::from(*corner));
+    }
+    (h.ux[k], h.uy[k]) = (w.x, w.y);
+    h.radiance.set(k, Vec3::from_array(light.radiance.c));
+    h.area[k] = light.area();
+    h.two_sided[k] = light.two_sided as u8 as f32;
+    true
 }
 
 /// The vertices of the shading lanes: the frame, next-event estimation, the sampled direction,
