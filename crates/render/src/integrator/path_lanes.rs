@@ -604,11 +604,15 @@ mod tests {
         [(lanes, st.rays), (scalar, st_scalar.rays)]
     }
 
-    /// The Cornell box at `w × h`, with a point light beside its area light when `point`.
+    /// The Cornell box at `w × h`; with a point light beside its area light and a thin lens in
+    /// place of the pinhole when `point`.
     fn cornell(w: u32, h: u32, point: bool) -> Scene {
         let mut builder = builtin_scene("cornell-box").unwrap();
         let mut camera = builder.camera().unwrap().clone();
         (camera.width, camera.height) = (w, h);
+        if point {
+            camera.lens_radius = 0.05;
+        }
         builder.set_camera(camera);
         if point {
             builder.add_light(Light::Point(PointLight::new(
@@ -620,8 +624,9 @@ mod tests {
     }
 
     /// The lanes give the scalar loop's image bit for bit, and trace the same rays: with both
-    /// samplers, short and long paths (roulette from the second vertex on), and a point light
-    /// whose estimates the four-lane kernel leaves to `direct_with`.
+    /// samplers, short and long paths (roulette from the second vertex on), a pinhole and a
+    /// thin lens, and a point light whose estimates the four-lane kernel leaves to
+    /// `direct_with`.
     #[test]
     fn the_lanes_render_the_scalar_loops_image_bit_for_bit() {
         let (w, h) = (23, 17);
