@@ -1,6 +1,8 @@
 //! Feasibility study for issue 26 (deliverable 3): how fast would the path tracer be if its
 //! paths lived in SIMD lanes from the camera ray to the spawned ray, as Mitsuba 3's
-//! `llvm_ad_rgb` runs them? A prototype, not the renderer: the Cornell box only (Lambertian
+//! `llvm_ad_rgb` runs them? (The renderer's version, built after this study and bit for bit
+//! the scalar path tracer's estimator, is `caustica_render::integrator::path_lanes`.) A
+//! prototype, not the renderer: the Cornell box only (Lambertian
 //! surfaces, one area light of triangles, no media, RGB), eight paths side by side in arrays
 //! of eight floats that the compiler vectorises, each lane's random numbers from its own PCG
 //! state in the lanes, the closest hit, the material's albedo, the light's triangle and the
