@@ -3,9 +3,10 @@
 //! the previous vertex's pdf at every emitter hit), over the shared segment and vertex code of
 //! [`crate::transport`]. The path's terms are summed by a [`PathSum`] of a [`DirectBatch`], which
 //! lets the next-event estimates its lanes cover wait and computes them four at a time across
-//! consecutive paths, the bits unchanged. In scenes whose surfaces are all diffuse (RGB, no
-//! media, no environment light) the `path` integrator runs [`super::path_lanes`] instead: this
-//! estimator with eight paths in SIMD lanes, the same image bit for bit.
+//! consecutive paths, the bits unchanged. In RGB scenes without media the `path` integrator
+//! runs [`super::path_lanes`] instead: this estimator with eight paths in SIMD lanes while they
+//! meet diffuse surfaces, each finished by this loop ([`continue_path`]) from its first other
+//! surface on, the same image bit for bit.
 //!
 //! In media, [`trace_segment`] samples free flights (delta tracking with spectral MIS); at a
 //! medium vertex direct light comes from NEE through the media (phase function against the
@@ -151,31 +152,101 @@ pub fn radiance_with(
 #[allow(clippy::too_many_arguments)]
 pub fn radiance_deferred<'s>(
     scene: &'s Scene,
-    mut ray: Ray,
+    ray: Ray,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
     rule: &impl CameraRule,
-    mut ch: Channels,
+    ch: Channels,
+    batch: &mut DirectBatch<'s>,
+) -> Option<Spectrum> {
+    let start = PathState::camera(scene, ray, ch);
+    continue_path(scene, start, None, None, sampler, opts, stats, rule, batch)
+}
+
+/// What the path loop carries from one vertex to the next: where a camera path stands before
+/// its next segment. [`super::path_lanes`] hands a path over to the loop in this form.
+#[derive(Clone, Copy, Debug)]
+pub struct PathState {
+    /// The ray of the next segment, and the medium it starts in.
+    pub ray: Ray,
+    pub medium: u32,
+    /// Throughput (dimensionless, per lane of `ch`).
+    pub beta: Spectrum,
+    /// Edges traced so far.
+    pub depth: u32,
+    /// The previous vertex, for MIS of emission found by BSDF or phase sampling: delta lobe,
+    /// density of the sampled direction, position.
+    pub prev_delta: bool,
+    pub prev_pdf: f32,
+    pub prev_p: Vec3,
+    /// The previous vertex's direct light came from the rule: emission found next is in it.
+    pub prev_direct_by_rule: bool,
+    /// Whether the first scattering on a surface was non-delta (`None` before it): emission
+    /// found after a delta bounce on such a path is the light tracer's when one runs beside
+    /// (`CameraRule::light_tracer_beside`).
+    pub first_diffuse: Option<bool>,
+    /// What the lanes of the path's values mean.
+    pub ch: Channels,
+}
+
+impl PathState {
+    /// A path about to trace its camera ray `ray`, with lanes `ch`.
+    pub fn camera(scene: &Scene, ray: Ray, ch: Channels) -> Self {
+        Self {
+            ray,
+            medium: scene.camera_medium,
+            beta: Spectrum::ONE,
+            depth: 0,
+            prev_delta: true,
+            prev_pdf: 0.0,
+            prev_p: Vec3::ZERO,
+            prev_direct_by_rule: false,
+            first_diffuse: None,
+            ch,
+        }
+    }
+}
+
+/// [`radiance_deferred`] from `state` on: the path's first segment is `first` when it is
+/// already traced (else the loop traces it), and `sum` (W/m²/sr), when given, is the sum of the
+/// terms the path found before, added as its first term (the same bits as adding them one by
+/// one: 0 + sum is sum).
+#[allow(clippy::too_many_arguments)]
+pub fn continue_path<'s>(
+    scene: &'s Scene,
+    state: PathState,
+    mut first: Option<Segment>,
+    sum: Option<Spectrum>,
+    sampler: &mut Sampler,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+    rule: &impl CameraRule,
     batch: &mut DirectBatch<'s>,
 ) -> Option<Spectrum> {
     let mut l = batch.path(scene);
-    // The previous vertex's direct light came from the rule: emission found next is in it.
-    let mut prev_direct_by_rule = false;
-    let mut beta = Spectrum::ONE;
-    let mut medium = scene.camera_medium;
-    // State of the previous vertex for MIS of emission hit by BSDF or phase sampling.
-    let mut prev_delta = true;
-    let mut prev_pdf = 0.0f32;
-    let mut prev_p = Vec3::ZERO;
-    let mut depth = 0u32; // edges traced so far
-    // Emission found after a delta bounce on a path whose first scattering was non-delta (on a
-    // surface) is the light tracer's when one runs beside (`CameraRule::light_tracer_beside`).
+    if let Some(sum) = sum {
+        l.add(sum);
+    }
+    let PathState {
+        mut ray,
+        mut medium,
+        mut beta,
+        mut depth,
+        mut prev_delta,
+        mut prev_pdf,
+        mut prev_p,
+        mut prev_direct_by_rule,
+        mut first_diffuse,
+        mut ch,
+    } = state;
     let beside = rule.light_tracer_beside();
-    let mut first_diffuse: Option<bool> = None;
     loop {
-        let (si, transmittance) = match trace_segment(scene, &ray, &mut medium, sampler, stats, &ch)
-        {
+        let segment = match first.take() {
+            Some(segment) => segment,
+            None => trace_segment(scene, &ray, &mut medium, sampler, stats, &ch),
+        };
+        let (si, transmittance) = match segment {
             Segment::Surface { si, transmittance } => (si, transmittance),
             Segment::Escaped { transmittance } => {
                 beta *= transmittance;

@@ -13,28 +13,33 @@
 //! the same bits: each lane repeats the scalar loop's operations in its order and draws its
 //! numbers from its own sampler in the scalar loop's order, and a path's terms are added in the
 //! order the path finds them. The film's exact sums do not depend on the order in which samples
-//! end, so the image is the scalar loop's bit for bit (tested). The lanes cover scenes whose
-//! surfaces are all diffuse, without media, environment lights or spectral rendering
-//! ([`covers`]); the pixel driver renders the others with the scalar loop. Next-event estimates
-//! the four-lane kernel does not cover (a light that is not a triangle list, no light) are
-//! computed per lane by [`direct_with`].
+//! end, so the image is the scalar loop's bit for bit (tested). The `path` integrator uses the
+//! lanes for scenes rendered in RGB without participating media whose lights are all area
+//! lights made of triangles ([`covers`]), and the scalar loop for the others. A path stays in
+//! the lanes while it meets diffuse surfaces; at its first other surface (glass, metal, …), or
+//! when it leaves the scene, the scalar loop finishes it from where it is ([`continue_path`]
+//! with its state and the sum of its terms). Next-event estimates the four-lane kernel does not
+//! cover (a light that is not a triangle list, an environment, no light) are computed per lane
+//! by [`direct_with`].
 
 // Loops over the lane number read as the SIMD code they become (one operation, eight lanes).
 #![allow(clippy::needless_range_loop)]
 
+use super::path::{PathOnly, PathState, continue_path};
 use crate::driver::pixels::{PixelStream, RowSamples};
 use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use crate::transport::direct::direct_with;
-use crate::transport::direct_lanes::{self, LANES, Lanes};
+use crate::transport::direct_lanes::{self, DirectBatch, LANES, Lanes};
+use crate::transport::medium::{Segment, trace_segment};
 use crate::transport::vertex::{Scatterer, Vertex};
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
 use caustica_core::{Channels, Frame, INV_PI, PI, Ray, Spectrum, Vec2, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::intersection::{NONE, SurfaceInteraction};
-use caustica_scene::light::Light;
+use caustica_scene::light::{AreaShape, Light};
 use caustica_scene::material::Material;
 use glam::Vec4;
 
@@ -88,21 +93,34 @@ fn half(a: &F, h: usize) -> Vec4 {
     Vec4::from_slice(&a[LANES * h..LANES * (h + 1)])
 }
 
-/// True if the lanes cover `scene`: every material diffuse, no participating media, no
-/// environment lights, RGB rendering.
+/// True if the `path` integrator renders `scene` in the lanes: RGB without participating media
+/// (what [`render_row`] needs to give the scalar loop's image), and every light an area light
+/// made of triangles, whose next-event estimates the four-lane kernel computes. With other
+/// lights each estimate falls back to the scalar code one lane at a time and the lanes cost
+/// more than they save (the metal ring under its directional light: 1.06× the scalar loop's
+/// time, docs/performance.md).
 pub fn covers(scene: &Scene) -> bool {
-    !scene.has_media
-        && !scene.spectral
-        && scene.infinite_lights.is_empty()
+    renders(scene)
+        && !scene.lights.is_empty()
         && scene
-            .materials
+            .lights
             .iter()
-            .all(|m| matches!(m, Material::Diffuse { .. }))
+            .all(|l| matches!(l, Light::Area(a) if matches!(a.shape, AreaShape::Triangles(_))))
+}
+
+/// True if [`render_row`] renders `scene` bit for bit as the scalar loop: RGB, no media.
+fn renders(scene: &Scene) -> bool {
+    !scene.has_media && !scene.spectral
 }
 
 /// The paths in the lanes.
-struct Paths {
+struct Paths<'s> {
     samplers: [Sampler; W],
+    /// The next-event estimates of the paths the scalar loop finishes wait here, four at a
+    /// time across paths, as in the per-sample driver; `waiting` holds the film column of
+    /// each path whose radiance waits.
+    batch: DirectBatch<'s>,
+    waiting: Vec<usize>,
     /// Bit `k`: lane `k` holds a path.
     alive: u32,
     /// The film column of each lane's sample.
@@ -175,19 +193,22 @@ impl Default for Hits {
 }
 
 /// Renders the samples of row `r` eight at a time, each sample's radiance (W/m²/sr, linear
-/// sRGB) to `add(x, radiance)`. `scene` must be one the lanes [`covers`].
-pub fn render_row(
-    scene: &Scene,
+/// sRGB) to `add(x, radiance)`: the scalar loop's, bit for bit, for any scene in RGB without
+/// media (the `path` integrator uses it where it pays, [`covers`]).
+pub fn render_row<'s>(
+    scene: &'s Scene,
     opts: &RenderOptions,
     filter: &Filter,
     r: &RowSamples,
     stats: &mut RenderStats,
     add: &mut dyn FnMut(usize, Spectrum),
 ) {
-    debug_assert!(covers(scene));
+    debug_assert!(renders(scene));
     let mut samples = r.iter();
     let mut paths = Paths {
         samplers: std::array::from_fn(|_| Sampler::new(opts.sampler, opts.seed)),
+        batch: DirectBatch::default(),
+        waiting: Vec::new(),
         alive: 0,
         x: [0; W],
         depth: [0; W],
@@ -223,12 +244,72 @@ pub fn render_row(
             paths.prev_pdf[k] = 0.0;
             paths.prev_p.set(k, Vec3::ZERO);
         }
+        if paths.waiting.len() >= WAITING {
+            finish(&mut paths, stats, add);
+        }
         if paths.alive == 0 {
+            finish(&mut paths, stats, add);
             return;
         }
         trace(scene, opts, &mut paths, &mut hits, stats, add);
         shade(scene, opts.limits.rr_depth, &mut paths, &hits, stats, add);
     }
+}
+
+/// Lane `k`'s path finished by the scalar loop ([`continue_path`]) from its traced `segment`,
+/// with the state and the sum of terms it has in the lanes; its radiance to its pixel.
+#[inline(never)]
+fn hand_over<'s>(
+    scene: &'s Scene,
+    opts: &RenderOptions,
+    paths: &mut Paths<'s>,
+    k: usize,
+    segment: Segment,
+    stats: &mut RenderStats,
+    add: &mut dyn FnMut(usize, Spectrum),
+) {
+    let depth = paths.depth[k];
+    let state = PathState {
+        ray: paths.ray[k],
+        medium: scene.camera_medium,
+        beta: beta(paths, k),
+        depth,
+        prev_delta: paths.prev_delta[k],
+        prev_pdf: paths.prev_pdf[k],
+        prev_p: paths.prev_p.get(k),
+        prev_direct_by_rule: false,
+        // Every vertex before was diffuse.
+        first_diffuse: (depth > 0).then_some(true),
+        ch: Channels::Rgb,
+    };
+    let l = paths.l.get(k);
+    let radiance = continue_path(
+        scene,
+        state,
+        Some(segment),
+        Some(Spectrum::new(l.x, l.y, l.z)),
+        &mut paths.samplers[k],
+        opts,
+        stats,
+        &PathOnly,
+        &mut paths.batch,
+    );
+    match radiance {
+        Some(l) => add(paths.x[k], l),
+        None => paths.waiting.push(paths.x[k]),
+    }
+    paths.alive &= !(1 << k);
+}
+
+/// Paths handed over to the scalar loop whose radiance may wait in the batch: at most this
+/// many before it is finished (the per-sample driver's rule).
+const WAITING: usize = 32;
+
+/// The radiance of the handed-over paths that wait in the batch, to their pixels.
+fn finish(paths: &mut Paths, stats: &mut RenderStats, add: &mut dyn FnMut(usize, Spectrum)) {
+    let waiting = &paths.waiting;
+    paths.batch.finish(stats, |i, l| add(waiting[i], l));
+    paths.waiting.clear();
 }
 
 /// Ends lane `k`'s path: its radiance to its pixel.
@@ -257,10 +338,10 @@ fn beta(paths: &Paths, k: usize) -> Spectrum {
 /// The lanes' closest hits, lane by lane: emission found there (MIS against the previous
 /// vertex's BSDF sampling), the paths that end, and for the others the vertex, the numbers it
 /// draws and the light its next-event estimate samples.
-fn trace(
-    scene: &Scene,
+fn trace<'s>(
+    scene: &'s Scene,
     opts: &RenderOptions,
-    paths: &mut Paths,
+    paths: &mut Paths<'s>,
     h: &mut Hits,
     stats: &mut RenderStats,
     add: &mut dyn FnMut(usize, Spectrum),
@@ -270,13 +351,32 @@ fn trace(
         if paths.alive >> k & 1 == 0 {
             continue;
         }
-        stats.rays += 1;
-        let ray = &paths.ray[k];
-        // No environment lights ([`covers`]): a ray that leaves finds nothing.
-        let Some(si) = scene.intersect(ray) else {
-            end(paths, k, add);
-            continue;
+        let mut medium = scene.camera_medium;
+        let segment = trace_segment(
+            scene,
+            &paths.ray[k],
+            &mut medium,
+            &mut paths.samplers[k],
+            stats,
+            &Channels::Rgb,
+        );
+        // A diffuse surface stays in the lanes (its transmittance is 1: no interior); a path
+        // that reaches another surface, or leaves the scene, is finished by the scalar loop.
+        let si = match segment {
+            Segment::Surface { si, .. }
+                if matches!(
+                    scene.materials[si.material as usize],
+                    Material::Diffuse { .. }
+                ) =>
+            {
+                si
+            }
+            segment => {
+                hand_over(scene, opts, paths, k, segment, stats, add);
+                continue;
+            }
         };
+        let ray = &paths.ray[k];
         paths.depth[k] += 1;
         if si.light != NONE {
             let light = &scene.lights[si.light as usize];
@@ -587,7 +687,7 @@ mod tests {
     use crate::integrator::path::{PathOnly, camera_radiance};
     use caustica_core::sampling::SamplerKind;
     use caustica_loader::builtin_scene;
-    use caustica_scene::light::PointLight;
+    use caustica_scene::light::{EnvironmentLight, PointLight};
 
     /// The film and the rays traced of `scene` rendered by the lanes and by the scalar loop.
     fn both(scene: &Scene, opts: &RenderOptions, w: u32, h: u32) -> [(Film, u64); 2] {
@@ -634,7 +734,9 @@ mod tests {
         let (w, h) = (23, 17);
         for point in [false, true] {
             let scene = cornell(w, h, point);
-            assert!(covers(&scene));
+            // With the point light the integrator would choose the scalar loop; the lanes still
+            // give its image.
+            assert!(renders(&scene) && covers(&scene) == !point);
             for (sampler, max_depth, rr_depth) in [
                 (SamplerKind::Independent, 8, 5),
                 (SamplerKind::Sobol, 8, 5),
@@ -660,15 +762,70 @@ mod tests {
         }
     }
 
-    /// Glass, metal, media, environment light and spectral rendering go to the scalar loop.
+    /// Scenes with glass and metal and an environment light (which the kernel does not
+    /// sample): the paths that reach a surface that is not diffuse, or leave the scene, are
+    /// finished by the scalar loop from where they are, and the image is still the scalar
+    /// loop's bit for bit.
     #[test]
-    fn the_lanes_cover_diffuse_rgb_scenes_without_media_only() {
-        assert!(covers(
-            &builtin_scene("cornell-box").unwrap().build().unwrap()
-        ));
-        for name in ["glass-sphere", "metal-ring", "fog-box", "caustic-box"] {
-            let scene = builtin_scene(name).unwrap().build().unwrap();
-            assert!(!covers(&scene), "{name}");
+    fn paths_handed_over_to_the_scalar_loop_keep_the_bits() {
+        let mut handed = 0;
+        for name in [
+            "caustic-box",
+            "glass-sphere",
+            "metal-ring",
+            "shiny-pyramids",
+        ] {
+            let mut builder = builtin_scene(name).unwrap();
+            let mut camera = builder.camera().unwrap().clone();
+            (camera.width, camera.height) = (19, 14);
+            builder.set_camera(camera);
+            // Paths that leave the scene find it (MIS against the previous vertex).
+            builder.add_light(Light::Environment(EnvironmentLight::constant(
+                Spectrum::new(0.3, 0.2, 0.1),
+            )));
+            let scene = builder.build().unwrap();
+            assert!(!scene.infinite_lights.is_empty());
+            assert!(renders(&scene) && !covers(&scene), "{name}");
+            handed += scene
+                .materials
+                .iter()
+                .filter(|m| !matches!(m, Material::Diffuse { .. }))
+                .count();
+            for sampler in [SamplerKind::Independent, SamplerKind::Sobol] {
+                let opts = RenderOptions {
+                    spp: 6,
+                    sampler,
+                    seed: 5,
+                    ..RenderOptions::default()
+                };
+                let [(lanes, rays), (scalar, scalar_rays)] = both(&scene, &opts, 19, 14);
+                assert!(
+                    lanes.sum == scalar.sum,
+                    "{name} {sampler:?}: the films differ"
+                );
+                assert_eq!(rays, scalar_rays, "{name} {sampler:?}");
+                assert!(lanes.sum.iter().any(|p| p[0].to_f64() > 0.0), "{name}");
+            }
+        }
+        assert!(handed >= 4, "{handed} materials that are not diffuse");
+    }
+
+    /// Media, spectral rendering and lights the four-lane kernel does not sample go to the
+    /// scalar loop.
+    #[test]
+    fn the_lanes_cover_rgb_scenes_without_media_lit_by_triangles() {
+        for name in ["cornell-box", "caustic-box", "gold-ring"] {
+            assert!(
+                covers(&builtin_scene(name).unwrap().build().unwrap()),
+                "{name}"
+            );
+        }
+        // A directional, a point light; media.
+        for name in ["metal-ring", "glass-sphere", "fog-box"] {
+            assert!(
+                !covers(&builtin_scene(name).unwrap().build().unwrap()),
+                "{name}"
+            );
         }
         let mut spectral = builtin_scene("cornell-box").unwrap().build().unwrap();
         spectral.set_spectral(true).unwrap();
