@@ -32,7 +32,7 @@ use crate::options::RenderOptions;
 use crate::stats::RenderStats;
 use crate::transport::direct::direct_with;
 use crate::transport::direct_lanes::{self, DirectBatch, LANES, Lanes};
-use crate::transport::medium::{Segment, trace_segment};
+use crate::transport::medium::{Segment, interior_transmittance};
 use crate::transport::vertex::{Scatterer, Vertex};
 use caustica_core::sampling::Sampler;
 use caustica_core::sampling::warp::power_heuristic;
@@ -351,31 +351,31 @@ fn trace<'s>(
         if paths.alive >> k & 1 == 0 {
             continue;
         }
-        let mut medium = scene.camera_medium;
-        let segment = trace_segment(
-            scene,
-            &paths.ray[k],
-            &mut medium,
-            &mut paths.samplers[k],
-            stats,
-            &Channels::Rgb,
-        );
-        // A diffuse surface stays in the lanes (its transmittance is 1: no interior); a path
-        // that reaches another surface, or leaves the scene, is finished by the scalar loop.
-        let si = match segment {
-            Segment::Surface { si, .. }
-                if matches!(
-                    scene.materials[si.material as usize],
-                    Material::Diffuse { .. }
-                ) =>
-            {
-                si
-            }
-            segment => {
+        // `trace_segment` without media: the closest hit.
+        stats.rays += 1;
+        let Some(si) = scene.intersect(&paths.ray[k]) else {
+            // A path that leaves finds only environment lights.
+            if scene.infinite_lights.is_empty() {
+                end(paths, k, add);
+            } else {
+                let segment = Segment::Escaped {
+                    transmittance: Spectrum::ONE,
+                };
                 hand_over(scene, opts, paths, k, segment, stats, add);
-                continue;
             }
+            continue;
         };
+        // A diffuse surface stays in the lanes (its transmittance is 1: no interior); a path
+        // that reaches another surface is finished by the scalar loop.
+        if !matches!(
+            scene.materials[si.material as usize],
+            Material::Diffuse { .. }
+        ) {
+            let transmittance = interior_transmittance(scene, &si, &paths.ray[k], &Channels::Rgb);
+            let segment = Segment::Surface { si, transmittance };
+            hand_over(scene, opts, paths, k, segment, stats, add);
+            continue;
+        }
         let ray = &paths.ray[k];
         paths.depth[k] += 1;
         if si.light != NONE {

@@ -247,7 +247,7 @@ pub fn shadow_transmittance(
 /// Beer–Lambert transmittance exp(−σa t) of the segment that ended at `si`, if that segment ran
 /// inside an absorbing dielectric, i.e. the ray hit the surface from its inside (−ng side).
 #[inline(always)]
-fn interior_transmittance(
+pub(crate) fn interior_transmittance(
     scene: &Scene,
     si: &SurfaceInteraction,
     ray: &Ray,
