@@ -23,7 +23,7 @@ const SAMPLES_PER_PASS: u64 = 1 << 18;
 
 /// Samples whose radiance may wait in a row's [`DirectBatch`] before it is finished: enough that
 /// the lanes run full, few enough that the held terms stay in the first-level cache.
-const WAITING_SAMPLES: usize = 32;
+pub(crate) const WAITING_SAMPLES: usize = 32;
 
 /// Renders into `film` by calling `sample(sampler, raster)` for every pixel sample; the closure
 /// returns radiance (W/m²/sr) and must draw all its random numbers from `sampler`.

@@ -125,6 +125,26 @@ pub fn camera_ray(
     (ray, scene.sample_channels(|| sampler.next_1d()))
 }
 
+/// The MIS weight (power heuristic, Veach 1997) of the emission of light `li` found at `p`
+/// (normal `n`; both zero for an environment light) in direction `d`, sampled at the previous
+/// vertex `prev_p` with density `prev_pdf`, against next-event estimation's light sampling there.
+#[inline]
+pub fn emission_mis(
+    scene: &Scene,
+    li: u32,
+    prev_pdf: f32,
+    prev_p: Vec3,
+    d: Vec3,
+    p: Vec3,
+    n: Vec3,
+) -> f32 {
+    let light = &scene.lights[li as usize];
+    power_heuristic(
+        prev_pdf,
+        scene.light_pmf(li) * light.pdf_li(prev_p, d, p, n),
+    )
+}
+
 /// [`radiance_deferred`] computed at once: every next-event estimate where the path finds it.
 pub fn radiance_with(
     scene: &Scene,
@@ -260,11 +280,7 @@ pub fn continue_path<'s>(
                     } else if prev_delta {
                         1.0
                     } else {
-                        power_heuristic(
-                            prev_pdf,
-                            scene.light_pmf(li)
-                                * light.pdf_li(prev_p, ray.d, Vec3::ZERO, Vec3::ZERO),
-                        )
+                        emission_mis(scene, li, prev_pdf, prev_p, ray.d, Vec3::ZERO, Vec3::ZERO)
                     };
                     l.add(beta * le * w);
                 }
@@ -313,10 +329,7 @@ pub fn continue_path<'s>(
                 } else if prev_delta {
                     1.0
                 } else {
-                    power_heuristic(
-                        prev_pdf,
-                        scene.light_pmf(si.light) * light.pdf_li(prev_p, ray.d, si.p, si.ng),
-                    )
+                    emission_mis(scene, si.light, prev_pdf, prev_p, ray.d, si.p, si.ng)
                 };
                 l.add(beta * le * w);
             }

@@ -25,8 +25,8 @@
 // Loops over the lane number read as the SIMD code they become (one operation, eight lanes).
 #![allow(clippy::needless_range_loop)]
 
-use super::path::{PathOnly, PathState, continue_path};
-use crate::driver::pixels::{PixelStream, RowSamples};
+use super::path::{PathOnly, PathState, continue_path, emission_mis};
+use crate::driver::pixels::{PixelStream, RowSamples, WAITING_SAMPLES};
 use crate::filter::Filter;
 use crate::options::RenderOptions;
 use crate::stats::RenderStats;
@@ -35,7 +35,6 @@ use crate::transport::direct_lanes::{self, DirectBatch, LANES, Lanes};
 use crate::transport::medium::{Segment, interior_transmittance};
 use crate::transport::vertex::{Scatterer, Vertex};
 use caustica_core::sampling::Sampler;
-use caustica_core::sampling::warp::power_heuristic;
 use caustica_core::{Channels, Frame, INV_PI, PI, Ray, Spectrum, Vec2, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::intersection::{NONE, SurfaceInteraction};
@@ -244,7 +243,7 @@ pub fn render_row(
             paths.prev_pdf[k] = 0.0;
             paths.prev_p.set(k, Vec3::ZERO);
         }
-        if paths.waiting.len() >= WAITING {
+        if paths.waiting.len() >= WAITING_SAMPLES {
             finish(&mut paths, stats, add);
         }
         if paths.alive == 0 {
@@ -300,10 +299,6 @@ fn hand_over<'s>(
     }
     paths.alive &= !(1 << k);
 }
-
-/// Paths handed over to the scalar loop whose radiance may wait in the batch: at most this
-/// many before it is finished (the per-sample driver's rule).
-const WAITING: usize = 32;
 
 /// The radiance of the handed-over paths that wait in the batch, to their pixels.
 fn finish(paths: &mut Paths, stats: &mut RenderStats, add: &mut dyn FnMut(usize, Spectrum)) {
@@ -365,17 +360,15 @@ fn trace<'s>(
             }
             continue;
         };
-        // A diffuse surface stays in the lanes (its transmittance is 1: no interior); a path
-        // that reaches another surface is finished by the scalar loop.
-        if !matches!(
-            scene.materials[si.material as usize],
-            Material::Diffuse { .. }
-        ) {
+        // A diffuse surface stays in the lanes (its transmittance is 1: no interior), and
+        // `Material::bsdf` would give the Lambertian BSDF of albedo `reflectance(uv)` in RGB; a
+        // path that reaches another surface is finished by the scalar loop.
+        let Material::Diffuse { reflectance } = &scene.materials[si.material as usize] else {
             let transmittance = interior_transmittance(scene, &si, &paths.ray[k], &Channels::Rgb);
             let segment = Segment::Surface { si, transmittance };
             hand_over(scene, opts, paths, k, segment, stats, add);
             continue;
-        }
+        };
         let ray = &paths.ray[k];
         paths.depth[k] += 1;
         if si.light != NONE {
@@ -386,10 +379,15 @@ fn trace<'s>(
                 let w = if paths.prev_delta[k] {
                     1.0
                 } else {
-                    power_heuristic(
+                    let prev_p = paths.prev_p.get(k);
+                    emission_mis(
+                        scene,
+                        si.light,
                         paths.prev_pdf[k],
-                        scene.light_pmf(si.light)
-                            * light.pdf_li(paths.prev_p.get(k), ray.d, si.p, si.ng),
+                        prev_p,
+                        ray.d,
+                        si.p,
+                        si.ng,
                     )
                 };
                 let term = beta(paths, k) * le * w;
@@ -400,11 +398,6 @@ fn trace<'s>(
             end(paths, k, add);
             continue;
         }
-        // Every material is diffuse ([`covers`]): `Material::bsdf` gives the Lambertian BSDF of
-        // albedo `reflectance(uv)` in RGB.
-        let Material::Diffuse { reflectance } = &scene.materials[si.material as usize] else {
-            unreachable!("the lanes cover diffuse surfaces only");
-        };
         let albedo = reflectance.eval(si.uv);
         h.shade |= 1 << k;
         h.p.set(k, si.p);
@@ -590,7 +583,8 @@ fn shade(
     let ox = lanes(|k| 2.0 * u0[k] - 1.0);
     let oy = lanes(|k| 2.0 * u1[k] - 1.0);
     // `warp::square_to_disk_concentric`, both of its cases computed and one kept (no branch
-    // for the CPU to mispredict); the sine and cosine lane by lane (glibc's).
+    // for the CPU to mispredict); the sine and cosine lane by lane (glibc's). Calling the warp
+    // itself lane by lane took 1.09x the time (docs/performance.md, tenth session).
     let around_x = lanes(|k| (ox[k].abs() > oy[k].abs()) as u32 as f32);
     let r = lanes(|k| if around_x[k] != 0.0 { ox[k] } else { oy[k] });
     let theta_x = lanes(|k| 0.25 * PI * (oy[k] / ox[k]));
