@@ -364,17 +364,18 @@ mod tests {
         let (clock, ctl) = (Clock::start(&opts), RenderControl::silent());
         let stage = clock.stage(&ctl);
         let waited = AtomicUsize::new(0);
+        let ext = scene.camera.screen_half_extent();
         let mut batched = Film::new(24, 20);
         let stats =
             render_pixels_batched(&mut batched, &filter, &opts, &stage, |s, raster, b, st| {
-                let l = camera_radiance(&scene, raster, s, &opts, st, &PathOnly, b);
+                let l = camera_radiance(&scene, raster, ext, s, &opts, st, &PathOnly, b);
                 waited.fetch_add(l.is_none() as usize, Ordering::Relaxed);
                 l
             });
         let mut one = Film::new(24, 20);
         let stats_one = render_pixels(&mut one, &filter, &opts, &stage, |s, raster, st| {
             let mut b = DirectBatch::one_by_one();
-            camera_radiance(&scene, raster, s, &opts, st, &PathOnly, &mut b).unwrap()
+            camera_radiance(&scene, raster, ext, s, &opts, st, &PathOnly, &mut b).unwrap()
         });
         assert_eq!(batched.count, one.count);
         assert!(batched.sum == one.sum, "the films differ");

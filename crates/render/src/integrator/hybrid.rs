@@ -98,13 +98,14 @@ pub fn render(
     ));
     let started = Instant::now();
     let camera_stage = stage.part(share, 1.0).labelled("path tracing");
+    let ext = scene.camera.screen_half_extent();
     stats += render_pixels_batched(
         film,
         filter,
         opts,
         &camera_stage,
         |sampler, raster, b, st| {
-            camera_radiance(scene, raster, sampler, opts, st, &BesideLightTracer, b)
+            camera_radiance(scene, raster, ext, sampler, opts, st, &BesideLightTracer, b)
         },
     );
     notes.push(format!(

@@ -542,13 +542,15 @@ pub fn render(
         }
         IntegratorKind::Path => {
             let stage = stage.labelled("path tracing");
+            let ext = scene.camera.screen_half_extent();
             render_pixels_batched(
                 &mut film,
                 &filter,
                 opts,
                 &stage,
                 |sampler, raster, b, st| {
-                    path::camera_radiance(scene, raster, sampler, opts, st, &path::PathOnly, b)
+                    let rule = &path::PathOnly;
+                    path::camera_radiance(scene, raster, ext, sampler, opts, st, rule, b)
                 },
             )
         }

@@ -94,17 +94,20 @@ impl CameraRule for PathOnly {}
 /// The radiance (W/m²/sr, linear sRGB) of one camera sample at `raster` under `rule` (the path
 /// tracer's is [`PathOnly`]): the lens sample, the time, the path's wavelengths in spectral mode,
 /// then the path, in that sampler order. `None` when the radiance waits in `batch` (see
-/// [`radiance_deferred`]).
+/// [`radiance_deferred`]). `ext` is the camera's
+/// [`caustica_scene::camera::PerspectiveCamera::screen_half_extent`], computed once by the
+/// caller (a tangent per sample otherwise).
+#[allow(clippy::too_many_arguments)]
 pub fn camera_radiance<'s>(
     scene: &'s Scene,
     raster: Vec2,
+    ext: Vec2,
     sampler: &mut Sampler,
     opts: &RenderOptions,
     stats: &mut RenderStats,
     rule: &impl CameraRule,
     batch: &mut DirectBatch<'s>,
 ) -> Option<Spectrum> {
-    let ext = scene.camera.screen_half_extent();
     let (ray, ch) = camera_ray(scene, raster, ext, sampler);
     radiance_deferred(scene, ray, sampler, opts, stats, rule, ch, batch)
 }

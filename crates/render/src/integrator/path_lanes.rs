@@ -693,9 +693,10 @@ mod tests {
             render_row(scene, opts, &filter, r, st, add)
         });
         let mut scalar = Film::new(w as usize, h as usize);
+        let ext = scene.camera.screen_half_extent();
         let st_scalar =
             render_pixels_batched(&mut scalar, &filter, opts, &stage, |s, raster, b, st| {
-                camera_radiance(scene, raster, s, opts, st, &PathOnly, b)
+                camera_radiance(scene, raster, ext, s, opts, st, &PathOnly, b)
             });
         [(lanes, st.rays), (scalar, st_scalar.rays)]
     }
