@@ -15,12 +15,12 @@
 //! order the path finds them. The film's exact sums do not depend on the order in which samples
 //! end, so the image is the scalar loop's bit for bit (tested). The `path` integrator uses the
 //! lanes for scenes rendered in RGB without participating media whose lights are all area
-//! lights made of triangles ([`covers`]), and the scalar loop for the others. A path stays in
-//! the lanes while it meets diffuse surfaces; at its first other surface (glass, metal, …), or
-//! when it leaves the scene, the scalar loop finishes it from where it is ([`continue_path`]
-//! with its state and the sum of its terms). Next-event estimates the four-lane kernel does not
-//! cover (a light that is not a triangle list, an environment, no light) are computed per lane
-//! by [`direct_with`].
+//! lights made of triangles, point lights or directional lights ([`covers`]), and the scalar
+//! loop for the others. A path stays in the lanes while it meets diffuse surfaces; at its first
+//! other surface (glass, metal, …), or when it leaves a scene with an environment light, the
+//! scalar loop finishes it from where it is ([`continue_path`] with its state and the sum of its
+//! terms). Next-event estimates the four-lane kernel does not cover (a spot light, a light that
+//! is not a triangle list, an environment, no light) are computed per lane by [`direct_with`].
 
 // Loops over the lane number read as the SIMD code they become (one operation, eight lanes).
 #![allow(clippy::needless_range_loop)]
@@ -38,7 +38,7 @@ use caustica_core::sampling::Sampler;
 use caustica_core::{Channels, Frame, INV_PI, PI, Ray, Spectrum, Vec2, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::intersection::{NONE, SurfaceInteraction};
-use caustica_scene::light::{AreaShape, Light};
+use caustica_scene::light::Light;
 use caustica_scene::material::Material;
 use glam::Vec4;
 
@@ -93,18 +93,28 @@ fn half(a: &F, h: usize) -> Vec4 {
 }
 
 /// True if the `path` integrator renders `scene` in the lanes: RGB without participating media
-/// (what [`render_row`] needs to give the scalar loop's image), and every light an area light
-/// made of triangles, whose next-event estimates the four-lane kernel computes. With other
-/// lights each estimate falls back to the scalar code one lane at a time and the lanes cost
-/// more than they save (the metal ring under its directional light: 1.06× the scalar loop's
-/// time, docs/performance.md).
+/// (what [`render_row`] needs to give the scalar loop's image), and every light one whose
+/// next-event estimates the four-lane kernel computes (an area light made of triangles, a point
+/// light, a directional light: [`direct_lanes::kernel_covers`]). With other lights each
+/// estimate falls back to the scalar code one lane at a time and the lanes cost more than they
+/// save (the metal ring under its directional light, before the kernel covered it: 1.06× the
+/// scalar loop's time, docs/performance.md).
 pub fn covers(scene: &Scene) -> bool {
     renders(scene)
         && !scene.lights.is_empty()
-        && scene
-            .lights
-            .iter()
-            .all(|l| matches!(l, Light::Area(a) if matches!(a.shape, AreaShape::Triangles(_))))
+        && scene.lights.iter().all(direct_lanes::kernel_covers)
+}
+
+/// True if a path that leaves `scene` finds no light: its infinite lights, if any, are
+/// directional (delta) lights. The scalar loop adds each infinite light's `le` times an MIS
+/// weight at an escape, a directional light's `le` is zero and the weight finite (0 or the
+/// power heuristic against its pdf of zero), so it adds +0 to sums of non-negative terms and
+/// changes no bit: such a path can end in the lanes.
+fn escapes_find_no_light(scene: &Scene) -> bool {
+    scene
+        .infinite_lights
+        .iter()
+        .all(|&li| matches!(scene.lights.get(li as usize), Some(Light::Directional(_))))
 }
 
 /// True if [`render_row`] renders `scene` bit for bit as the scalar loop: RGB, no media.
@@ -122,6 +132,8 @@ struct Paths<'s> {
     waiting: Vec<usize>,
     /// Bit `k`: lane `k` holds a path.
     alive: u32,
+    /// True if a path that leaves the scene finds no light there ([`escapes_find_no_light`]).
+    escape_ends: bool,
     /// The film column of each lane's sample.
     x: [usize; W],
     /// Edges traced so far.
@@ -157,6 +169,7 @@ struct Hits {
     u_rr: F,
     /// The light sample for the kernel ([`direct_lanes::Lanes`]' fields).
     pmf: F,
+    kind: F,
     tri: [V; 4],
     ux: F,
     uy: F,
@@ -181,6 +194,7 @@ impl Default for Hits {
             u_bsdf: [[0.0; W]; 2],
             u_rr: [0.0; W],
             pmf: [1.0; W],
+            kind: [0.0; W],
             tri: [V::default(); 4],
             ux: [0.0; W],
             uy: [0.0; W],
@@ -209,6 +223,7 @@ pub fn render_row(
         batch: DirectBatch::default(),
         waiting: Vec::new(),
         alive: 0,
+        escape_ends: escapes_find_no_light(scene),
         x: [0; W],
         depth: [0; W],
         ray: [Ray::new(Vec3::ZERO, Vec3::Z); W],
@@ -350,7 +365,7 @@ fn trace<'s>(
         stats.rays += 1;
         let Some(si) = scene.intersect(&paths.ray[k]) else {
             // A path that leaves finds only environment lights.
-            if scene.infinite_lights.is_empty() {
+            if paths.escape_ends {
                 end(paths, k, add);
             } else {
                 let segment = Segment::Escaped {
@@ -428,24 +443,18 @@ fn trace<'s>(
 /// (`PathSum::defer_direct`'s conditions): true once stored in `h`.
 #[inline(always)]
 fn light_sample(scene: &Scene, h: &mut Hits, k: usize, u_nee: Vec2) -> bool {
-    let Some(dist) = &scene.light_distribution else {
+    let Some(light) = direct_lanes::light_lane(scene, h.u_light[k], u_nee) else {
         return false;
     };
-    let (li, pmf, _) = dist.sample(h.u_light[k]);
-    let Some(Light::Area(light)) = scene.lights.get(li) else {
-        return false;
-    };
-    let Some((tri, w)) = light.triangle_sample(u_nee) else {
-        return false;
-    };
-    h.pmf[k] = pmf;
-    for (lane, corner) in h.tri.iter_mut().zip(tri) {
-        lane.set(k, Vec3::from(*corner));
+    h.pmf[k] = light.pmf;
+    h.kind[k] = light.kind;
+    for (lane, corner) in h.tri.iter_mut().zip(light.tri) {
+        lane.set(k, Vec3::from(corner));
     }
-    (h.ux[k], h.uy[k]) = (w.x, w.y);
-    h.radiance.set(k, Vec3::from_array(light.radiance.c));
-    h.area[k] = light.area();
-    h.two_sided[k] = light.two_sided as u8 as f32;
+    (h.ux[k], h.uy[k]) = (light.ux, light.uy);
+    h.radiance.set(k, Vec3::from_array(light.radiance));
+    h.area[k] = light.area;
+    h.two_sided[k] = light.two_sided;
     true
 }
 
@@ -524,6 +533,7 @@ fn shade(
             wo: wo.half(half_),
             f: f.half(half_),
             pmf: half(&h.pmf, half_),
+            kind: half(&h.kind, half_),
             tri: h.tri.map(|c| c.half(half_)),
             ux: half(&h.ux, half_),
             uy: half(&h.uy, half_),
@@ -681,7 +691,7 @@ mod tests {
     use crate::integrator::path::{PathOnly, camera_radiance};
     use caustica_core::sampling::SamplerKind;
     use caustica_loader::builtin_scene;
-    use caustica_scene::light::{EnvironmentLight, PointLight};
+    use caustica_scene::light::{DirectionalLight, EnvironmentLight, PointLight, SpotLight};
 
     /// The film and the rays traced of `scene` rendered by the lanes and by the scalar loop.
     fn both(scene: &Scene, opts: &RenderOptions, w: u32, h: u32) -> [(Film, u64); 2] {
@@ -703,35 +713,57 @@ mod tests {
 
     /// The Cornell box at `w × h`; with a point light beside its area light and a thin lens in
     /// place of the pinhole when `point`.
-    fn cornell(w: u32, h: u32, point: bool) -> Scene {
+    /// The Cornell box at `w × h` with `extra` lights beside its own (and a thin lens then).
+    fn cornell(w: u32, h: u32, extra: &[Light]) -> Scene {
         let mut builder = builtin_scene("cornell-box").unwrap();
         let mut camera = builder.camera().unwrap().clone();
         (camera.width, camera.height) = (w, h);
-        if point {
+        if !extra.is_empty() {
             camera.lens_radius = 0.05;
         }
         builder.set_camera(camera);
-        if point {
-            builder.add_light(Light::Point(PointLight::new(
-                Vec3::new(0.3, 0.5, 0.2),
-                Spectrum::new(0.4, 0.3, 0.2),
-            )));
+        for light in extra {
+            builder.add_light(light.clone());
         }
         builder.build().unwrap()
     }
 
+    /// The Cornell box's extra lights of the tests: none; a point light and a directional
+    /// light (which the kernel computes beside the area light's triangles, mixed in its lanes);
+    /// a spot light (whose estimates the lanes leave to `direct_with`).
+    fn extra_lights() -> [Vec<Light>; 3] {
+        let point = Light::Point(PointLight::new(
+            Vec3::new(0.3, 0.5, 0.2),
+            Spectrum::new(0.4, 0.3, 0.2),
+        ));
+        // Through the box's open front, at a slant, onto the floor and the walls.
+        let sun = Light::Directional(DirectionalLight::new(
+            Vec3::new(0.3, -0.6, -1.0),
+            Spectrum::new(0.5, 0.6, 0.7),
+        ));
+        let spot = Light::Spot(SpotLight::new(
+            Vec3::new(0.0, 0.6, 0.0),
+            Vec3::new(0.1, -1.0, 0.2),
+            Spectrum::new(0.8, 0.8, 0.5),
+            40.0,
+            25.0,
+        ));
+        [vec![], vec![point, sun], vec![spot]]
+    }
+
     /// The lanes give the scalar loop's image bit for bit, and trace the same rays: with both
     /// samplers, short and long paths (roulette from the second vertex on), a pinhole and a
-    /// thin lens, and a point light whose estimates the four-lane kernel leaves to
-    /// `direct_with`.
+    /// thin lens, point and directional lights in the kernel's lanes beside the area light, and
+    /// a spot light whose estimates the lanes leave to `direct_with`.
     #[test]
     fn the_lanes_render_the_scalar_loops_image_bit_for_bit() {
         let (w, h) = (23, 17);
-        for point in [false, true] {
-            let scene = cornell(w, h, point);
-            // With the point light the integrator would choose the scalar loop; the lanes still
+        for extra in extra_lights() {
+            let scene = cornell(w, h, &extra);
+            let spot = extra.iter().any(|l| matches!(l, Light::Spot(_)));
+            // With the spot light the integrator would choose the scalar loop; the lanes still
             // give its image.
-            assert!(renders(&scene) && covers(&scene) != point);
+            assert!(renders(&scene) && covers(&scene) != spot);
             for (sampler, max_depth, rr_depth) in [
                 (SamplerKind::Independent, 8, 5),
                 (SamplerKind::Sobol, 8, 5),
@@ -747,7 +779,10 @@ mod tests {
                 opts.limits.max_depth = max_depth;
                 opts.limits.rr_depth = rr_depth;
                 let [(lanes, rays), (scalar, scalar_rays)] = both(&scene, &opts, w, h);
-                let case = format!("point light {point}, {sampler:?}, depth {max_depth}");
+                let case = format!(
+                    "{} lights, {sampler:?}, depth {max_depth}",
+                    scene.lights.len()
+                );
                 assert_eq!(lanes.count, scalar.count, "{case}");
                 assert!(lanes.sum == scalar.sum, "{case}: the films differ");
                 assert_eq!(rays, scalar_rays, "{case}");
@@ -808,20 +843,24 @@ mod tests {
     /// Media, spectral rendering and lights the four-lane kernel does not sample go to the
     /// scalar loop.
     #[test]
-    fn the_lanes_cover_rgb_scenes_without_media_lit_by_triangles() {
-        for name in ["cornell-box", "caustic-box", "gold-ring"] {
+    fn the_lanes_cover_rgb_scenes_without_media_lit_by_triangles_points_and_the_sun() {
+        // Area lights; a directional light (the metal ring); a point light (the glass sphere).
+        for name in [
+            "cornell-box",
+            "caustic-box",
+            "gold-ring",
+            "metal-ring",
+            "glass-sphere",
+        ] {
             assert!(
                 covers(&builtin_scene(name).unwrap().build().unwrap()),
                 "{name}"
             );
         }
-        // A directional, a point light; media.
-        for name in ["metal-ring", "glass-sphere", "fog-box"] {
-            assert!(
-                !covers(&builtin_scene(name).unwrap().build().unwrap()),
-                "{name}"
-            );
-        }
+        let [_, _, spot] = extra_lights();
+        assert!(!covers(&cornell(8, 8, &spot)));
+        // Media (environment lights: `paths_handed_over_to_the_scalar_loop_keep_the_bits`).
+        assert!(!covers(&builtin_scene("fog-box").unwrap().build().unwrap()));
         let mut spectral = builtin_scene("cornell-box").unwrap().build().unwrap();
         spectral.set_spectral(true).unwrap();
         assert!(!covers(&spectral));

@@ -2,12 +2,14 @@
 //! deliverable 3).
 //!
 //! The path tracer defers the estimate at a vertex the lanes cover — a Lambertian surface, a
-//! path in RGB, a triangle area light picked, a scene without media — and [`DirectBatch`]
-//! computes the waiting ones in SSE lanes (glam's `Vec4`, structure of arrays) four at a time,
-//! the estimates of consecutive paths side by side. Each lane repeats the arithmetic of
-//! [`super::direct::direct_with`] in the same order (`AreaLight::sample_li`'s area sampling, the
-//! Lambertian BSDF's value and density, the same-side test, the power heuristic,
-//! `SurfaceInteraction::spawn_ray_to`), so an estimate is the scalar one bit for bit; and a
+//! path in RGB, a triangle area light, a point light or a directional light picked, a scene
+//! without media — and [`DirectBatch`] computes the waiting ones in SSE lanes (glam's `Vec4`,
+//! structure of arrays) four at a time, the estimates of consecutive paths side by side. Each
+//! lane repeats the arithmetic of [`super::direct::direct_with`] in the same order (the light's
+//! `sample_li`: `AreaLight`'s area sampling, `PointLight`'s inverse square law,
+//! `DirectionalLight`'s constant irradiance; the Lambertian BSDF's value and density, the
+//! same-side test, the power heuristic for area lights, `SurfaceInteraction::spawn_ray_to` or
+//! `spawn_ray`), so an estimate is the scalar one bit for bit; and a
 //! path's [`PathSum`] adds its terms in the order the path found them, so its radiance is bit for
 //! bit the same too. The shadow rays are traced one by one (docs/performance.md, issue 26).
 
@@ -16,8 +18,8 @@ use crate::transport::vertex::Vertex;
 use caustica_core::{Channels, INV_PI, Ray, Spectrum, Vec2, Vec3};
 use caustica_scene::Scene;
 use caustica_scene::bsdf::Bsdf;
-use caustica_scene::light::Light;
-use glam::{BVec4A, Vec4};
+use caustica_scene::light::{AreaShape, Light};
+use glam::{BVec4A, Vec3A, Vec4};
 
 /// Estimates computed together.
 pub(crate) const LANES: usize = 4;
@@ -38,17 +40,93 @@ pub(crate) struct Lanes {
     pub(crate) f: V3,
     /// The picked light's probability.
     pub(crate) pmf: Vec4,
-    /// The light's triangle: vertices and unit normal.
+    /// The light's kind ([`LightLane::kind`]) and the fields of [`LightLane`] of that name.
+    pub(crate) kind: Vec4,
     pub(crate) tri: [V3; 4],
-    /// The point of the square the triangle warp maps.
     pub(crate) ux: Vec4,
     pub(crate) uy: Vec4,
-    /// The light's radiance (W/m²/sr), total area (m²) and sidedness (1 for two-sided).
     pub(crate) radiance: V3,
     pub(crate) area: Vec4,
     pub(crate) two_sided: Vec4,
     /// Scene time of the vertex (frames).
     pub(crate) time: Vec4,
+}
+
+/// [`LightLane::kind`] of a triangle area light.
+const AREA: f32 = 0.0;
+/// [`LightLane::kind`] of a point light.
+const POINT: f32 = 1.0;
+/// [`LightLane::kind`] of a directional light.
+const DISTANT: f32 = 2.0;
+
+/// The light a next-event estimate picked, as a lane of the kernel holds it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LightLane {
+    /// The picked light's probability.
+    pub(crate) pmf: f32,
+    /// 0: a triangle of an area light; 1: a point light; 2: a directional light.
+    pub(crate) kind: f32,
+    /// An area light's triangle: vertices and unit normal. A point light's position, or the
+    /// unit direction toward a directional light, in the first.
+    pub(crate) tri: [Vec3A; 4],
+    /// The point of the square the triangle warp maps (area lights).
+    pub(crate) ux: f32,
+    pub(crate) uy: f32,
+    /// An area light's radiance (W/m²/sr), a point light's intensity (W/sr) or a directional
+    /// light's irradiance (W/m²), RGB.
+    pub(crate) radiance: [f32; 3],
+    /// An area light's total area (m²) and sidedness (1 for two-sided); 1 and 0 for the others.
+    pub(crate) area: f32,
+    pub(crate) two_sided: f32,
+}
+
+/// The light next-event estimation picks with the numbers `u_light`, `u` (those
+/// [`super::direct::sample_direct`] draws), when the kernel covers it: a triangle of an area
+/// light, a point light or a directional light. `None` for the others (spot lights, lights
+/// of other shapes, environments), and where the scene has no light.
+#[inline(always)]
+pub(crate) fn light_lane(scene: &Scene, u_light: f32, u: Vec2) -> Option<LightLane> {
+    let dist = scene.light_distribution.as_ref()?;
+    let (li, pmf, _) = dist.sample(u_light);
+    let unit = |kind: f32, at: Vec3, c: [f32; 3]| LightLane {
+        pmf,
+        kind,
+        tri: [Vec3A::from(at), Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO],
+        ux: 0.0,
+        uy: 0.0,
+        radiance: c,
+        area: 1.0,
+        two_sided: 0.0,
+    };
+    match scene.lights.get(li)? {
+        Light::Area(light) => {
+            let (tri, w) = light.triangle_sample(u)?;
+            Some(LightLane {
+                pmf,
+                kind: AREA,
+                tri: *tri,
+                ux: w.x,
+                uy: w.y,
+                radiance: light.radiance.c,
+                area: light.area(),
+                two_sided: light.two_sided as u8 as f32,
+            })
+        }
+        // `PointLight::sample_li` and `DirectionalLight::sample_li` (toward the light: minus
+        // the direction it shines in).
+        Light::Point(light) => Some(unit(POINT, light.position, light.intensity.c)),
+        Light::Directional(light) => Some(unit(DISTANT, -light.direction, light.irradiance.c)),
+        _ => None,
+    }
+}
+
+/// True if the kernel computes next-event estimates toward `light` ([`light_lane`]).
+pub(crate) fn kernel_covers(light: &Light) -> bool {
+    match light {
+        Light::Area(a) => matches!(a.shape, AreaShape::Triangles(_)),
+        Light::Point(_) | Light::Directional(_) => true,
+        _ => false,
+    }
 }
 
 /// Lane `k` of `v`, by its address: glam's `Index` matches on the lane, a jump through a
@@ -140,6 +218,15 @@ impl V3 {
             z: Vec4::select(m, self.z, Vec4::ZERO),
         }
     }
+    /// `a` in the lanes of `m`, else `b`.
+    #[inline(always)]
+    fn select(m: BVec4A, a: V3, b: V3) -> V3 {
+        V3 {
+            x: Vec4::select(m, a.x, b.x),
+            y: Vec4::select(m, a.y, b.y),
+            z: Vec4::select(m, a.z, b.z),
+        }
+    }
     /// True in the lanes where some coordinate is not zero (`!Spectrum::is_black`).
     #[inline(always)]
     fn nonzero(self) -> BVec4A {
@@ -157,15 +244,31 @@ pub(crate) struct Estimates {
     pub(crate) ray: u32,
 }
 
-/// Next-event estimation in the four lanes of `r`.
+/// Next-event estimation in the four lanes of `r`: where every lane holds an area light's
+/// triangle (the commonest case), without the selects the delta lights need.
 #[inline(never)]
 pub(crate) fn estimate(r: &Lanes) -> Estimates {
+    if r.kind.cmpeq(Vec4::splat(AREA)).all() {
+        estimate_kinds::<false>(r)
+    } else {
+        estimate_kinds::<true>(r)
+    }
+}
+
+/// [`estimate`] for lanes that may hold delta lights (`DELTA`) or hold only area lights.
+#[inline(always)]
+fn estimate_kinds<const DELTA: bool>(r: &Lanes) -> Estimates {
     let zero = Vec4::ZERO;
     let Lanes {
         p, ng, s, t, n, wo, ..
     } = *r;
     let [p0, p1, p2, ln] = r.tri;
     let (ux, uy) = (r.ux, r.uy);
+    let area = r.kind.cmpeq(Vec4::splat(AREA));
+    let point = r.kind.cmpeq(Vec4::splat(POINT));
+    let distant = r.kind.cmpeq(Vec4::splat(DISTANT));
+    // `a` in the area lights' lanes, `b` in the others (which only `DELTA` has).
+    let by_kind = |a: V3, b: V3, m: BVec4A| if DELTA { V3::select(m, b, a) } else { a };
 
     // `warp::square_to_uniform_triangle`: s/2 and l − s/2 for the smaller and larger coordinate.
     let lt = ux.cmplt(uy);
@@ -175,25 +278,42 @@ pub(crate) fn estimate(r: &Lanes) -> Estimates {
     let (b0, b1) = (Vec4::select(lt, h, m), Vec4::select(lt, m, h));
     let (bx, by) = (b1, Vec4::ONE - b0 - b1);
     // `AreaLight::sample_area`: p0 (1 − b1 − b2) + p1 b1 + p2 b2.
-    let lp = p0
+    let on_triangle = p0
         .scale(Vec4::ONE - bx - by)
         .add(p1.scale(bx))
         .add(p2.scale(by));
-    // `AreaLight::sample_li`.
+    // The light's point: on the triangle, or a point light's position (a directional light's
+    // lanes compute it but use only `wi`).
+    let lp = by_kind(on_triangle, p0, !area);
+    // `AreaLight::sample_li`; `PointLight::sample_li`'s `toward` the same way; a directional
+    // light's `wi` is the direction toward it.
     let d = lp.sub(p);
     let d2 = d.dot(d);
     let dist = d2.sqrt();
-    let wi = d.div(dist);
+    let wi = by_kind(d.div(dist), p0, distant);
     let cos = ln.dot(wi).abs();
     // `AreaLight::emits(n, −wi)`.
     let c_emit = ln.x * -wi.x + ln.y * -wi.y + ln.z * -wi.z;
     let two_sided = r.two_sided.cmpne(zero);
     let emits = (two_sided & c_emit.cmpne(zero)) | (!two_sided & c_emit.cmpgt(zero));
     let pdf = d2 / (cos * r.area);
-    let mut ok = d2.cmpgt(zero) & cos.cmpgt(zero) & emits;
-    ok &= pdf.cmpgt(zero) & pdf.cmplt(Vec4::splat(f32::INFINITY));
-    // `Spectrum / f32` multiplies by the reciprocal.
-    let weight = r.radiance.scale(Vec4::ONE / pdf);
+    let inf = Vec4::splat(f32::INFINITY);
+    let ok_area = d2.cmpgt(zero) & cos.cmpgt(zero) & emits & pdf.cmpgt(zero) & pdf.cmplt(inf);
+    // `toward`: `d2 > 0` and finite. A directional light always gives its sample.
+    let ok_point = d2.cmpgt(zero) & d2.cmplt(inf);
+    let mut ok = if DELTA {
+        (area & ok_area) | (point & ok_point) | distant
+    } else {
+        ok_area
+    };
+    // `Spectrum / f32` multiplies by the reciprocal: radiance / pdf, intensity / d² (the
+    // delta lights' pdf is 1); a directional light's irradiance as it is (times 1/1).
+    let denominator = if DELTA {
+        Vec4::select(area, pdf, Vec4::select(point, d2, Vec4::ONE))
+    } else {
+        pdf
+    };
+    let weight = r.radiance.scale(Vec4::ONE / denominator);
     ok &= weight.nonzero();
     // `Scatterer::eval`: the Lambertian BSDF in the shading frame, both sides mirrored up when
     // `wo` is below, then the geometric same-side test.
@@ -217,23 +337,28 @@ pub(crate) fn estimate(r: &Lanes) -> Estimates {
     // f |cos θi| times the shading-normal correction, 1 in radiance mode.
     let f = f.scale(wl.z.abs() * Vec4::ONE);
     ok &= f.nonzero();
-    // `power_heuristic` against the Lambertian BSDF's density.
+    // `power_heuristic` against the Lambertian BSDF's density; 1 for delta lights.
     let bsdf_pdf = Vec4::select(front, wi_up * INV_PI, zero);
     let a = r.pmf * pdf;
     let (a2, b2) = (a * a, bsdf_pdf * bsdf_pdf);
     let mis = Vec4::select(
         a2.cmpeq(zero) & b2.cmpeq(zero),
         zero,
-        Vec4::select(
-            a2.cmpeq(Vec4::splat(f32::INFINITY)),
-            Vec4::ONE,
-            a2 / (a2 + b2),
-        ),
+        Vec4::select(a2.cmpeq(inf), Vec4::ONE, a2 / (a2 + b2)),
     );
+    let mis = if DELTA {
+        Vec4::select(area, mis, Vec4::ONE)
+    } else {
+        mis
+    };
     // f · tr · Le · (mis / pmf) with tr = 1: `f * 1` is `f`.
     let c = f.mul(weight).scale(mis / r.pmf).keep(ok);
-    // `SurfaceInteraction::spawn_ray_to(lp)`.
-    let side = Vec4::select(d.dot(ng).cmpge(zero), Vec4::ONE, -Vec4::ONE);
+    // `SurfaceInteraction::spawn_ray_to(lp)`; `spawn_ray(wi)` toward a directional light.
+    let side = Vec4::select(
+        by_kind(d, wi, distant).dot(ng).cmpge(zero),
+        Vec4::ONE,
+        -Vec4::ONE,
+    );
     let offset = Vec4::splat(1e-4) * (Vec4::ONE + p.x.abs().max(p.y.abs()).max(p.z.abs()));
     let o = p.add(ng.scale(side * offset));
     let to = lp.sub(o);
@@ -241,8 +366,12 @@ pub(crate) fn estimate(r: &Lanes) -> Estimates {
     Estimates {
         c,
         o,
-        dir: to.div(len),
-        t_max: len * (1.0 - 1e-4),
+        dir: by_kind(to.div(len), wi, distant),
+        t_max: if DELTA {
+            Vec4::select(distant, inf, len * (1.0 - 1e-4))
+        } else {
+            len * (1.0 - 1e-4)
+        },
         ray: ok.bitmask(),
     }
 }
@@ -394,7 +523,8 @@ impl<'b, 'a> PathSum<'b, 'a> {
     /// Adds `beta` times next-event estimation at `v` with the numbers `u_light`, `u` (those
     /// [`super::direct::sample_direct`] draws), to be computed in the lanes; false, adding
     /// nothing, when the lanes do not cover it (a scene with media, whose shadow rays draw
-    /// numbers of their own; not a Lambertian surface; not RGB; not a triangle light) or the
+    /// numbers of their own; not a Lambertian surface; not RGB; a light [`light_lane`] does
+    /// not cover) or the
     /// batch computes one by one. Inlined into the path loop: out of line it cost 1 % more
     /// instructions on the Cornell box.
     #[inline(always)]
@@ -408,14 +538,7 @@ impl<'b, 'a> PathSum<'b, 'a> {
         if v.channels != Channels::Rgb {
             return false;
         }
-        let Some(dist) = &self.scene.light_distribution else {
-            return false;
-        };
-        let (li, pmf, _) = dist.sample(u_light);
-        let Some(Light::Area(light)) = self.scene.lights.get(li) else {
-            return false;
-        };
-        let Some((tri, w)) = light.triangle_sample(u) else {
+        let Some(light) = light_lane(self.scene, u_light, u) else {
             return false;
         };
         let b = &mut *self.batch;
@@ -429,15 +552,16 @@ impl<'b, 'a> PathSum<'b, 'a> {
         r.wo.set(k, v3(v.wo));
         // `Lambertian::eval`'s value.
         r.f.set(k, (lambertian.albedo * INV_PI).c);
-        set(&mut r.pmf, k, pmf);
-        for (lane, corner) in r.tri.iter_mut().zip(tri) {
-            lane.set(k, [corner.x, corner.y, corner.z]);
+        set(&mut r.pmf, k, light.pmf);
+        set(&mut r.kind, k, light.kind);
+        for (lane, corner) in r.tri.iter_mut().zip(light.tri) {
+            lane.set(k, corner.to_array());
         }
-        set(&mut r.ux, k, w.x);
-        set(&mut r.uy, k, w.y);
-        r.radiance.set(k, light.radiance.c);
-        set(&mut r.area, k, light.area());
-        set(&mut r.two_sided, k, light.two_sided as u8 as f32);
+        set(&mut r.ux, k, light.ux);
+        set(&mut r.uy, k, light.uy);
+        r.radiance.set(k, light.radiance);
+        set(&mut r.area, k, light.area);
+        set(&mut r.two_sided, k, light.two_sided);
         set(&mut r.time, k, v.si.time);
         b.terms.push(Term {
             value: beta,
@@ -472,6 +596,7 @@ mod tests {
     use caustica_core::sampling::{Pcg32, Sampler, SamplerKind};
     use caustica_loader::builtin_scene;
     use caustica_scene::intersection::NONE;
+    use caustica_scene::light::{DirectionalLight, PointLight, SpotLight};
 
     /// Vertices of the Cornell box seen from everywhere: hits of rays from random points inside
     /// it in random directions (both sides of the walls' shading frames, the light itself).
@@ -493,20 +618,41 @@ mod tests {
 
     /// Paths of zero to seven estimates with up to seven terms before each and after the last,
     /// sharing a batch finished after every one to nine paths: each path's radiance equals
-    /// `l += term` with the scalar estimates, bit for bit, for one- and two-sided lights, and
-    /// arrives for the right path.
+    /// `l += term` with the scalar estimates, bit for bit, for one- and two-sided area lights
+    /// and for point and directional lights mixed with them in the lanes, and arrives for the
+    /// right path.
     #[test]
     fn lanes_give_the_scalar_estimates_and_sum_bit_for_bit() {
         let mut scene = builtin_scene("cornell-box").unwrap().build().unwrap();
         let mut rng = Pcg32::new(9, 4);
         let mut sampler = Sampler::new(SamplerKind::Independent, 1);
         let (mut lit, mut deferred, mut rays, mut paths, mut waited) = (0, 0, 0, 0, 0);
-        for two_sided in [false, true] {
-            let Some(Light::Area(light)) = scene.lights.first_mut() else {
-                panic!("the Cornell box's light")
-            };
-            light.two_sided = two_sided;
-            let verts = vertices(&scene, 3000, &mut rng);
+        // The box with a point, a directional and a spot light beside its own: the kernel's
+        // lanes mix the three kinds it computes, and the spot light's estimates stay scalar.
+        let mut builder = builtin_scene("cornell-box").unwrap();
+        builder.add_light(Light::Point(PointLight::new(
+            Vec3::new(0.3, 0.5, 0.2),
+            Spectrum::new(0.4, 0.3, 0.2),
+        )));
+        builder.add_light(Light::Directional(DirectionalLight::new(
+            Vec3::new(0.3, -0.6, -1.0),
+            Spectrum::new(0.5, 0.6, 0.7),
+        )));
+        builder.add_light(Light::Spot(SpotLight::new(
+            Vec3::new(0.0, 0.6, 0.0),
+            Vec3::new(0.1, -1.0, 0.2),
+            Spectrum::new(0.8, 0.8, 0.5),
+            40.0,
+            25.0,
+        )));
+        let mixed = builder.build().unwrap();
+        let (mut mixed_deferred, mut mixed_lit, mut mixed_scalar) = (0, 0, 0);
+        for case in 0..3 {
+            if let Some(Light::Area(light)) = scene.lights.first_mut() {
+                light.two_sided = case == 1;
+            }
+            let scene = if case < 2 { &scene } else { &mixed };
+            let verts = vertices(scene, 3000, &mut rng);
             let mut batch = DirectBatch::default();
             // The scalar sums of the paths waiting in `batch`, and the shadow rays they traced.
             let (mut want, mut scalar_rays) = (Vec::new(), 0);
@@ -520,7 +666,7 @@ mod tests {
                 }
                 paths += 1;
                 let mut l = Spectrum::ZERO;
-                let mut lanes = batch.path(&scene);
+                let mut lanes = batch.path(scene);
                 let terms = |l: &mut Spectrum, lanes: &mut PathSum, rng: &mut Pcg32| {
                     for _ in 0..(rng.next_u32() % 8) {
                         let term = Spectrum::new(rng.next_f32(), rng.next_f32(), 0.0);
@@ -534,14 +680,21 @@ mod tests {
                     let (u_light, u) = (rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32()));
                     let at = Scatterer::Surface { v, medium: NONE };
                     let mut st = RenderStats::default();
-                    let e = direct_with(&scene, at, u_light, u, &mut sampler, &mut st, true);
-                    scalar_rays += st.rays;
+                    let e = direct_with(scene, at, u_light, u, &mut sampler, &mut st, true);
                     l += beta * e;
                     lit += !e.is_black() as u32;
-                    if lanes.defer_direct(beta, v, u_light, u) {
+                    let lanes_took = lanes.defer_direct(beta, v, u_light, u);
+                    if lanes_took {
                         deferred += 1;
+                        // The batch traces the rays of the estimates it took.
+                        scalar_rays += st.rays;
                     } else {
                         lanes.add(beta * e);
+                    }
+                    if case == 2 {
+                        mixed_deferred += lanes_took as u32;
+                        mixed_scalar += !lanes_took as u32;
+                        mixed_lit += (lanes_took && !e.is_black()) as u32;
                     }
                 }
                 terms(&mut l, &mut lanes, &mut rng);
@@ -580,6 +733,12 @@ mod tests {
         for v in &vertices(&scene, 50, &mut rng) {
             assert!(!l.defer_direct(Spectrum::ONE, v, 0.5, Vec2::splat(0.5)));
         }
+        // With the four lights the kernel took the three kinds it covers (the area light alone
+        // gets about a third of the picks), lit most of them, and left the spot light's.
+        assert!(
+            mixed_deferred > 1500 && mixed_lit > 800 && mixed_scalar > 100,
+            "{mixed_deferred} {mixed_lit} {mixed_scalar}"
+        );
         // Most vertices are deferred and many lit, most paths wait: the comparison covers the
         // lanes.
         assert!(
