@@ -267,7 +267,8 @@ fn estimate_kinds<const DELTA: bool>(r: &Lanes) -> Estimates {
     let area = r.kind.cmpeq(Vec4::splat(AREA));
     let point = r.kind.cmpeq(Vec4::splat(POINT));
     let distant = r.kind.cmpeq(Vec4::splat(DISTANT));
-    // `a` in the area lights' lanes, `b` in the others (which only `DELTA` has).
+    // `b` in the lanes of `m` (a mask of delta lights' lanes, which only `DELTA` has), `a` in
+    // the others.
     let by_kind = |a: V3, b: V3, m: BVec4A| if DELTA { V3::select(m, b, a) } else { a };
 
     // `warp::square_to_uniform_triangle`: s/2 and l − s/2 for the smaller and larger coordinate.
@@ -524,8 +525,7 @@ impl<'b, 'a> PathSum<'b, 'a> {
     /// [`super::direct::sample_direct`] draws), to be computed in the lanes; false, adding
     /// nothing, when the lanes do not cover it (a scene with media, whose shadow rays draw
     /// numbers of their own; not a Lambertian surface; not RGB; a light [`light_lane`] does
-    /// not cover) or the
-    /// batch computes one by one. Inlined into the path loop: out of line it cost 1 % more
+    /// not cover) or the batch computes one by one. Inlined into the path loop: out of line it cost 1 % more
     /// instructions on the Cornell box.
     #[inline(always)]
     pub fn defer_direct(&mut self, beta: Spectrum, v: &Vertex, u_light: f32, u: Vec2) -> bool {
