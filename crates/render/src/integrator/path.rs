@@ -3,10 +3,11 @@
 //! the previous vertex's pdf at every emitter hit), over the shared segment and vertex code of
 //! [`crate::transport`]. The path's terms are summed by a [`PathSum`] of a [`DirectBatch`], which
 //! lets the next-event estimates its lanes cover wait and computes them four at a time across
-//! consecutive paths, the bits unchanged. In RGB scenes without media the `path` integrator
-//! runs [`super::path_lanes`] instead: this estimator with eight paths in SIMD lanes while they
-//! meet diffuse surfaces, each finished by this loop ([`continue_path`]) from its first other
-//! surface on, the same image bit for bit.
+//! consecutive paths, the bits unchanged. In RGB scenes without media lit by lights the lanes'
+//! kernel covers ([`super::path_lanes::covers`]: triangle area, point and directional lights)
+//! the `path` integrator runs [`super::path_lanes`] instead: this estimator with eight paths in
+//! SIMD lanes while they meet diffuse surfaces, each finished by this loop ([`continue_path`])
+//! from its first other surface on, the same image bit for bit.
 //!
 //! In media, [`trace_segment`] samples free flights (delta tracking with spectral MIS); at a
 //! medium vertex direct light comes from NEE through the media (phase function against the
