@@ -282,7 +282,9 @@ impl WideBvh {
                 let (rays, taken) = ray8::Rays8::new(lanes);
                 // SAFETY: eight-wide nodes exist only where AVX2 was detected; the builder's
                 // child references index into `n` and `self.packets`.
-                let hits = unsafe { ray8::closest8(n, &self.packets, &rays, other) };
+                let hits = unsafe {
+                    ray8::closest8::<{ ray8::ONE_BY_ONE }>(n, &self.packets, &rays, other)
+                };
                 (hits, taken)
             }
             _ => ([None; 8], 0),
@@ -301,7 +303,8 @@ impl WideBvh {
             Nodes::Eight(n) if !n.is_empty() => {
                 let (rays, taken) = ray8::Rays8::new(lanes);
                 // SAFETY: as in `closest_packet`.
-                let hit = unsafe { ray8::any8(n, &self.packets, &rays, other) };
+                let hit =
+                    unsafe { ray8::any8::<{ ray8::ONE_BY_ONE }>(n, &self.packets, &rays, other) };
                 (hit, taken)
             }
             _ => (0, 0),
@@ -329,7 +332,15 @@ unsafe fn closest4(
 ) -> Option<WideHit> {
     // SAFETY: the caller's contract.
     unsafe {
-        traverse::closest::<Node4, 4>(nodes, packets, tr, &Node4::ray(o, d), t_max, other, on_hit)
+        traverse::closest::<Node4, 4>(
+            nodes,
+            packets,
+            tr,
+            &Node4::ray(o, d),
+            traverse::Start::root(t_max),
+            other,
+            on_hit,
+        )
     }
 }
 
@@ -348,7 +359,7 @@ unsafe fn any4(
     other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
 ) -> bool {
     // SAFETY: the caller's contract.
-    unsafe { traverse::any::<Node4, 4>(nodes, packets, tr, &Node4::ray(o, d), t_max, other) }
+    unsafe { traverse::any::<Node4, 4>(nodes, packets, tr, &Node4::ray(o, d), t_max, 0, other) }
 }
 
 /// The 8-wide closest-hit traversal, compiled for AVX2 (so the node test inlines).
@@ -367,7 +378,17 @@ unsafe fn closest8(
     on_hit: impl FnMut(u32),
 ) -> Option<WideHit> {
     // SAFETY: the caller's contract.
-    unsafe { traverse::closest::<Node8, 8>(nodes, packets, tr, br, t_max, other, on_hit) }
+    unsafe {
+        traverse::closest::<Node8, 8>(
+            nodes,
+            packets,
+            tr,
+            br,
+            traverse::Start::root(t_max),
+            other,
+            on_hit,
+        )
+    }
 }
 
 /// The 8-wide any-hit traversal, compiled for AVX2.
@@ -386,5 +407,5 @@ unsafe fn any8(
     other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
 ) -> bool {
     // SAFETY: the caller's contract.
-    unsafe { traverse::any::<Node8, 8>(nodes, packets, tr, &Node8::ray(o, d), t_max, other) }
+    unsafe { traverse::any::<Node8, 8>(nodes, packets, tr, &Node8::ray(o, d), t_max, 0, other) }
 }

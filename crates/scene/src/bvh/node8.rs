@@ -30,6 +30,15 @@ pub(super) struct Ray8 {
     inv: [f32; 3],
 }
 
+impl Ray8 {
+    /// The prepared ray of origin `o` and reciprocal direction `inv` (as
+    /// [`super::node4::safe_inverse3`] makes it).
+    #[inline(always)]
+    pub(super) fn from_parts(o: [f32; 3], inv: [f32; 3]) -> Self {
+        Self { o, inv }
+    }
+}
+
 impl Node8 {
     /// The box of lane `lane`: `(min, max)`.
     #[inline(always)]

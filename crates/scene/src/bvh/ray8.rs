@@ -1,6 +1,8 @@
 //! Eight rays traced together through the 8-wide tree (AVX2, x86_64): each node's boxes and
 //! each packet's triangles are fetched once for the eight rays, which pays where rays are
 //! coherent (camera rays, a tile's eye paths), the tree being far larger than the caches.
+//! Each node is visited with the rays that entered its box; where few of them are left, each
+//! goes on through the one-ray traversal ([`ONE_BY_ONE`]).
 //!
 //! Every ray gets exactly the hit the one-ray traversal gives it: the box test is the
 //! one-ray test's arithmetic lane by lane (entry and exit per axis the min and max of the two
@@ -12,10 +14,10 @@
 //! others one by one.
 
 use super::WideHit;
-use super::node8::Node8;
+use super::node8::{Node8, Ray8};
 use super::packet::{EMPTY, Packet};
 use super::stack::{STACK, Stack, StackBuf};
-use super::traverse::{LEAF, ROBUST, WideNode, leaf_packets};
+use super::traverse::{self, LEAF, ROBUST, Start, WideNode, leaf_packets};
 use crate::shape::mesh::TriangleRay;
 use caustica_core::Vec3;
 use std::arch::x86_64::*;
@@ -151,21 +153,54 @@ impl Slabs {
     }
 }
 
+/// Rays of a packet that reach a node or leaf only this many or fewer go on one by one from
+/// there, each through the one-ray traversal (Embree's hybrid traversal, after Benthin et al.
+/// 2012, "Combining single and packet-ray tracing for arbitrary ray distributions on the Intel
+/// MIC architecture"). Eight rays cost one box test per child of a node and one triangle
+/// test per triangle of a leaf, whatever number of them reach it; one ray costs one node test
+/// for all eight children and one packet test for four triangles, so a packet pays only where
+/// most of its rays are together.
+pub(super) const ONE_BY_ONE: u32 = 5;
+
+/// The lanes of `bits` as a vector mask (all bits of a lane set).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn lane_mask(bits: u32) -> __m256 {
+    let lanes = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    let set = _mm256_and_si256(_mm256_set1_epi32(bits as i32), lanes);
+    _mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lanes))
+}
+
+/// Ray `i`'s prepared rays for the one-ray traversal (`None` for a lane without a ray).
+#[inline]
+fn one_ray(rays: &Rays8, i: usize) -> Option<(TriangleRay, Ray8)> {
+    let tr = rays.tr[i & 7]?;
+    let (o, inv) = (&rays.o, &rays.inv);
+    let i = i & 7;
+    let br = Ray8::from_parts(
+        [o[0][i], o[1][i], o[2][i]],
+        [inv[0][i], inv[1][i], inv[2][i]],
+    );
+    Some((tr, br))
+}
+
 /// The closest hit of each ray of `rays` (lanes not in `rays.active` get `None`); `other(i,
 /// k, t)` tests non-triangle primitive `k` (BVH order) for the ray in lane `i`, as
-/// [`super::traverse::closest`]'s `other` does.
+/// [`super::traverse::closest`]'s `other` does. Each node or leaf is visited with the mask of
+/// the rays that entered its box; where they are `SWITCH` or fewer, each goes on alone (the
+/// renderer's `SWITCH` is [`ONE_BY_ONE`]; 0 keeps the rays together to the leaves, 8 traces
+/// them one by one from the root).
 ///
 /// # Safety
 /// The CPU supports AVX2; `nodes` is non-empty and its child references index into `nodes`
 /// and `packets` (indexing is checked anyway).
 #[target_feature(enable = "avx2")]
-pub(super) unsafe fn closest8(
+pub(super) unsafe fn closest8<const SWITCH: u32>(
     nodes: &[Node8],
     packets: &[Packet],
     rays: &Rays8,
     mut other: impl FnMut(usize, u32, f32) -> Option<(f32, f32, f32)>,
 ) -> [Option<WideHit>; 8] {
-    let active = rays.active;
     let mut t_best = load(&rays.t_max);
     // Per ray: the primitive of its closest hit so far (0 before any: no tie can win), its
     // barycentrics, and whether it has a hit.
@@ -175,13 +210,58 @@ pub(super) unsafe fn closest8(
     let mut found = 0u32;
     let slabs = Slabs::new(rays);
     let inf = _mm256_set1_ps(f32::INFINITY);
-    let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
+    let robust = _mm256_set1_ps(ROBUST);
+    // Entries: the least entry distance of the rays that entered the child, the child, and
+    // those rays.
+    let mut buf: StackBuf<(f32, u32, u32)> = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
-    let mut cur = 0u32;
+    let (mut cur, mut rays_in) = (0u32, rays.active);
     loop {
-        if cur & LEAF == 0 {
+        if rays_in.count_ones() <= SWITCH {
+            // Each ray on its own from here, with its closest hit so far (so ties resolve as
+            // in its own traversal).
+            let mut tb = store(t_best);
+            let mut bits = rays_in;
+            while bits != 0 {
+                let i = bits.trailing_zeros() as usize & 7;
+                bits &= bits - 1;
+                let Some((tr, br)) = one_ray(rays, i) else {
+                    continue;
+                };
+                let start = Start {
+                    node: cur,
+                    t_max: tb[i],
+                    best: (found >> i & 1 == 1).then_some(WideHit {
+                        t: tb[i],
+                        prim: prim[i],
+                        b1: b1[i],
+                        b2: b2[i],
+                    }),
+                };
+                // SAFETY: this function's contract, and `cur` is a reference of the tree.
+                let hit = unsafe {
+                    traverse::closest::<Node8, 8>(
+                        nodes,
+                        packets,
+                        &tr,
+                        &br,
+                        start,
+                        |k, t| other(i, k, t),
+                        |_| {},
+                    )
+                };
+                if let Some(h) = hit {
+                    tb[i] = h.t;
+                    prim[i] = h.prim;
+                    (b1[i], b2[i]) = (h.b1, h.b2);
+                    found |= 1 << i;
+                }
+            }
+            t_best = load(&tb);
+        } else if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
-            let mut hits = [(0.0f32, 0u32); 8];
+            let entered = lane_mask(rays_in);
+            let mut hits = [(0.0f32, 0u32, 0u32); 8];
             let mut n = 0;
             for c in 0..8 {
                 let child = node.child(c);
@@ -190,7 +270,8 @@ pub(super) unsafe fn closest8(
                 }
                 let (lo, hi) = node.lane_box(c);
                 let (t0, le) = slabs.test(lo, hi, t_best);
-                let m = _mm256_movemask_ps(le) as u32 & active;
+                let le = _mm256_and_ps(le, entered);
+                let m = _mm256_movemask_ps(le) as u32;
                 if m == 0 {
                     continue;
                 }
@@ -201,14 +282,14 @@ pub(super) unsafe fn closest8(
                     hits[j] = hits[j - 1];
                     j -= 1;
                 }
-                hits[j % 8] = (key, child);
+                hits[j % 8] = (key, child, m);
                 n += 1;
             }
             if n > 0 {
                 for &e in hits[1..n].iter().rev() {
                     stack.push(e);
                 }
-                cur = hits[0].1;
+                (cur, rays_in) = (hits[0].1, hits[0].2);
                 continue;
             }
         } else {
@@ -219,9 +300,9 @@ pub(super) unsafe fn closest8(
                     tris &= tris - 1;
                     let p = pk.prim[l];
                     let mut on_edge = 0;
-                    let accept = triangle8(pk, l, rays, t_best, active, &mut on_edge);
+                    let accept = triangle8(pk, l, rays, t_best, rays_in, &mut on_edge);
                     // Rays exactly on an edge: the scalar test, as the one-ray traversal does.
-                    let mut edge = on_edge & active;
+                    let mut edge = on_edge & rays_in;
                     if accept.is_none() && edge == 0 {
                         continue;
                     }
@@ -251,8 +332,8 @@ pub(super) unsafe fn closest8(
                     {
                         // Ties (equal distance) win only against a later primitive of a ray's
                         // own.
-                        let mut take = less & active & !on_edge;
-                        let mut ties = equal & active & !on_edge & found;
+                        let mut take = less & rays_in & !on_edge;
+                        let mut ties = equal & rays_in & !on_edge & found;
                         while ties != 0 {
                             let i = ties.trailing_zeros() as usize & 7;
                             ties &= ties - 1;
@@ -277,7 +358,7 @@ pub(super) unsafe fn closest8(
                     let l = others.trailing_zeros() as usize & 3;
                     others &= others - 1;
                     let mut tb = store(t_best);
-                    let mut lanes = active;
+                    let mut lanes = rays_in;
                     while lanes != 0 {
                         let i = lanes.trailing_zeros() as usize & 7;
                         lanes &= lanes - 1;
@@ -292,8 +373,10 @@ pub(super) unsafe fn closest8(
                 }
             }
         }
-        // Next stacked child some ray may still find a closer hit in.
-        let reach = hmax_active(t_best, active) * ROBUST;
+        // Next stacked child some ray may still find a closer hit in: of the rays that entered
+        // it, those whose closest hit is not nearer than the least entry distance (a ray's own
+        // entry distance is no less, so the others would miss its box now).
+        let reach = _mm256_mul_ps(t_best, robust);
         loop {
             match stack.pop() {
                 None => {
@@ -311,39 +394,72 @@ pub(super) unsafe fn closest8(
                     }
                     return out;
                 }
-                Some((key, c)) if key <= reach => {
-                    cur = c;
-                    break;
+                Some((key, c, m)) => {
+                    let within = _mm256_cmp_ps::<_CMP_LE_OS>(_mm256_set1_ps(key), reach);
+                    let m = m & _mm256_movemask_ps(within) as u32;
+                    if m != 0 {
+                        (cur, rays_in) = (c, m);
+                        break;
+                    }
                 }
-                Some(_) => {}
             }
         }
     }
 }
 
 /// Whether each ray of `rays` (lanes in `rays.active`) hits anything before its `t_max`;
-/// `other` as for [`closest8`] (only whether it returns a hit matters).
+/// `other` as for [`closest8`] (only whether it returns a hit matters). Nodes and leaves are
+/// visited with the rays that entered them and are not yet blocked, one by one where they are
+/// `SWITCH` or fewer, as in [`closest8`].
 ///
 /// # Safety
 /// As [`closest8`].
 #[target_feature(enable = "avx2")]
-pub(super) unsafe fn any8(
+pub(super) unsafe fn any8<const SWITCH: u32>(
     nodes: &[Node8],
     packets: &[Packet],
     rays: &Rays8,
     mut other: impl FnMut(usize, u32, f32) -> Option<(f32, f32, f32)>,
 ) -> u32 {
+    // Rays not yet blocked.
     let mut active = rays.active;
     let mut occluded = 0u32;
     let t_max = load(&rays.t_max);
     let slabs = Slabs::new(rays);
-    let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
+    // Entries: a child and the rays that entered it.
+    let mut buf: StackBuf<(u32, u32)> = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
-    let mut cur = 0u32;
+    let (mut cur, mut rays_in) = (0u32, active);
     loop {
-        if cur & LEAF == 0 {
+        if rays_in.count_ones() <= SWITCH {
+            let mut bits = rays_in;
+            while bits != 0 {
+                let i = bits.trailing_zeros() as usize & 7;
+                bits &= bits - 1;
+                let Some((tr, br)) = one_ray(rays, i) else {
+                    continue;
+                };
+                // SAFETY: this function's contract, and `cur` is a reference of the tree.
+                let hit = unsafe {
+                    traverse::any::<Node8, 8>(
+                        nodes,
+                        packets,
+                        &tr,
+                        &br,
+                        rays.t_max[i],
+                        cur,
+                        |k, t| other(i, k, t),
+                    )
+                };
+                if hit {
+                    occluded |= 1 << i;
+                    active &= !(1 << i);
+                }
+            }
+        } else if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
-            let mut next = EMPTY;
+            let entered = lane_mask(rays_in);
+            let mut next = None;
             for c in 0..8 {
                 let child = node.child(c);
                 if child == EMPTY {
@@ -351,30 +467,30 @@ pub(super) unsafe fn any8(
                 }
                 let (lo, hi) = node.lane_box(c);
                 let (_, le) = slabs.test(lo, hi, t_max);
-                let m = _mm256_movemask_ps(le) as u32 & active;
+                let m = _mm256_movemask_ps(_mm256_and_ps(le, entered)) as u32;
                 if m != 0 {
-                    if next == EMPTY {
-                        next = child;
+                    if next.is_none() {
+                        next = Some((child, m));
                     } else {
-                        stack.push((0.0, child));
+                        stack.push((child, m));
                     }
                 }
             }
-            if next != EMPTY {
-                cur = next;
+            if let Some(next) = next {
+                (cur, rays_in) = next;
                 continue;
             }
         } else {
             for pk in leaf_packets(packets, cur) {
                 let mut tris = pk.tri_mask;
-                while tris != 0 && active != 0 {
+                while tris != 0 && rays_in != 0 {
                     let l = tris.trailing_zeros() as usize & 3;
                     tris &= tris - 1;
                     let mut on_edge = 0;
                     let less =
-                        triangle8(pk, l, rays, t_max, active, &mut on_edge).map_or(0, |a| a.less);
-                    let mut hit = less & active & !on_edge;
-                    let mut edge = on_edge & active;
+                        triangle8(pk, l, rays, t_max, rays_in, &mut on_edge).map_or(0, |a| a.less);
+                    let mut hit = less & rays_in & !on_edge;
+                    let mut edge = on_edge & rays_in;
                     let tm = &rays.t_max;
                     while edge != 0 {
                         let i = edge.trailing_zeros() as usize & 7;
@@ -387,29 +503,38 @@ pub(super) unsafe fn any8(
                     }
                     occluded |= hit;
                     active &= !hit;
+                    rays_in &= !hit;
                 }
                 let mut others = pk.other_mask;
-                while others != 0 && active != 0 {
+                while others != 0 && rays_in != 0 {
                     let l = others.trailing_zeros() as usize & 3;
                     others &= others - 1;
-                    let mut lanes = active;
+                    let mut lanes = rays_in;
                     while lanes != 0 {
                         let i = lanes.trailing_zeros() as usize & 7;
                         lanes &= lanes - 1;
                         if other(i, pk.prim[l], rays.t_max[i]).is_some() {
                             occluded |= 1 << i;
                             active &= !(1 << i);
+                            rays_in &= !(1 << i);
                         }
                     }
                 }
             }
-            if active == 0 {
-                return occluded;
-            }
         }
-        match stack.pop() {
-            None => return occluded,
-            Some((_, c)) => cur = c,
+        if active == 0 {
+            return occluded;
+        }
+        // Next stacked child some ray that entered it and is not yet blocked has to visit.
+        loop {
+            match stack.pop() {
+                None => return occluded,
+                Some((c, m)) if m & active != 0 => {
+                    (cur, rays_in) = (c, m & active);
+                    break;
+                }
+                Some(_) => {}
+            }
         }
     }
 }
@@ -511,13 +636,129 @@ fn hmin(v: __m256) -> f32 {
     _mm_cvtss_f32(m)
 }
 
-/// The greatest lane of `v` among `active`.
-#[inline]
-#[target_feature(enable = "avx2")]
-fn hmax_active(v: __m256, active: u32) -> f32 {
-    store(v)
-        .iter()
-        .enumerate()
-        .filter(|&(i, _)| active >> i & 1 == 1)
-        .fold(f32::NEG_INFINITY, |m, (_, &x)| m.max(x))
+#[cfg(test)]
+mod tests {
+    use super::super::{BvhWidth, Nodes, PacketRay, WideBvh};
+    use super::*;
+    use crate::shape::Aabb;
+    use caustica_core::sampling::Pcg32;
+
+    /// A closed UV sphere of radius 1: neighbours share edges and vertices (ties).
+    fn sphere(nphi: usize, ntheta: usize) -> Vec<[Vec3; 3]> {
+        let p = |i: usize, j: usize| {
+            let (phi, theta) = (
+                std::f32::consts::TAU * (i % nphi) as f32 / nphi as f32,
+                std::f32::consts::PI * j as f32 / ntheta as f32,
+            );
+            Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            )
+        };
+        let mut tris = Vec::new();
+        for j in 0..ntheta {
+            for i in 0..nphi {
+                tris.push([p(i, j), p(i, j + 1), p(i + 1, j + 1)]);
+                tris.push([p(i, j), p(i + 1, j + 1), p(i + 1, j)]);
+            }
+        }
+        tris
+    }
+
+    #[test]
+    fn packets_kept_together_handed_over_or_one_by_one_give_each_ray_its_own_hit() {
+        if !BvhWidth::Eight.supported() {
+            return;
+        }
+        let tris = sphere(48, 24);
+        let bounds: Vec<Aabb> = tris
+            .iter()
+            .map(|t| Aabb {
+                min: t[0].min(t[1]).min(t[2]),
+                max: t[0].max(t[1]).max(t[2]),
+            })
+            .collect();
+        let prims: Vec<Option<[Vec3; 3]>> = tris.iter().copied().map(Some).collect();
+        let bvh = WideBvh::build_with_width(&bounds, &prims, BvhWidth::Eight);
+        let Nodes::Eight(nodes) = &bvh.nodes else {
+            panic!("an eight-wide tree was asked for");
+        };
+        let mut rng = Pcg32::new(3, 11);
+        let mut u = || rng.next_f32();
+        let (mut full, mut hits, mut blocked) = (0, 0, 0);
+        for packet in 0..600 {
+            // Bundles from one corner toward the sphere, from nearly parallel (the rays stay
+            // together to the leaves) to wide (they part near the root); every third bundle
+            // aims at the mesh's vertices (hits at equal distance on shared edges), and some
+            // rays end inside the sphere.
+            let spread = [0.002, 0.02, 0.2, 1.0][packet % 4];
+            let o = Vec3::new(0.3 * u() - 2.5, 0.3 * u() - 2.0, 0.3 * u() - 3.0);
+            let aim = Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5);
+            let lanes: Vec<Option<PacketRay>> = (0..8)
+                .map(|k| {
+                    let target = if packet % 3 == 0 {
+                        tris[(packet * 8 + k * 5) % tris.len()][k % 3]
+                    } else {
+                        aim + spread * Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5)
+                    };
+                    let d = (target - o).normalize();
+                    let t_max = if k == 7 { 3.2 } else { f32::INFINITY };
+                    Some((o, d, t_max, TriangleRay::new(o, d)))
+                })
+                .collect();
+            let (rays, taken) = Rays8::new(&lanes);
+            full += (taken == 0xff) as u32;
+            let none = |_: usize, _: u32, _: f32| None;
+            // SAFETY: AVX2 was detected; the tree was built by the builder.
+            let results = unsafe {
+                [
+                    (
+                        closest8::<0>(nodes, &bvh.packets, &rays, none),
+                        any8::<0>(nodes, &bvh.packets, &rays, none),
+                    ),
+                    (
+                        closest8::<5>(nodes, &bvh.packets, &rays, none),
+                        any8::<5>(nodes, &bvh.packets, &rays, none),
+                    ),
+                    (
+                        closest8::<8>(nodes, &bvh.packets, &rays, none),
+                        any8::<8>(nodes, &bvh.packets, &rays, none),
+                    ),
+                ]
+            };
+            for (i, lane) in lanes.iter().enumerate() {
+                let Some((o, d, t_max, tr)) = lane else {
+                    continue;
+                };
+                if taken >> i & 1 == 0 {
+                    continue;
+                }
+                let one = bvh.closest(*o, *d, tr, *t_max, |_, _| None, |_| {});
+                let one_any = bvh.any(*o, *d, tr, *t_max, |_, _| None);
+                for (switch, (closest, any)) in [0, 5, 8].iter().zip(&results) {
+                    let bits = |h: Option<WideHit>| {
+                        h.map(|h| (h.t.to_bits(), h.prim, h.b1.to_bits(), h.b2.to_bits()))
+                    };
+                    assert_eq!(
+                        bits(closest[i]),
+                        bits(one),
+                        "packet {packet} ray {i} switch {switch}"
+                    );
+                    assert_eq!(
+                        any >> i & 1 == 1,
+                        one_any,
+                        "packet {packet} ray {i} switch {switch}"
+                    );
+                }
+                hits += one.is_some() as u32;
+                blocked += one_any as u32;
+            }
+        }
+        assert!(full > 300, "full packets {full}");
+        assert!(
+            hits > 2000 && blocked > 2000,
+            "hits {hits}, blocked {blocked}"
+        );
+    }
 }

@@ -1,5 +1,6 @@
-//! The traversal stack: `(entry distance, node or packet)` in a fixed array declared by the
-//! caller, spilling to the heap only for very deep trees.
+//! The traversal stack: `(entry distance, node or packet)` (with the eight-ray traversal's ray
+//! mask, `(entry distance, node or packet, rays)`) in a fixed array declared by the caller,
+//! spilling to the heap only for very deep trees.
 
 use std::mem::MaybeUninit;
 
@@ -9,19 +10,19 @@ pub(super) const STACK: usize = 64;
 /// A stack's uninitialised storage, declared by the caller (building it inside `Stack::new`
 /// made the compiler copy the whole array on every query). It is left uninitialised: zeroing
 /// it cost more per ray than a shallow tree's whole traversal.
-pub(super) type StackBuf = [MaybeUninit<(f32, u32)>; STACK];
+pub(super) type StackBuf<T = (f32, u32)> = [MaybeUninit<T>; STACK];
 
-pub(super) struct Stack<'a> {
-    buf: &'a mut StackBuf,
+pub(super) struct Stack<'a, T: Copy = (f32, u32)> {
+    buf: &'a mut StackBuf<T>,
     /// Entries on the stack: the first `min(len, STACK)` in `buf[..]` (initialised, the
     /// invariant every method keeps), the rest in `spill`, in order.
     len: usize,
-    spill: Vec<(f32, u32)>,
+    spill: Vec<T>,
 }
 
-impl<'a> Stack<'a> {
+impl<'a, T: Copy> Stack<'a, T> {
     #[inline(always)]
-    pub(super) fn new(buf: &'a mut StackBuf) -> Self {
+    pub(super) fn new(buf: &'a mut StackBuf<T>) -> Self {
         Self {
             buf,
             len: 0,
@@ -30,7 +31,7 @@ impl<'a> Stack<'a> {
     }
 
     #[inline(always)]
-    pub(super) fn push(&mut self, e: (f32, u32)) {
+    pub(super) fn push(&mut self, e: T) {
         // One test on the common path: entries beyond the array go to the heap, in order.
         match self.buf.get_mut(self.len) {
             Some(slot) => {
@@ -42,7 +43,7 @@ impl<'a> Stack<'a> {
     }
 
     #[inline(always)]
-    pub(super) fn pop(&mut self) -> Option<(f32, u32)> {
+    pub(super) fn pop(&mut self) -> Option<T> {
         if self.len == 0 {
             return None;
         }
@@ -66,7 +67,7 @@ mod tests {
     #[test]
     fn stack_spills_and_stays_last_in_first_out() {
         let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
-        let mut s = Stack::new(&mut buf);
+        let mut s: Stack = Stack::new(&mut buf);
         // Fill past the array, pop some, push again: pops must mirror pushes exactly.
         let mut model = Vec::new();
         for round in 0..3u32 {

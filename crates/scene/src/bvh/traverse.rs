@@ -84,7 +84,31 @@ pub(super) trait WideNode<const W: usize>: Sized {
     unsafe fn hit(&self, ray: &Self::Ray, t_max: f32) -> (u32, [f32; W]);
 }
 
-/// The closest hit with `t ∈ (0, t_max)`: triangles tested here, every other primitive `k`
+/// Where a closest-hit traversal starts: at the root with nothing found, or (the eight-ray
+/// traversal handing a ray over) at a node or leaf below it with the ray's closest hit so far.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Start {
+    /// The node or leaf reference the traversal starts from.
+    pub(super) node: u32,
+    /// Hits count only with `t < t_max` (or `t = t_max` and a primitive before `best`'s).
+    pub(super) t_max: f32,
+    /// The closest hit so far, at `t_max` (`None`: no hit yet).
+    pub(super) best: Option<WideHit>,
+}
+
+impl Start {
+    /// From the root, nothing found, hits closer than `t_max`.
+    #[inline(always)]
+    pub(super) fn root(t_max: f32) -> Self {
+        Self {
+            node: 0,
+            t_max,
+            best: None,
+        }
+    }
+}
+
+/// The closest hit with `t ∈ (0, start.t_max)` below `start.node`: triangles tested here, every other primitive `k`
 /// (BVH order) by `other(k, t)`, which returns `(t, b1, b2)` of a hit closer than `t`. Visits
 /// the hit children near to far and skips stacked entries farther than the closest hit so far.
 /// Of triangles hit at exactly the least distance (a ray through a vertex or an edge they
@@ -102,14 +126,13 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
     packets: &[Packet],
     tr: &TriangleRay,
     br: &N::Ray,
-    mut t_max: f32,
+    start: Start,
     mut other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
     mut on_hit: impl FnMut(u32),
 ) -> Option<WideHit> {
-    let mut best = None;
+    let (mut cur, mut t_max, mut best) = (start.node, start.t_max, start.best);
     let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
-    let mut stack = Stack::new(&mut buf);
-    let mut cur = 0u32;
+    let mut stack: Stack = Stack::new(&mut buf);
     let prefetch = prefetch::worth(nodes);
     loop {
         if cur & LEAF == 0 {
@@ -215,8 +238,9 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
     }
 }
 
-/// True if any primitive is hit with `t ∈ (0, t_max)`; `other` as for [`closest`] (only
-/// whether it returns a hit matters). Stops at the first hit.
+/// True if any primitive below node or leaf `start` (the root: 0) is hit with
+/// `t ∈ (0, t_max)`; `other` as for [`closest`] (only whether it returns a hit matters). Stops
+/// at the first hit.
 ///
 /// # Safety
 /// As [`closest`].
@@ -227,11 +251,12 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
     tr: &TriangleRay,
     br: &N::Ray,
     t_max: f32,
+    start: u32,
     mut other: impl FnMut(u32, f32) -> Option<(f32, f32, f32)>,
 ) -> bool {
     let mut buf: StackBuf = [const { MaybeUninit::uninit() }; STACK];
-    let mut stack = Stack::new(&mut buf);
-    let mut cur = 0u32;
+    let mut stack: Stack = Stack::new(&mut buf);
+    let mut cur = start;
     let prefetch = prefetch::worth(nodes);
     loop {
         if cur & LEAF == 0 {
