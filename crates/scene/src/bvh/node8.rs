@@ -40,6 +40,18 @@ impl Ray8 {
 }
 
 impl Node8 {
+    /// The eight boxes' planes along `axis`: their minima (`side` 0) or maxima (`side` 1).
+    #[inline(always)]
+    pub(super) fn planes(&self, axis: usize, side: usize) -> &[f32; 8] {
+        &self.bounds[axis % 3][side & 1]
+    }
+
+    /// The lanes that hold a child (bit `l` for lane `l`).
+    #[inline(always)]
+    pub(super) fn used(&self) -> u32 {
+        self.used
+    }
+
     /// The box of lane `lane`: `(min, max)`.
     #[inline(always)]
     pub(super) fn lane_box(&self, lane: usize) -> ([f32; 3], [f32; 3]) {

@@ -15,7 +15,7 @@
 
 use super::WideHit;
 use super::node8::{Node8, Ray8};
-use super::packet::{EMPTY, Packet};
+use super::packet::Packet;
 use super::stack::{STACK, Stack, StackBuf};
 use super::traverse::{self, LEAF, ROBUST, Start, WideNode, leaf_packets};
 use crate::shape::mesh::TriangleRay;
@@ -40,6 +40,68 @@ pub(super) struct Rays8 {
     active: u32,
     /// The lanes' prepared rays, for the scalar fallback on edges.
     tr: [Option<TriangleRay>; 8],
+    /// The rays' frustum, where their directions agree in sign on every axis.
+    frustum: Option<Frustum>,
+}
+
+/// Bounds on the slab distances of a packet's rays whose directions have the same sign along
+/// each axis (after Reshetov et al. 2005 and Embree's coherent traversal): with `o` and `inv`
+/// ranging over the rays' origins and reciprocal directions, along an axis of positive
+/// directions a box's near plane `lo` gives each ray a distance `(lo − o) · inv` no less than
+/// `min((lo − o_max) · inv_min, (lo − o_max) · inv_max)` and its far plane `hi` one no greater
+/// than `max((hi − o_min) · inv_min, (hi − o_min) · inv_max)` (the planes and the origin
+/// bounds swap along an axis of negative directions). Rounding is monotonic, so the bounds hold
+/// for the rounded distances [`Slabs::test`] computes too: a box the frustum misses, every ray
+/// misses.
+#[derive(Clone, Copy, Debug)]
+struct Frustum {
+    /// Per axis, the near planes' side (0: the boxes' minima, for positive directions).
+    near: [usize; 3],
+    /// Per axis, the origin bound for the near plane (the greatest origin for positive
+    /// directions, the least for negative) and for the far plane (the other).
+    o_near: [f32; 3],
+    o_far: [f32; 3],
+    /// Per axis, the least and greatest reciprocal direction.
+    inv_min: [f32; 3],
+    inv_max: [f32; 3],
+}
+
+impl Frustum {
+    /// The frustum of the rays in `lanes` of `o` and `inv`, or `None` where some axis has
+    /// directions of both signs (or no ray is given).
+    fn new(o: &[[f32; 8]; 3], inv: &[[f32; 8]; 3], lanes: u32) -> Option<Self> {
+        let mut f = Frustum {
+            near: [0; 3],
+            o_near: [0.0; 3],
+            o_far: [0.0; 3],
+            inv_min: [0.0; 3],
+            inv_max: [0.0; 3],
+        };
+        if lanes == 0 {
+            return None;
+        }
+        for a in 0..3 {
+            let on = |i: &usize| lanes >> i & 1 == 1;
+            let (mut o_lo, mut o_hi) = (f32::INFINITY, f32::NEG_INFINITY);
+            let (mut i_lo, mut i_hi) = (f32::INFINITY, f32::NEG_INFINITY);
+            for i in (0..8).filter(on) {
+                (o_lo, o_hi) = (o_lo.min(o[a][i]), o_hi.max(o[a][i]));
+                (i_lo, i_hi) = (i_lo.min(inv[a][i]), i_hi.max(inv[a][i]));
+            }
+            // Reciprocals are never zero (`safe_inverse`).
+            let positive = if i_lo > 0.0 {
+                true
+            } else if i_hi < 0.0 {
+                false
+            } else {
+                return None;
+            };
+            f.near[a] = if positive { 0 } else { 1 };
+            (f.o_near[a], f.o_far[a]) = if positive { (o_hi, o_lo) } else { (o_lo, o_hi) };
+            (f.inv_min[a], f.inv_max[a]) = (i_lo, i_hi);
+        }
+        Some(f)
+    }
 }
 
 impl Rays8 {
@@ -57,6 +119,7 @@ impl Rays8 {
             k: [0, 1, 2],
             active: 0,
             tr: [None; 8],
+            frustum: None,
         };
         let mut first: Option<[usize; 3]> = None;
         for (i, lane) in lanes.iter().enumerate().take(8) {
@@ -84,6 +147,7 @@ impl Rays8 {
         if let Some(k) = first {
             r.k = k;
         }
+        r.frustum = Frustum::new(&r.o, &r.inv, r.active);
         let taken = r.active;
         (r, taken)
     }
@@ -184,6 +248,69 @@ fn one_ray(rays: &Rays8, i: usize) -> Option<(TriangleRay, Ray8)> {
     Some((tr, br))
 }
 
+/// The frustum in registers.
+#[derive(Clone, Copy)]
+struct FrustumTest {
+    near: [usize; 3],
+    o_near: [__m256; 3],
+    o_far: [__m256; 3],
+    inv_min: [__m256; 3],
+    inv_max: [__m256; 3],
+}
+
+impl FrustumTest {
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn new(f: &Frustum) -> Self {
+        // (A macro, not a closure, so the intrinsic is inlined with this function's features.)
+        macro_rules! b {
+            ($x:expr) => {
+                [
+                    _mm256_set1_ps($x[0]),
+                    _mm256_set1_ps($x[1]),
+                    _mm256_set1_ps($x[2]),
+                ]
+            };
+        }
+        Self {
+            near: f.near,
+            o_near: b!(f.o_near),
+            o_far: b!(f.o_far),
+            inv_min: b!(f.inv_min),
+            inv_max: b!(f.inv_max),
+        }
+    }
+
+    /// The children of `node` whose boxes some ray of the frustum may meet within
+    /// `[0, t_far]` (`t_far` no less than any of those rays' own): [`Slabs::test`]'s entry
+    /// and exit, bounded below and above ([`Frustum`]), compared alike.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn hit(&self, node: &Node8, t_far: f32) -> u32 {
+        let zero = _mm256_setzero_ps();
+        let mut t0 = zero;
+        let mut t1 = _mm256_set1_ps(t_far);
+        for a in 0..3 {
+            let near = load(node.planes(a, self.near[a]));
+            let far = load(node.planes(a, 1 - self.near[a]));
+            let dn = _mm256_sub_ps(near, self.o_near[a]);
+            let df = _mm256_sub_ps(far, self.o_far[a]);
+            let lo = _mm256_min_ps(
+                _mm256_mul_ps(dn, self.inv_min[a]),
+                _mm256_mul_ps(dn, self.inv_max[a]),
+            );
+            let hi = _mm256_max_ps(
+                _mm256_mul_ps(df, self.inv_min[a]),
+                _mm256_mul_ps(df, self.inv_max[a]),
+            );
+            t0 = _mm256_max_ps(t0, lo);
+            t1 = _mm256_min_ps(t1, hi);
+        }
+        let t1 = _mm256_mul_ps(t1, _mm256_set1_ps(ROBUST));
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t0, t1)) as u32 & node.used()
+    }
+}
+
 /// The closest hit of each ray of `rays` (lanes not in `rays.active` get `None`); `other(i,
 /// k, t)` tests non-triangle primitive `k` (BVH order) for the ray in lane `i`, as
 /// [`super::traverse::closest`]'s `other` does. Each node or leaf is visited with the mask of
@@ -210,7 +337,9 @@ pub(super) unsafe fn closest8<const SWITCH: u32>(
     let mut found = 0u32;
     let slabs = Slabs::new(rays);
     let inf = _mm256_set1_ps(f32::INFINITY);
+    let neg_inf = _mm256_set1_ps(f32::NEG_INFINITY);
     let robust = _mm256_set1_ps(ROBUST);
+    let frustum = rays.frustum.as_ref().map(|f| FrustumTest::new(f));
     // Entries: the least entry distance of the rays that entered the child, the child, and
     // those rays.
     let mut buf: StackBuf<(f32, u32, u32)> = [const { MaybeUninit::uninit() }; STACK];
@@ -261,13 +390,17 @@ pub(super) unsafe fn closest8<const SWITCH: u32>(
         } else if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
             let entered = lane_mask(rays_in);
+            // The children the frustum meets (all where there is none) are tested ray by ray.
+            let mut children = match &frustum {
+                Some(f) => f.hit(node, hmax(_mm256_blendv_ps(neg_inf, t_best, entered))),
+                None => node.used(),
+            };
             let mut hits = [(0.0f32, 0u32, 0u32); 8];
             let mut n = 0;
-            for c in 0..8 {
+            while children != 0 {
+                let c = children.trailing_zeros() as usize & 7;
+                children &= children - 1;
                 let child = node.child(c);
-                if child == EMPTY {
-                    break;
-                }
                 let (lo, hi) = node.lane_box(c);
                 let (t0, le) = slabs.test(lo, hi, t_best);
                 let le = _mm256_and_ps(le, entered);
@@ -426,6 +559,8 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
     let mut occluded = 0u32;
     let t_max = load(&rays.t_max);
     let slabs = Slabs::new(rays);
+    let neg_inf = _mm256_set1_ps(f32::NEG_INFINITY);
+    let frustum = rays.frustum.as_ref().map(|f| FrustumTest::new(f));
     // Entries: a child and the rays that entered it.
     let mut buf: StackBuf<(u32, u32)> = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
@@ -459,12 +594,15 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
         } else if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
             let entered = lane_mask(rays_in);
+            let mut children = match &frustum {
+                Some(f) => f.hit(node, hmax(_mm256_blendv_ps(neg_inf, t_max, entered))),
+                None => node.used(),
+            };
             let mut next = None;
-            for c in 0..8 {
+            while children != 0 {
+                let c = children.trailing_zeros() as usize & 7;
+                children &= children - 1;
                 let child = node.child(c);
-                if child == EMPTY {
-                    break;
-                }
                 let (lo, hi) = node.lane_box(c);
                 let (_, le) = slabs.test(lo, hi, t_max);
                 let m = _mm256_movemask_ps(_mm256_and_ps(le, entered)) as u32;
@@ -626,6 +764,16 @@ fn triangle8(
     })
 }
 
+/// The greatest lane of `v` (lanes not to count hold −∞ already).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn hmax(v: __m256) -> f32 {
+    let m = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
+    let m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    let m = _mm_max_ss(m, _mm_shuffle_ps::<0b01>(m, m));
+    _mm_cvtss_f32(m)
+}
+
 /// The least lane of `v` (lanes not to count hold +∞ already).
 #[inline]
 #[target_feature(enable = "avx2")]
@@ -686,17 +834,27 @@ mod tests {
         };
         let mut rng = Pcg32::new(3, 11);
         let mut u = || rng.next_f32();
-        let (mut full, mut hits, mut blocked) = (0, 0, 0);
+        let (mut full, mut hits, mut blocked, mut frusta) = (0, 0, 0, 0);
         for packet in 0..600 {
             // Bundles from one corner toward the sphere, from nearly parallel (the rays stay
             // together to the leaves) to wide (they part near the root); every third bundle
             // aims at the mesh's vertices (hits at equal distance on shared edges), and some
             // rays end inside the sphere.
             let spread = [0.002, 0.02, 0.2, 1.0][packet % 4];
-            let o = Vec3::new(0.3 * u() - 2.5, 0.3 * u() - 2.0, 0.3 * u() - 3.0);
+            // Corners of every octant, so that directions are negative along some axes, and
+            // every fifth packet from near the centre (directions of both signs: no frustum);
+            // origins apart by up to `jitter` within a packet.
+            let sign = |b: usize| if packet >> b & 1 == 1 { 1.0 } else { -1.0 };
+            let corner = if packet % 5 == 4 {
+                Vec3::new(0.1, -0.05, 0.02)
+            } else {
+                Vec3::new(2.5 * sign(2), 2.0 * sign(3), 3.0 * sign(4))
+            };
+            let jitter = [0.0, 0.05, 0.3][packet % 3];
             let aim = Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5);
             let lanes: Vec<Option<PacketRay>> = (0..8)
                 .map(|k| {
+                    let o = corner + jitter * Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5);
                     let target = if packet % 3 == 0 {
                         tris[(packet * 8 + k * 5) % tris.len()][k % 3]
                     } else {
@@ -709,6 +867,7 @@ mod tests {
                 .collect();
             let (rays, taken) = Rays8::new(&lanes);
             full += (taken == 0xff) as u32;
+            frusta += rays.frustum.is_some() as u32;
             let none = |_: usize, _: u32, _: f32| None;
             // SAFETY: AVX2 was detected; the tree was built by the builder.
             let results = unsafe {
@@ -756,6 +915,10 @@ mod tests {
             }
         }
         assert!(full > 300, "full packets {full}");
+        assert!(
+            (200..560).contains(&frusta),
+            "packets with a frustum {frusta}"
+        );
         assert!(
             hits > 2000 && blocked > 2000,
             "hits {hits}, blocked {blocked}"
