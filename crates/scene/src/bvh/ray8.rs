@@ -38,8 +38,6 @@ pub(super) struct Rays8 {
     k: [usize; 3],
     /// Lanes holding a ray of the packet.
     active: u32,
-    /// The lanes' prepared rays, for the scalar fallback on edges.
-    tr: [Option<TriangleRay>; 8],
     /// The rays' frustum, where their directions agree in sign on every axis.
     frustum: Option<Frustum>,
 }
@@ -81,12 +79,16 @@ impl Frustum {
             return None;
         }
         for a in 0..3 {
-            let on = |i: &usize| lanes >> i & 1 == 1;
+            // Lanes without a ray count as ±∞ (a loop the compiler vectorises).
             let (mut o_lo, mut o_hi) = (f32::INFINITY, f32::NEG_INFINITY);
             let (mut i_lo, mut i_hi) = (f32::INFINITY, f32::NEG_INFINITY);
-            for i in (0..8).filter(on) {
-                (o_lo, o_hi) = (o_lo.min(o[a][i]), o_hi.max(o[a][i]));
-                (i_lo, i_hi) = (i_lo.min(inv[a][i]), i_hi.max(inv[a][i]));
+            for i in 0..8 {
+                let on = lanes >> i & 1 == 1;
+                let pick = |x: f32, none: f32| if on { x } else { none };
+                o_lo = o_lo.min(pick(o[a][i], f32::INFINITY));
+                o_hi = o_hi.max(pick(o[a][i], f32::NEG_INFINITY));
+                i_lo = i_lo.min(pick(inv[a][i], f32::INFINITY));
+                i_hi = i_hi.max(pick(inv[a][i], f32::NEG_INFINITY));
             }
             // Reciprocals are never zero (`safe_inverse`).
             let positive = if i_lo > 0.0 {
@@ -118,31 +120,31 @@ impl Rays8 {
             t_max: [0.0; 8],
             k: [0, 1, 2],
             active: 0,
-            tr: [None; 8],
             frustum: None,
         };
+        let mut d = [[1.0f32; 8]; 3];
         let mut first: Option<[usize; 3]> = None;
         for (i, lane) in lanes.iter().enumerate().take(8) {
-            let Some((o, d, t_max, tr)) = lane else {
+            let Some((o, dir, t_max, tr)) = lane else {
                 continue;
             };
             let k = [tr.kx, tr.ky, tr.kz];
             if *first.get_or_insert(k) != k {
                 continue;
             }
-            let inv = [
-                super::node4::safe_inverse(d.x),
-                super::node4::safe_inverse(d.y),
-                super::node4::safe_inverse(d.z),
-            ];
             for a in 0..3 {
                 r.o[a][i] = o[a];
-                r.inv[a][i] = inv[a];
+                d[a][i] = dir[a];
             }
             (r.sx[i], r.sy[i], r.sz[i]) = (tr.sx, tr.sy, tr.sz);
             r.t_max[i] = *t_max;
-            r.tr[i] = Some(*tr);
             r.active |= 1 << i;
+        }
+        // All lanes at once (vectorised); the empty lanes' direction 1 gives 1.
+        for (inv, d) in r.inv.iter_mut().zip(&d) {
+            for (inv, &d) in inv.iter_mut().zip(d) {
+                *inv = super::node4::safe_inverse(d);
+            }
         }
         if let Some(k) = first {
             r.k = k;
@@ -150,6 +152,22 @@ impl Rays8 {
         r.frustum = Frustum::new(&r.o, &r.inv, r.active);
         let taken = r.active;
         (r, taken)
+    }
+
+    /// Lane `i`'s prepared triangle ray (`None` for a lane without a ray): the one it was
+    /// given, rebuilt from the packet's fields.
+    #[inline]
+    fn triangle_ray(&self, i: usize) -> Option<TriangleRay> {
+        let i = i & 7;
+        (self.active >> i & 1 == 1).then(|| TriangleRay {
+            o: Vec3::new(self.o[0][i], self.o[1][i], self.o[2][i]),
+            kx: self.k[0],
+            ky: self.k[1],
+            kz: self.k[2],
+            sx: self.sx[i],
+            sy: self.sy[i],
+            sz: self.sz[i],
+        })
     }
 }
 
@@ -238,7 +256,7 @@ fn lane_mask(bits: u32) -> __m256 {
 /// Ray `i`'s prepared rays for the one-ray traversal (`None` for a lane without a ray).
 #[inline]
 fn one_ray(rays: &Rays8, i: usize) -> Option<(TriangleRay, Ray8)> {
-    let tr = rays.tr[i & 7]?;
+    let tr = rays.triangle_ray(i)?;
     let (o, inv) = (&rays.o, &rays.inv);
     let i = i & 7;
     let br = Ray8::from_parts(
@@ -444,7 +462,9 @@ pub(super) unsafe fn closest8<const SWITCH: u32>(
                     while edge != 0 {
                         let i = edge.trailing_zeros() as usize & 7;
                         edge &= edge - 1;
-                        let Some(tr) = rays.tr[i] else { continue };
+                        let Some(tr) = rays.triangle_ray(i) else {
+                            continue;
+                        };
                         let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
                         if let Some((t, u1, u2)) = tr.intersect(tb[i].next_up(), v[0], v[1], v[2])
                             && (t < tb[i] || (found >> i & 1 == 1 && p < prim[i]))
@@ -633,7 +653,9 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
                     while edge != 0 {
                         let i = edge.trailing_zeros() as usize & 7;
                         edge &= edge - 1;
-                        let Some(tr) = rays.tr[i] else { continue };
+                        let Some(tr) = rays.triangle_ray(i) else {
+                            continue;
+                        };
                         let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
                         if tr.intersect(tm[i], v[0], v[1], v[2]).is_some() {
                             hit |= 1 << i;
