@@ -14,6 +14,18 @@ pub(super) const EMPTY: u32 = u32::MAX;
 /// Most primitives per packet.
 pub(super) const PACKET_LANES: usize = 4;
 
+/// What [`Packet::closest_triangle_fast`] finds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Fast {
+    /// No triangle lane is hit closer than the bound.
+    Miss,
+    /// The closest: `(t, lane, b1, b2)`.
+    Hit(f32, usize, f32, f32),
+    /// The ray passes exactly through an edge of some triangle lane: the scalar test decides
+    /// ([`Packet::closest_triangle`]).
+    Scalar,
+}
+
 /// Up to four primitives of one leaf: 168 bytes in three cache lines (aligned to a line, so
 /// never four; the traversal is bound by the latency of these loads). The masks and
 /// primitive indices come first, then the triangle vertices as structure of arrays
@@ -53,8 +65,25 @@ impl Packet {
         t_max: f32,
         tie_below: u32,
     ) -> Option<(f32, usize, f32, f32)> {
+        match self.closest_triangle_fast(tr, t_max, tie_below) {
+            Fast::Miss => None,
+            Fast::Hit(t, l, b1, b2) => Some((t, l, b1, b2)),
+            Fast::Scalar => self.closest_triangle_scalar(tr, t_max, tie_below),
+        }
+    }
+
+    /// [`Self::closest_triangle`] without calls: where the ray passes exactly through an edge
+    /// of some triangle, it leaves the packet to the scalar test ([`Fast::Scalar`]), which
+    /// the traversals call outside their hot loops.
+    #[inline(always)]
+    pub(super) fn closest_triangle_fast(
+        &self,
+        tr: &TriangleRay,
+        t_max: f32,
+        tie_below: u32,
+    ) -> Fast {
         if self.tri_mask == 0 {
-            return None;
+            return Fast::Miss;
         }
         // `min(2)` proves the axis indices in range (they are 0, 1, 2) without a bounds check.
         let (kx, ky, kz) = (tr.kx.min(2), tr.ky.min(2), tr.kz.min(2));
@@ -76,7 +105,7 @@ impl Packet {
         let zero = Vec4::ZERO;
         let on_edge = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask() & self.tri_mask;
         if on_edge != 0 {
-            return self.closest_triangle_scalar(tr, t_max, tie_below);
+            return Fast::Scalar;
         }
         let neg = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
         let pos = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
@@ -84,7 +113,7 @@ impl Packet {
         // signs): stop before the division and the distances, as Embree's test does. A lane
         // outside here is outside in `inside` below, so the result is the same.
         if (!(neg & pos)).bitmask() & self.tri_mask == 0 {
-            return None;
+            return Fast::Miss;
         }
         let det = u + v + w;
         let inv = Vec4::ONE / det;
@@ -97,7 +126,7 @@ impl Packet {
             mask |= self.lanes_below(ties, tie_below);
         }
         if mask == 0 {
-            return None;
+            return Fast::Miss;
         }
         let ts = t.to_array();
         let mut lane = mask.trailing_zeros() as usize;
@@ -111,11 +140,12 @@ impl Packet {
         }
         let lane = lane & 3;
         let (b1, b2) = ((v * inv).to_array(), (w * inv).to_array());
-        Some((ts[lane], lane, b1[lane], b2[lane]))
+        Fast::Hit(ts[lane], lane, b1[lane], b2[lane])
     }
 
-    /// The lanes of `lanes` whose primitive is below `bound` (the rare ties of a hit distance).
-    #[cold]
+    /// The lanes of `lanes` whose primitive is below `bound` (the rare ties of a hit distance;
+    /// inline, so the fast test calls nothing).
+    #[inline(always)]
     fn lanes_below(&self, mut lanes: u32, bound: u32) -> u32 {
         let mut below = 0;
         while lanes != 0 {

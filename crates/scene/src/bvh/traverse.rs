@@ -2,7 +2,7 @@
 
 use super::WideHit;
 use super::counts;
-use super::packet::Packet;
+use super::packet::{Fast, Packet};
 use super::prefetch;
 use super::stack::{STACK, Stack, StackBuf};
 use crate::shape::mesh::TriangleRay;
@@ -135,85 +135,116 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
     let mut stack: Stack = Stack::new(&mut buf);
     let prefetch = prefetch::worth(nodes);
     loop {
-        if cur & LEAF == 0 {
-            let node = &nodes[cur as usize];
-            counts::node();
-            // SAFETY: the caller's contract.
-            let (mut mask, t0) = unsafe { node.hit(br, t_max) };
-            if mask != 0 {
-                let first = mask.trailing_zeros() as usize % W;
-                mask &= mask - 1;
-                if mask == 0 {
-                    cur = node.child(first);
-                    continue;
+        // The hot loop calls nothing, so that the compiler can keep the prepared rays in
+        // registers (every vector register is saved around a call). It leaves for what is
+        // rare: a full stack array, a packet with other primitives or a ray exactly through an
+        // edge, an empty stack array.
+        let leave = 'hot: loop {
+            if cur & LEAF == 0 {
+                if stack.room() < W {
+                    break 'hot Leave::Full;
                 }
-                // Two or more children: visit the nearest, stack the rest far to near; ask for
-                // all of them from memory now.
-                if prefetch {
-                    prefetch_child(nodes, packets, node.child(first));
-                    let mut m = mask;
-                    while m != 0 {
-                        let l = m.trailing_zeros() as usize % W;
-                        m &= m - 1;
-                        prefetch_child(nodes, packets, node.child(l));
-                    }
-                }
-                let second = mask.trailing_zeros() as usize % W;
-                mask &= mask - 1;
-                let (a, b) = (
-                    (t0[first], node.child(first)),
-                    (t0[second], node.child(second)),
-                );
-                // Of equal entry distances the lower lane goes first, as the sort below keeps.
-                let (near, far) = if b.0 < a.0 { (b, a) } else { (a, b) };
-                if mask == 0 {
-                    // Two children, the commonest case: no sort.
-                    stack.push(far);
-                    cur = near.1;
-                    continue;
-                }
-                // Three or more: insertion sort by entry distance (stable: lanes in order).
-                let mut hits = [near; W];
-                hits[1] = far;
-                let mut n = 2;
-                while mask != 0 {
-                    let l = mask.trailing_zeros() as usize % W;
+                let node = &nodes[cur as usize];
+                counts::node();
+                // SAFETY: the caller's contract.
+                let (mut mask, t0) = unsafe { node.hit(br, t_max) };
+                if mask != 0 {
+                    let first = mask.trailing_zeros() as usize % W;
                     mask &= mask - 1;
-                    let e = (t0[l], node.child(l));
-                    let mut j = n;
-                    while j > 0 && hits[j - 1].0 > e.0 {
-                        hits[j] = hits[j - 1];
-                        j -= 1;
+                    if mask == 0 {
+                        cur = node.child(first);
+                        continue;
                     }
-                    hits[j % W] = e;
-                    n += 1;
+                    // Two or more children: visit the nearest, stack the rest far to near; ask
+                    // for all of them from memory now.
+                    if prefetch {
+                        prefetch_child(nodes, packets, node.child(first));
+                        let mut m = mask;
+                        while m != 0 {
+                            let l = m.trailing_zeros() as usize % W;
+                            m &= m - 1;
+                            prefetch_child(nodes, packets, node.child(l));
+                        }
+                    }
+                    let second = mask.trailing_zeros() as usize % W;
+                    mask &= mask - 1;
+                    let (a, b) = (
+                        (t0[first], node.child(first)),
+                        (t0[second], node.child(second)),
+                    );
+                    // Of equal entry distances the lower lane goes first, as the sort below
+                    // keeps.
+                    let (near, far) = if b.0 < a.0 { (b, a) } else { (a, b) };
+                    if mask == 0 {
+                        // Two children, the commonest case: no sort.
+                        stack.push_within(far);
+                        cur = near.1;
+                        continue;
+                    }
+                    // Three or more: insertion sort by entry distance (stable: lanes in order).
+                    let mut hits = [near; W];
+                    hits[1] = far;
+                    let mut n = 2;
+                    while mask != 0 {
+                        let l = mask.trailing_zeros() as usize % W;
+                        mask &= mask - 1;
+                        let e = (t0[l], node.child(l));
+                        let mut j = n;
+                        while j > 0 && hits[j - 1].0 > e.0 {
+                            hits[j] = hits[j - 1];
+                            j -= 1;
+                        }
+                        hits[j % W] = e;
+                        n += 1;
+                    }
+                    for &e in hits[1..n].iter().rev() {
+                        stack.push_within(e);
+                    }
+                    cur = hits[0].1;
+                    continue;
                 }
-                for &e in hits[1..n].iter().rev() {
-                    stack.push(e);
+            } else {
+                for (j, pk) in leaf_packets(packets, cur).iter().enumerate() {
+                    if pk.other_mask != 0 {
+                        break 'hot Leave::Leaf(j);
+                    }
+                    let tie_below = best.map_or(0, |h: WideHit| h.prim);
+                    match pk.closest_triangle_fast(tr, t_max, tie_below) {
+                        Fast::Miss => {}
+                        Fast::Hit(t, l, b1, b2) => {
+                            t_max = t;
+                            on_hit(pk.prim[l]);
+                            best = Some(WideHit {
+                                t,
+                                prim: pk.prim[l],
+                                b1,
+                                b2,
+                            });
+                        }
+                        Fast::Scalar => break 'hot Leave::Leaf(j),
+                    }
+                    counts::packet();
                 }
-                cur = hits[0].1;
+            }
+            match next_within(&mut stack, t_max) {
+                Some(c) => cur = c,
+                None => break 'hot Leave::Empty,
+            }
+        };
+        match leave {
+            Leave::Full => {
+                stack.spill_half();
                 continue;
             }
-        } else {
-            for pk in leaf_packets(packets, cur) {
-                counts::packet();
-                let tie_below = best.map_or(0, |h: WideHit| h.prim);
-                if let Some((t, l, b1, b2)) = pk.closest_triangle(tr, t_max, tie_below) {
-                    t_max = t;
-                    on_hit(pk.prim[l]);
-                    best = Some(WideHit {
-                        t,
-                        prim: pk.prim[l],
-                        b1,
-                        b2,
-                    });
-                }
-                let mut others = pk.other_mask;
-                while others != 0 {
-                    let l = others.trailing_zeros() as usize & 3;
-                    others &= others - 1;
-                    if let Some((t, b1, b2)) = other(pk.prim[l], t_max) {
+            Leave::Leaf(j) => {
+                // The rest of the leaf, from packet `j`, with every test.
+                let run = leaf_packets(packets, cur);
+                for pk in run.get(j..).unwrap_or(&[]) {
+                    counts::packet();
+                    let tie_below = best.map_or(0, |h: WideHit| h.prim);
+                    if let Some((t, l, b1, b2)) = pk.closest_triangle(tr, t_max, tie_below) {
                         t_max = t;
+                        on_hit(pk.prim[l]);
                         best = Some(WideHit {
                             t,
                             prim: pk.prim[l],
@@ -221,19 +252,58 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
                             b2,
                         });
                     }
+                    let mut others = pk.other_mask;
+                    while others != 0 {
+                        let l = others.trailing_zeros() as usize & 3;
+                        others &= others - 1;
+                        if let Some((t, b1, b2)) = other(pk.prim[l], t_max) {
+                            t_max = t;
+                            best = Some(WideHit {
+                                t,
+                                prim: pk.prim[l],
+                                b1,
+                                b2,
+                            });
+                        }
+                    }
                 }
+            }
+            Leave::Empty => {}
+        }
+        // Next stacked child that may still hold a closer hit, refilling the array from the
+        // spill.
+        loop {
+            if let Some(c) = next_within(&mut stack, t_max) {
+                cur = c;
+                break;
+            }
+            if !stack.refill() {
+                return best;
             }
         }
-        // Next stacked child that may still hold a closer hit.
-        loop {
-            match stack.pop() {
-                None => return best,
-                Some((t, c)) if t <= t_max * ROBUST => {
-                    cur = c;
-                    break;
-                }
-                Some(_) => {}
-            }
+    }
+}
+
+/// Why a traversal's hot loop left it.
+enum Leave {
+    /// The stack array has no room for a node's children: spill.
+    Full,
+    /// Packet `j` of the current leaf and those after it need the calls: other primitives,
+    /// or the scalar test of a ray exactly through an edge.
+    Leaf(usize),
+    /// The stack array is empty: refill it, or the traversal is done.
+    Empty,
+}
+
+/// The next stacked child that may still hold a hit closer than `t_max` (entries farther are
+/// dropped); `None` when the stack array is empty.
+#[inline(always)]
+fn next_within(stack: &mut Stack, t_max: f32) -> Option<u32> {
+    loop {
+        match stack.pop_within() {
+            None => return None,
+            Some((t, c)) if t <= t_max * ROBUST => return Some(c),
+            Some(_) => {}
         }
     }
 }
@@ -259,44 +329,80 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
     let mut cur = start;
     let prefetch = prefetch::worth(nodes);
     loop {
-        if cur & LEAF == 0 {
-            let node = &nodes[cur as usize];
-            counts::node();
-            // SAFETY: the caller's contract.
-            let (mut mask, _) = unsafe { node.hit(br, t_max) };
-            if mask != 0 {
-                let first = mask.trailing_zeros() as usize % W;
-                mask &= mask - 1;
-                while mask != 0 {
-                    let l = mask.trailing_zeros() as usize % W;
-                    mask &= mask - 1;
-                    if prefetch {
-                        prefetch_child(nodes, packets, node.child(l));
-                    }
-                    stack.push((0.0, node.child(l)));
+        // The hot loop calls nothing, as in `closest`.
+        let leave = 'hot: loop {
+            if cur & LEAF == 0 {
+                if stack.room() < W {
+                    break 'hot Leave::Full;
                 }
-                cur = node.child(first);
+                let node = &nodes[cur as usize];
+                counts::node();
+                // SAFETY: the caller's contract.
+                let (mut mask, _) = unsafe { node.hit(br, t_max) };
+                if mask != 0 {
+                    let first = mask.trailing_zeros() as usize % W;
+                    mask &= mask - 1;
+                    while mask != 0 {
+                        let l = mask.trailing_zeros() as usize % W;
+                        mask &= mask - 1;
+                        if prefetch {
+                            prefetch_child(nodes, packets, node.child(l));
+                        }
+                        stack.push_within((0.0, node.child(l)));
+                    }
+                    cur = node.child(first);
+                    continue;
+                }
+            } else {
+                for (j, pk) in leaf_packets(packets, cur).iter().enumerate() {
+                    if pk.other_mask != 0 {
+                        break 'hot Leave::Leaf(j);
+                    }
+                    match pk.closest_triangle_fast(tr, t_max, 0) {
+                        Fast::Miss => {}
+                        Fast::Hit(..) => return true,
+                        Fast::Scalar => break 'hot Leave::Leaf(j),
+                    }
+                    counts::packet();
+                }
+            }
+            match stack.pop_within() {
+                Some((_, c)) => cur = c,
+                None => break 'hot Leave::Empty,
+            }
+        };
+        match leave {
+            Leave::Full => {
+                stack.spill_half();
                 continue;
             }
-        } else {
-            for pk in leaf_packets(packets, cur) {
-                counts::packet();
-                if pk.closest_triangle(tr, t_max, 0).is_some() {
-                    return true;
-                }
-                let mut others = pk.other_mask;
-                while others != 0 {
-                    let l = others.trailing_zeros() as usize & 3;
-                    others &= others - 1;
-                    if other(pk.prim[l], t_max).is_some() {
+            Leave::Leaf(j) => {
+                let run = leaf_packets(packets, cur);
+                for pk in run.get(j..).unwrap_or(&[]) {
+                    counts::packet();
+                    if pk.closest_triangle(tr, t_max, 0).is_some() {
                         return true;
+                    }
+                    let mut others = pk.other_mask;
+                    while others != 0 {
+                        let l = others.trailing_zeros() as usize & 3;
+                        others &= others - 1;
+                        if other(pk.prim[l], t_max).is_some() {
+                            return true;
+                        }
                     }
                 }
             }
+            Leave::Empty => {}
         }
-        match stack.pop() {
-            None => return false,
-            Some((_, c)) => cur = c,
+        loop {
+            if let Some((_, c)) = stack.pop_within() {
+                cur = c;
+                break;
+            }
+            if !stack.refill() {
+                return false;
+            }
         }
     }
 }
