@@ -97,10 +97,16 @@ impl<'a, T: Copy> Stack<'a, T> {
     }
 
     /// Moves up to half an array of entries from the top of the spill into the empty array;
-    /// false when the spill is empty too (the stack is empty).
+    /// false when the spill is empty too (the stack is empty: a call only where it is not).
+    #[inline(always)]
+    pub(super) fn refill(&mut self) -> bool {
+        !self.spill.is_empty() && self.refill_from_spill()
+    }
+
+    /// [`Self::refill`] where the spill holds entries.
     #[cold]
     #[inline(never)]
-    pub(super) fn refill(&mut self) -> bool {
+    fn refill_from_spill(&mut self) -> bool {
         debug_assert_eq!(self.len, 0);
         let n = self.spill.len().min(STACK / 2);
         let from = self.spill.len() - n;
