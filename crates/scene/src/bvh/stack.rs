@@ -6,8 +6,17 @@
 
 use std::mem::MaybeUninit;
 
-/// Entries kept in place before the stack spills to the heap.
+/// Entries kept in place before the stack spills to the heap. The crate's unit tests keep 16,
+/// so that their traversals spill and refill all the time (a tree deep enough to spill 64 is
+/// hard to build on purpose).
+#[cfg(not(test))]
 pub(super) const STACK: usize = 64;
+#[cfg(test)]
+pub(super) const STACK: usize = 16;
+
+// A traversal spills when fewer than eight entries are free (a node's children); spilling half
+// the array must then free at least eight.
+const _: () = assert!(STACK >= 16);
 
 /// A stack's uninitialised storage, declared by the caller (building it inside `Stack::new`
 /// made the compiler copy the whole array on every query). It is left uninitialised: zeroing
@@ -59,10 +68,13 @@ impl<'a, T: Copy> Stack<'a, T> {
             return None;
         }
         self.len -= 1;
-        // SAFETY: entries `0..len` of `buf` are initialised (`push_within` writes `buf[len]`
-        // before incrementing `len`; `spill_half` and `refill` keep the first `len` written),
-        // and before this decrement `len` was in `1..=STACK`, so `buf[len]` is one of them.
-        Some(unsafe { self.buf[self.len].assume_init() })
+        // SAFETY: `len ≤ STACK` always (`push_within` increments it only after writing
+        // `buf[len]` with `len < STACK`; `spill_half` and `refill_from_spill` leave it at most
+        // `STACK`), so after this decrement `len < STACK` and the index is in bounds. Entries
+        // `0..len` of `buf` are initialised (those writes; `spill_half` and
+        // `refill_from_spill` keep the first `len` written), and before the decrement `len`
+        // was in `1..=STACK`, so `buf[len]` is one of them.
+        Some(unsafe { self.buf.get_unchecked(self.len).assume_init() })
     }
 
     /// Pushes `e`, spilling first if the array is full.

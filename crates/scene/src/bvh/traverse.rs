@@ -141,20 +141,22 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
         // edge, an empty stack array.
         let leave = 'hot: loop {
             if cur & LEAF == 0 {
-                if stack.room() < W {
-                    break 'hot Leave::Full;
-                }
                 let node = &nodes[cur as usize];
-                counts::node();
                 // SAFETY: the caller's contract.
                 let (mut mask, t0) = unsafe { node.hit(br, t_max) };
                 if mask != 0 {
                     let first = mask.trailing_zeros() as usize % W;
                     mask &= mask - 1;
                     if mask == 0 {
+                        counts::node();
                         cur = node.child(first);
                         continue;
                     }
+                    if stack.room() < W {
+                        // (The node is tested again after the spill.)
+                        break 'hot Leave::Full;
+                    }
+                    counts::node();
                     // Two or more children: visit the nearest, stack the rest far to near; ask
                     // for all of them from memory now.
                     if prefetch {
@@ -203,6 +205,7 @@ pub(super) unsafe fn closest<N: WideNode<W>, const W: usize>(
                     cur = hits[0].1;
                     continue;
                 }
+                counts::node();
             } else {
                 for (j, pk) in leaf_packets(packets, cur).iter().enumerate() {
                     if pk.other_mask != 0 {
@@ -332,16 +335,17 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
         // The hot loop calls nothing, as in `closest`.
         let leave = 'hot: loop {
             if cur & LEAF == 0 {
-                if stack.room() < W {
-                    break 'hot Leave::Full;
-                }
                 let node = &nodes[cur as usize];
-                counts::node();
                 // SAFETY: the caller's contract.
                 let (mut mask, _) = unsafe { node.hit(br, t_max) };
                 if mask != 0 {
                     let first = mask.trailing_zeros() as usize % W;
                     mask &= mask - 1;
+                    if mask != 0 && stack.room() < W {
+                        // (The node is tested again after the spill.)
+                        break 'hot Leave::Full;
+                    }
+                    counts::node();
                     while mask != 0 {
                         let l = mask.trailing_zeros() as usize % W;
                         mask &= mask - 1;
@@ -353,6 +357,7 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
                     cur = node.child(first);
                     continue;
                 }
+                counts::node();
             } else {
                 for (j, pk) in leaf_packets(packets, cur).iter().enumerate() {
                     if pk.other_mask != 0 {
@@ -403,6 +408,74 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
             if !stack.refill() {
                 return false;
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{BvhWidth, WideBvh};
+    use crate::shape::Aabb;
+    use crate::shape::mesh::TriangleRay;
+    use caustica_core::Vec3;
+    use caustica_core::sampling::Pcg32;
+
+    #[test]
+    fn traversals_that_spill_find_what_a_scan_finds() {
+        // A soup of large, overlapping triangles: rays enter many boxes at once, so the unit
+        // tests' 16-entry stack array spills and refills. Every hit must be the brute-force
+        // scan's (least distance, then least BVH order), at both widths.
+        let mut rng = Pcg32::new(21, 4);
+        let mut u = || rng.next_f32() * 2.0 - 1.0;
+        let tris: Vec<[Vec3; 3]> = (0..3000)
+            .map(|_| {
+                let c = Vec3::new(u(), u(), u());
+                [
+                    c + Vec3::new(u(), u(), u()) * 0.6,
+                    c + Vec3::new(u(), u(), u()) * 0.6,
+                    c + Vec3::new(u(), u(), u()) * 0.6,
+                ]
+            })
+            .collect();
+        let bounds: Vec<Aabb> = tris
+            .iter()
+            .map(|t| Aabb {
+                min: t[0].min(t[1]).min(t[2]),
+                max: t[0].max(t[1]).max(t[2]),
+            })
+            .collect();
+        let prims: Vec<Option<[Vec3; 3]>> = tris.iter().copied().map(Some).collect();
+        for width in [BvhWidth::Four, BvhWidth::Eight] {
+            let bvh = WideBvh::build_with_width(&bounds, &prims, width);
+            let order = bvh.order().to_vec();
+            let (mut hits, mut blocked) = (0, 0);
+            for i in 0..400 {
+                let o = Vec3::new(u(), u(), u()) * 2.0;
+                let Some(d) = Vec3::new(u(), u(), u()).try_normalize() else {
+                    continue;
+                };
+                let t_max = if i % 4 == 0 { 0.3 } else { f32::INFINITY };
+                let tr = TriangleRay::new(o, d);
+                // The scan in BVH order keeps the first of equal distances.
+                let mut expected = None;
+                let mut tm = t_max;
+                for (k, &input) in order.iter().enumerate() {
+                    let [a, b, c] = tris[input as usize];
+                    if let Some((t, b1, b2)) = tr.intersect(tm, a, b, c) {
+                        tm = t;
+                        expected = Some((t.to_bits(), k as u32, b1.to_bits(), b2.to_bits()));
+                    }
+                }
+                let got = bvh
+                    .closest(o, d, &tr, t_max, |_, _| None, |_| {})
+                    .map(|h| (h.t.to_bits(), h.prim, h.b1.to_bits(), h.b2.to_bits()));
+                assert_eq!(got, expected, "{width:?} ray {i}");
+                let any = bvh.any(o, d, &tr, t_max, |_, _| None);
+                assert_eq!(any, expected.is_some(), "{width:?} ray {i}");
+                hits += got.is_some() as u32;
+                blocked += any as u32;
+            }
+            assert!(hits > 100 && blocked > 100, "{width:?}: hits {hits}");
         }
     }
 }
