@@ -248,6 +248,22 @@ impl WideBvh {
     }
 }
 
+impl WideBvh {
+    /// The tree over triangles `tris` (the unit tests' trees).
+    #[cfg(test)]
+    fn over_triangles(tris: &[[Vec3; 3]], width: BvhWidth) -> Self {
+        let bounds: Vec<Aabb> = tris
+            .iter()
+            .map(|t| Aabb {
+                min: t[0].min(t[1]).min(t[2]),
+                max: t[0].max(t[1]).max(t[2]),
+            })
+            .collect();
+        let prims: Vec<Option<[Vec3; 3]>> = tris.iter().copied().map(Some).collect();
+        Self::build_with_width(&bounds, &prims, width)
+    }
+}
+
 /// obvhs's binary tree over `bounds` (non-empty), one primitive per leaf: packets are formed by
 /// the collapse from whole subtrees.
 fn binary_tree(bounds: &[Aabb]) -> obvhs::bvh2::Bvh2 {

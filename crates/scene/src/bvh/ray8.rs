@@ -810,7 +810,6 @@ fn hmin(v: __m256) -> f32 {
 mod tests {
     use super::super::{BvhWidth, Nodes, PacketRay, WideBvh};
     use super::*;
-    use crate::shape::Aabb;
     use caustica_core::sampling::Pcg32;
 
     /// A closed UV sphere of radius 1: neighbours share edges and vertices (ties).
@@ -842,15 +841,7 @@ mod tests {
             return;
         }
         let tris = sphere(48, 24);
-        let bounds: Vec<Aabb> = tris
-            .iter()
-            .map(|t| Aabb {
-                min: t[0].min(t[1]).min(t[2]),
-                max: t[0].max(t[1]).max(t[2]),
-            })
-            .collect();
-        let prims: Vec<Option<[Vec3; 3]>> = tris.iter().copied().map(Some).collect();
-        let bvh = WideBvh::build_with_width(&bounds, &prims, BvhWidth::Eight);
+        let bvh = WideBvh::over_triangles(&tris, BvhWidth::Eight);
         let Nodes::Eight(nodes) = &bvh.nodes else {
             panic!("an eight-wide tree was asked for");
         };

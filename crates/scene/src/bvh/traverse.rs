@@ -415,7 +415,6 @@ pub(super) unsafe fn any<N: WideNode<W>, const W: usize>(
 #[cfg(test)]
 mod tests {
     use super::super::{BvhWidth, WideBvh};
-    use crate::shape::Aabb;
     use crate::shape::mesh::TriangleRay;
     use caustica_core::Vec3;
     use caustica_core::sampling::Pcg32;
@@ -437,16 +436,8 @@ mod tests {
                 ]
             })
             .collect();
-        let bounds: Vec<Aabb> = tris
-            .iter()
-            .map(|t| Aabb {
-                min: t[0].min(t[1]).min(t[2]),
-                max: t[0].max(t[1]).max(t[2]),
-            })
-            .collect();
-        let prims: Vec<Option<[Vec3; 3]>> = tris.iter().copied().map(Some).collect();
         for width in [BvhWidth::Four, BvhWidth::Eight] {
-            let bvh = WideBvh::build_with_width(&bounds, &prims, width);
+            let bvh = WideBvh::over_triangles(&tris, width);
             let order = bvh.order().to_vec();
             let (mut hits, mut blocked) = (0, 0);
             for i in 0..400 {
