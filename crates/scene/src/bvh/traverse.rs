@@ -108,14 +108,15 @@ impl Start {
     }
 }
 
-/// The closest hit with `t ∈ (0, start.t_max)` below `start.node`: triangles tested here, every other primitive `k`
-/// (BVH order) by `other(k, t)`, which returns `(t, b1, b2)` of a hit closer than `t`. Visits
-/// the hit children near to far and skips stacked entries farther than the closest hit so far.
-/// Of triangles hit at exactly the least distance (a ray through a vertex or an edge they
-/// share), the one first in BVH order wins, so the result does not depend on the order of the
-/// visit, and the two node widths, which share the BVH order, agree bit for bit.
-/// `on_hit(k)` is told of every triangle that becomes the closest hit so far, while the
-/// traversal goes on (so a caller can prefetch what it will read about the final hit).
+/// The closest hit with `t ∈ (0, start.t_max)` below `start.node` (or `start.best`):
+/// triangles tested here, every other primitive `k` (BVH order) by `other(k, t)`, which
+/// returns `(t, b1, b2)` of a hit closer than `t`. Visits the hit children near to far and
+/// skips stacked entries farther than the closest hit so far. Of triangles hit at exactly the
+/// least distance (a ray through a vertex or an edge they share), the one first in BVH order
+/// wins, so the result does not depend on the order of the visit, and the two node widths,
+/// which share the BVH order, agree bit for bit. `on_hit(k)` is told of every triangle that
+/// becomes the closest hit so far, while the traversal goes on (so a caller can prefetch what
+/// it will read about the final hit).
 ///
 /// # Safety
 /// As [`WideNode::hit`]. `nodes` is non-empty, and child references index into `nodes` and
