@@ -104,6 +104,35 @@ impl Frustum {
         }
         Some(f)
     }
+
+    /// The children of `node` whose boxes some ray of the frustum may meet within
+    /// `[0, t_far]` (`t_far` no less than any of those rays' own): [`Slabs::test`]'s entry
+    /// and exit, bounded below and above ([`Frustum`]), compared alike.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn hit(&self, node: &Node8, t_far: f32) -> u32 {
+        let zero = _mm256_setzero_ps();
+        let mut t0 = zero;
+        let mut t1 = _mm256_set1_ps(t_far);
+        for a in 0..3 {
+            // (Broadcasts the compiler hoists out of the traversal loop, or reloads as a spill
+            // would be.)
+            let (inv_min, inv_max) = (
+                _mm256_set1_ps(self.inv_min[a]),
+                _mm256_set1_ps(self.inv_max[a]),
+            );
+            let near = load(node.planes(a, self.near[a]));
+            let far = load(node.planes(a, 1 - self.near[a]));
+            let dn = _mm256_sub_ps(near, _mm256_set1_ps(self.o_near[a]));
+            let df = _mm256_sub_ps(far, _mm256_set1_ps(self.o_far[a]));
+            let lo = _mm256_min_ps(_mm256_mul_ps(dn, inv_min), _mm256_mul_ps(dn, inv_max));
+            let hi = _mm256_max_ps(_mm256_mul_ps(df, inv_min), _mm256_mul_ps(df, inv_max));
+            t0 = _mm256_max_ps(t0, lo);
+            t1 = _mm256_min_ps(t1, hi);
+        }
+        let t1 = _mm256_mul_ps(t1, _mm256_set1_ps(ROBUST));
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t0, t1)) as u32 & node.used()
+    }
 }
 
 impl Rays8 {
@@ -266,69 +295,6 @@ fn one_ray(rays: &Rays8, i: usize) -> Option<(TriangleRay, Ray8)> {
     Some((tr, br))
 }
 
-/// The frustum in registers.
-#[derive(Clone, Copy)]
-struct FrustumTest {
-    near: [usize; 3],
-    o_near: [__m256; 3],
-    o_far: [__m256; 3],
-    inv_min: [__m256; 3],
-    inv_max: [__m256; 3],
-}
-
-impl FrustumTest {
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn new(f: &Frustum) -> Self {
-        // (A macro, not a closure, so the intrinsic is inlined with this function's features.)
-        macro_rules! b {
-            ($x:expr) => {
-                [
-                    _mm256_set1_ps($x[0]),
-                    _mm256_set1_ps($x[1]),
-                    _mm256_set1_ps($x[2]),
-                ]
-            };
-        }
-        Self {
-            near: f.near,
-            o_near: b!(f.o_near),
-            o_far: b!(f.o_far),
-            inv_min: b!(f.inv_min),
-            inv_max: b!(f.inv_max),
-        }
-    }
-
-    /// The children of `node` whose boxes some ray of the frustum may meet within
-    /// `[0, t_far]` (`t_far` no less than any of those rays' own): [`Slabs::test`]'s entry
-    /// and exit, bounded below and above ([`Frustum`]), compared alike.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn hit(&self, node: &Node8, t_far: f32) -> u32 {
-        let zero = _mm256_setzero_ps();
-        let mut t0 = zero;
-        let mut t1 = _mm256_set1_ps(t_far);
-        for a in 0..3 {
-            let near = load(node.planes(a, self.near[a]));
-            let far = load(node.planes(a, 1 - self.near[a]));
-            let dn = _mm256_sub_ps(near, self.o_near[a]);
-            let df = _mm256_sub_ps(far, self.o_far[a]);
-            let lo = _mm256_min_ps(
-                _mm256_mul_ps(dn, self.inv_min[a]),
-                _mm256_mul_ps(dn, self.inv_max[a]),
-            );
-            let hi = _mm256_max_ps(
-                _mm256_mul_ps(df, self.inv_min[a]),
-                _mm256_mul_ps(df, self.inv_max[a]),
-            );
-            t0 = _mm256_max_ps(t0, lo);
-            t1 = _mm256_min_ps(t1, hi);
-        }
-        let t1 = _mm256_mul_ps(t1, _mm256_set1_ps(ROBUST));
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t0, t1)) as u32 & node.used()
-    }
-}
-
 /// The closest hit of each ray of `rays` (lanes not in `rays.active` get `None`); `other(i,
 /// k, t)` tests non-triangle primitive `k` (BVH order) for the ray in lane `i`, as
 /// [`super::traverse::closest`]'s `other` does. Each node or leaf is visited with the mask of
@@ -357,7 +323,7 @@ pub(super) unsafe fn closest8<const SWITCH: u32>(
     let inf = _mm256_set1_ps(f32::INFINITY);
     let neg_inf = _mm256_set1_ps(f32::NEG_INFINITY);
     let robust = _mm256_set1_ps(ROBUST);
-    let frustum = rays.frustum.as_ref().map(|f| FrustumTest::new(f));
+    let frustum = rays.frustum.as_ref();
     // Entries: the least entry distance of the rays that entered the child, the child, and
     // those rays.
     let mut buf: StackBuf<(f32, u32, u32)> = [const { MaybeUninit::uninit() }; STACK];
@@ -409,7 +375,7 @@ pub(super) unsafe fn closest8<const SWITCH: u32>(
             let node = &nodes[cur as usize];
             let entered = lane_mask(rays_in);
             // The children the frustum meets (all where there is none) are tested ray by ray.
-            let mut children = match &frustum {
+            let mut children = match frustum {
                 Some(f) => f.hit(node, hmax(_mm256_blendv_ps(neg_inf, t_best, entered))),
                 None => node.used(),
             };
@@ -580,7 +546,7 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
     let t_max = load(&rays.t_max);
     let slabs = Slabs::new(rays);
     let neg_inf = _mm256_set1_ps(f32::NEG_INFINITY);
-    let frustum = rays.frustum.as_ref().map(|f| FrustumTest::new(f));
+    let frustum = rays.frustum.as_ref();
     // Entries: a child and the rays that entered it.
     let mut buf: StackBuf<(u32, u32)> = [const { MaybeUninit::uninit() }; STACK];
     let mut stack = Stack::new(&mut buf);
@@ -614,7 +580,7 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
         } else if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
             let entered = lane_mask(rays_in);
-            let mut children = match &frustum {
+            let mut children = match frustum {
                 Some(f) => f.hit(node, hmax(_mm256_blendv_ps(neg_inf, t_max, entered))),
                 None => node.used(),
             };
