@@ -304,10 +304,8 @@ impl Geometry {
             return;
         }
         for chunk in rays.chunks(8) {
-            let lanes = self.packet_lanes(chunk);
-            let (hits, taken) = self.bvh.closest_packet(&lanes, |i, k, t_max| {
-                let (o, d, _, tr) = lanes[i]?;
-                self.prims[k as usize].intersect(&tr, o, d, t_max)
+            let (hits, taken) = self.bvh.closest_packet(chunk, |i, k, t_max| {
+                self.other_in_packet(chunk, i, k, t_max)
             });
             for (i, ray) in chunk.iter().enumerate() {
                 out.push(if taken >> i & 1 == 1 {
@@ -329,10 +327,8 @@ impl Geometry {
             return;
         }
         for chunk in rays.chunks(8) {
-            let lanes = self.packet_lanes(chunk);
-            let (hit, taken) = self.bvh.any_packet(&lanes, |i, k, t_max| {
-                let (o, d, _, tr) = lanes[i]?;
-                self.prims[k as usize].intersect(&tr, o, d, t_max)
+            let (hit, taken) = self.bvh.any_packet(chunk, |i, k, t_max| {
+                self.other_in_packet(chunk, i, k, t_max)
             });
             for (i, ray) in chunk.iter().enumerate() {
                 out.push(if taken >> i & 1 == 1 {
@@ -344,13 +340,19 @@ impl Geometry {
         }
     }
 
-    /// The packet lanes of up to eight rays (`None` for rays that can hit nothing).
-    fn packet_lanes(&self, rays: &[Ray]) -> [Option<crate::bvh::PacketRay>; 8] {
-        let mut lanes = [None; 8];
-        for (lane, ray) in lanes.iter_mut().zip(rays) {
-            *lane = self.rays(ray).map(|tr| (ray.o, ray.d, ray.t_max, tr));
-        }
-        lanes
+    /// Ray `i` of a packet against non-triangle primitive `k` (the packet traversals'
+    /// `other`): the test [`Self::intersect`]'s traversal makes, with the ray's prepared
+    /// triangle ray made again (the same function of the ray, so the same bits).
+    fn other_in_packet(
+        &self,
+        rays: &[Ray],
+        i: usize,
+        k: u32,
+        t_max: f32,
+    ) -> Option<(f32, f32, f32)> {
+        let ray = rays.get(i)?;
+        let tr = TriangleRay::new(ray.o, ray.d);
+        self.prims[k as usize].intersect(&tr, ray.o, ray.d, t_max)
     }
 
     /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).

@@ -27,7 +27,7 @@ mod traverse;
 
 use crate::shape::Aabb;
 use crate::shape::mesh::TriangleRay;
-use caustica_core::Vec3;
+use caustica_core::{Ray, Vec3};
 use glam::Vec3A;
 use node4::Node4;
 #[cfg(target_arch = "x86_64")]
@@ -278,26 +278,28 @@ fn binary_tree(bounds: &[Aabb]) -> obvhs::bvh2::Bvh2 {
     obvhs::bvh2::builder::build_bvh2(&oboxes, params, &mut std::time::Duration::default())
 }
 
-/// A ray of a packet of eight: origin, direction, `t_max` and the prepared triangle ray.
-pub type PacketRay = (Vec3, Vec3, f32, TriangleRay);
+/// A ray of a packet of eight as the unit tests give it: origin, direction, `t_max` and the
+/// prepared triangle ray.
+#[cfg(test)]
+type PacketRay = (Vec3, Vec3, f32, TriangleRay);
 
 impl WideBvh {
-    /// The closest hits of up to eight rays traced together (`lanes[i]`, `None` for an empty
-    /// lane), each exactly the hit [`Self::closest`] gives it; `other(i, k, t)` tests
-    /// non-triangle primitive `k` for ray `i`. Returns the hits and the mask of the lanes
-    /// traced: rays whose triangle-test axis permutation differs from the first ray's, and all
-    /// rays where nodes are 4-wide, are left to the caller (bit clear).
+    /// The closest hits of up to eight rays traced together (the first eight of `rays`), each
+    /// exactly the hit [`Self::closest`] gives it; `other(i, k, t)` tests non-triangle
+    /// primitive `k` for ray `i`. Returns the hits and the mask of the lanes traced: rays
+    /// without `t_max > 0`, rays whose triangle-test axis permutation differs from the first
+    /// traced ray's, and all rays where nodes are 4-wide, are left to the caller (bit clear).
     pub fn closest_packet(
         &self,
-        lanes: &[Option<PacketRay>],
+        rays: &[Ray],
         other: impl FnMut(usize, u32, f32) -> Option<(f32, f32, f32)>,
     ) -> ([Option<WideHit>; 8], u32) {
         match &self.nodes {
             #[cfg(target_arch = "x86_64")]
             Nodes::Eight(n) if !n.is_empty() => {
-                let (rays, taken) = ray8::Rays8::new(lanes);
-                // SAFETY: eight-wide nodes exist only where AVX2 was detected; the builder's
-                // child references index into `n` and `self.packets`.
+                // SAFETY (both calls): eight-wide nodes exist only where AVX2 was detected; the
+                // builder's child references index into `n` and `self.packets`.
+                let (rays, taken) = unsafe { ray8::Rays8::from_rays(rays) };
                 let hits = unsafe {
                     ray8::closest8::<{ ray8::ONE_BY_ONE }>(n, &self.packets, &rays, other)
                 };
@@ -308,17 +310,17 @@ impl WideBvh {
     }
 
     /// Whether each of up to eight rays is blocked before its `t_max`, as [`Self::any`]; the
-    /// lanes as for [`Self::closest_packet`]. Returns the occluded mask and the traced mask.
+    /// rays as for [`Self::closest_packet`]. Returns the occluded mask and the traced mask.
     pub fn any_packet(
         &self,
-        lanes: &[Option<PacketRay>],
+        rays: &[Ray],
         other: impl FnMut(usize, u32, f32) -> Option<(f32, f32, f32)>,
     ) -> (u32, u32) {
         match &self.nodes {
             #[cfg(target_arch = "x86_64")]
             Nodes::Eight(n) if !n.is_empty() => {
-                let (rays, taken) = ray8::Rays8::new(lanes);
-                // SAFETY: as in `closest_packet`.
+                // SAFETY (both calls): as in `closest_packet`.
+                let (rays, taken) = unsafe { ray8::Rays8::from_rays(rays) };
                 let hit =
                     unsafe { ray8::any8::<{ ray8::ONE_BY_ONE }>(n, &self.packets, &rays, other) };
                 (hit, taken)

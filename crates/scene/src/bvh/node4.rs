@@ -27,8 +27,9 @@ pub(super) struct Ray4 {
     inv: [Vec4; 3],
 }
 
-/// The reciprocal of a direction component, kept finite (see [`Ray4`]).
-#[inline(always)]
+/// The reciprocal of a direction component, kept finite (see [`Ray4`]): the scalar reference
+/// the vector forms ([`safe_inverse3`], the packets' set-up) are tested against.
+#[cfg(test)]
 pub(super) fn safe_inverse(x: f32) -> f32 {
     let x = if x.abs() < 1e-20 {
         1e-20f32.copysign(x)
@@ -38,8 +39,8 @@ pub(super) fn safe_inverse(x: f32) -> f32 {
     1.0 / x
 }
 
-/// [`safe_inverse`] of the three components of `d` at once (one SSE division; the same
-/// operations lane by lane, so the same bits).
+/// The reciprocals of the three components of `d`, kept finite (see [`Ray4`]), at once (one
+/// SSE division; the same operations lane by lane, so the same bits).
 #[inline(always)]
 pub(super) fn safe_inverse3(d: Vec3) -> [f32; 3] {
     let d = Vec3A::from(d);

@@ -19,7 +19,7 @@ use super::packet::Packet;
 use super::stack::{STACK, Stack, StackBuf};
 use super::traverse::{self, LEAF, ROBUST, Start, WideNode, leaf_packets};
 use crate::shape::mesh::TriangleRay;
-use caustica_core::Vec3;
+use caustica_core::{Ray, Vec3};
 use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
@@ -28,7 +28,7 @@ use std::mem::MaybeUninit;
 #[repr(C, align(32))]
 pub(super) struct Rays8 {
     o: [[f32; 8]; 3],
-    /// Reciprocal directions, as [`super::node4::safe_inverse`] makes them.
+    /// Reciprocal directions, as [`super::node4::safe_inverse3`] makes them.
     inv: [[f32; 8]; 3],
     sx: [f32; 8],
     sy: [f32; 8],
@@ -136,9 +136,112 @@ impl Frustum {
 }
 
 impl Rays8 {
+    /// A packet of the rays of `rays` (at most eight) that [`crate::geometry::Geometry`]
+    /// traces (`t_max > 0`) and whose triangle test permutation equals the first such ray's;
+    /// returns the packet and the mask of the lanes it took. Each lane's fields are those of
+    /// [`TriangleRay::new`] and [`super::node4::safe_inverse3`], by the same operations on eight
+    /// lanes at once, so the packet is bit for bit the one [`Self::new`] makes from the
+    /// prepared rays (a unit test checks it).
+    ///
+    /// # Safety
+    /// The CPU supports AVX2.
+    #[target_feature(enable = "avx2")]
+    pub(super) fn from_rays(rays: &[Ray]) -> (Self, u32) {
+        let mut o = [[0.0f32; 8]; 3];
+        let mut d = [[1.0f32; 8]; 3];
+        let mut t_max = [0.0f32; 8];
+        let mut present = 0u32;
+        for (i, r) in rays.iter().take(8).enumerate() {
+            let i = i & 7;
+            for a in 0..3 {
+                o[a][i] = r.o[a];
+                d[a][i] = r.d[a];
+            }
+            t_max[i] = r.t_max;
+            present |= 1 << i;
+        }
+        let zero = _mm256_setzero_ps();
+        let sign = _mm256_set1_ps(-0.0);
+        // `Geometry` traces rays with `t_max > 0` (not NaN).
+        let valid =
+            _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(load(&t_max), zero)) as u32 & present;
+        // The permutation, as `TriangleRay::new`: `kz` the first axis of greatest |d|
+        // (glam's `max_position`: y if |dy| > |dx|, then z if |dz| exceeds that), `kx` and
+        // `ky` the next two, swapped where `d_kz < 0`.
+        let (dx, dy, dz) = (load(&d[0]), load(&d[1]), load(&d[2]));
+        let (ax, ay, az) = (
+            _mm256_andnot_ps(sign, dx),
+            _mm256_andnot_ps(sign, dy),
+            _mm256_andnot_ps(sign, dz),
+        );
+        let y_gt = _mm256_cmp_ps::<_CMP_GT_OQ>(ay, ax);
+        let z_gt = _mm256_cmp_ps::<_CMP_GT_OQ>(az, _mm256_blendv_ps(ax, ay, y_gt));
+        let d_kz = _mm256_blendv_ps(_mm256_blendv_ps(dx, dy, y_gt), dz, z_gt);
+        let (yb, zb) = (
+            _mm256_movemask_ps(y_gt) as u32,
+            _mm256_movemask_ps(z_gt) as u32,
+        );
+        let negative = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(d_kz, zero)) as u32;
+        let on_axis = [!yb & !zb, yb & !zb, zb];
+        let mut r = Rays8 {
+            o: [[0.0; 8]; 3],
+            inv: [[1.0; 8]; 3],
+            sx: [0.0; 8],
+            sy: [0.0; 8],
+            sz: [0.0; 8],
+            t_max: [0.0; 8],
+            k: [0, 1, 2],
+            active: 0,
+            frustum: None,
+        };
+        if valid == 0 {
+            return (r, 0);
+        }
+        let first = valid.trailing_zeros();
+        let kz = if zb >> first & 1 == 1 {
+            2
+        } else if yb >> first & 1 == 1 {
+            1
+        } else {
+            0
+        };
+        let flip = negative >> first & 1 == 1;
+        let active = valid & on_axis[kz] & if flip { negative } else { !negative };
+        let mut kx = if kz == 2 { 0 } else { kz + 1 };
+        let mut ky = if kx == 2 { 0 } else { kx + 1 };
+        if flip {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        // Lanes not taken hold what `new` leaves in them: origin 0, direction 1, the rest 0.
+        let on = lane_mask(active);
+        let keep = |v: __m256, none: __m256| _mm256_blendv_ps(none, v, on);
+        let one = _mm256_set1_ps(1.0);
+        let dirs = [keep(dx, one), keep(dy, one), keep(dz, one)];
+        let tiny = _mm256_set1_ps(1e-20);
+        for a in 0..3 {
+            r.o[a] = store(keep(load(&o[a]), zero));
+            // As `safe_inverse3`: |d| < 1e-20 replaced by ±1e-20, then 1 / d.
+            let da = dirs[a];
+            let small = _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_andnot_ps(sign, da), tiny);
+            let clamped = _mm256_or_ps(_mm256_and_ps(da, sign), tiny);
+            r.inv[a] = store(_mm256_div_ps(one, _mm256_blendv_ps(da, clamped, small)));
+        }
+        // `TriangleRay::new`: sz = 1 / d_kz, sx = d_kx · sz, sy = d_ky · sz.
+        let sz = _mm256_div_ps(one, dirs[kz]);
+        r.sz = store(keep(sz, zero));
+        r.sx = store(keep(_mm256_mul_ps(dirs[kx], sz), zero));
+        r.sy = store(keep(_mm256_mul_ps(dirs[ky], sz), zero));
+        r.t_max = store(keep(load(&t_max), zero));
+        r.k = [kx, ky, kz];
+        r.active = active;
+        r.frustum = Frustum::new(&r.o, &r.inv, active);
+        (r, active)
+    }
+
     /// A packet of the rays `(o, d, t_max, prepared triangle ray)` of `lanes` (at most eight)
     /// whose triangle test permutation equals the first one's; returns the packet and the
-    /// mask of the lanes it took.
+    /// mask of the lanes it took (the reference [`Self::from_rays`] is tested against).
+    #[cfg(test)]
     pub(super) fn new(lanes: &[Option<(Vec3, Vec3, f32, TriangleRay)>]) -> (Self, u32) {
         let mut r = Rays8 {
             o: [[0.0; 8]; 3],
@@ -801,6 +904,98 @@ mod tests {
         tris
     }
 
+    /// The rays as `Geometry` prepared them one by one: `None` where it traces nothing.
+    fn prepared(rays: &[Ray]) -> Vec<Option<PacketRay>> {
+        rays.iter()
+            .map(|r| (r.t_max > 0.0).then(|| (r.o, r.d, r.t_max, TriangleRay::new(r.o, r.d))))
+            .collect()
+    }
+
+    /// Every field of a packet, as bits.
+    fn bits(r: &Rays8) -> Vec<u64> {
+        let rows =
+            r.o.iter()
+                .chain(&r.inv)
+                .chain([&r.sx, &r.sy, &r.sz, &r.t_max]);
+        let mut out: Vec<u64> = rows.flatten().map(|x| u64::from(x.to_bits())).collect();
+        out.extend(r.k.map(|k| k as u64));
+        out.push(u64::from(r.active));
+        if let Some(f) = &r.frustum {
+            let rows = [f.o_near, f.o_far, f.inv_min, f.inv_max];
+            out.extend(rows.iter().flatten().map(|x| u64::from(x.to_bits())));
+            out.extend(f.near.map(|n| n as u64));
+        }
+        out
+    }
+
+    #[test]
+    fn the_vector_set_up_makes_the_packet_the_prepared_rays_make() {
+        if !BvhWidth::Eight.supported() {
+            return;
+        }
+        let mut rng = Pcg32::new(17, 4);
+        let mut u = || rng.next_f32();
+        // Components that test each rule: ties in |d| between axes (the first axis wins), tiny
+        // components (kept finite), signed zeros, NaN, and t_max that `Geometry` does not trace.
+        let special = [
+            0.0,
+            -0.0,
+            1e-21,
+            -1e-21,
+            1e-20,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            f32::NAN,
+        ];
+        let (mut partial, mut frusta, mut taken_total) = (0, 0, 0);
+        for case in 0..4000 {
+            let n = if case % 9 == 0 { 1 + case % 8 } else { 8 };
+            let mut pick = |scale: f32| {
+                if u() < 0.3 {
+                    special[(u() * special.len() as f32) as usize % special.len()]
+                } else {
+                    (u() - 0.5) * scale
+                }
+            };
+            // Mostly one octant (as bundles are), sometimes any direction.
+            let base = Vec3::new(pick(2.0), pick(2.0), pick(2.0));
+            let rays: Vec<Ray> = (0..n)
+                .map(|_| {
+                    let o = Vec3::new(pick(10.0), pick(10.0), pick(10.0));
+                    let d = if case % 4 == 0 {
+                        Vec3::new(pick(2.0), pick(2.0), pick(2.0))
+                    } else {
+                        base + 0.05 * Vec3::new(pick(1.0), pick(1.0), pick(1.0))
+                    };
+                    let t_max = match (pick(20.0).abs() * 2.0) as u32 {
+                        0 => 0.0,
+                        1 => -1.0,
+                        2 => f32::NAN,
+                        3 => 2.5,
+                        _ => f32::INFINITY,
+                    };
+                    Ray::with_t_max(o, d, t_max)
+                })
+                .collect();
+            let want = Rays8::new(&prepared(&rays));
+            // SAFETY: AVX2 was detected.
+            let got = unsafe { Rays8::from_rays(&rays) };
+            assert_eq!(got.1, want.1, "case {case}: lanes taken");
+            assert_eq!(bits(&got.0), bits(&want.0), "case {case}");
+            partial += (want.1 != 0 && want.1.count_ones() < n as u32) as u32;
+            frusta += want.0.frustum.is_some() as u32;
+            taken_total += want.1.count_ones();
+        }
+        // The cases reach every rule: packets that leave rays out, packets with a frustum.
+        assert!(
+            partial > 1000 && frusta > 500,
+            "{partial} partial, {frusta} frusta"
+        );
+        assert!(taken_total > 10_000, "{taken_total} rays taken");
+    }
+
     #[test]
     fn packets_kept_together_handed_over_or_one_by_one_give_each_ray_its_own_hit() {
         if !BvhWidth::Eight.supported() {
@@ -831,7 +1026,7 @@ mod tests {
             };
             let jitter = [0.0, 0.05, 0.3][packet % 3];
             let aim = Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5);
-            let lanes: Vec<Option<PacketRay>> = (0..8)
+            let given: Vec<Ray> = (0..8)
                 .map(|k| {
                     let o = corner + jitter * Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5);
                     let target = if packet % 3 == 0 {
@@ -841,10 +1036,12 @@ mod tests {
                     };
                     let d = (target - o).normalize();
                     let t_max = if k == 7 { 3.2 } else { f32::INFINITY };
-                    Some((o, d, t_max, TriangleRay::new(o, d)))
+                    Ray::with_t_max(o, d, t_max)
                 })
                 .collect();
-            let (rays, taken) = Rays8::new(&lanes);
+            let lanes = prepared(&given);
+            // SAFETY: AVX2 was detected.
+            let (rays, taken) = unsafe { Rays8::from_rays(&given) };
             full += (taken == 0xff) as u32;
             frusta += rays.frustum.is_some() as u32;
             let none = |_: usize, _: u32, _: f32| None;
