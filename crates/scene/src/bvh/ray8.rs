@@ -136,6 +136,20 @@ impl Frustum {
 }
 
 impl Rays8 {
+    /// A packet without rays: what its lanes hold where no ray is taken (origin 0, direction
+    /// 1 and so reciprocal 1, the rest 0).
+    const EMPTY: Self = Rays8 {
+        o: [[0.0; 8]; 3],
+        inv: [[1.0; 8]; 3],
+        sx: [0.0; 8],
+        sy: [0.0; 8],
+        sz: [0.0; 8],
+        t_max: [0.0; 8],
+        k: [0, 1, 2],
+        active: 0,
+        frustum: None,
+    };
+
     /// A packet of the rays of `rays` (at most eight) that [`crate::geometry::Geometry`]
     /// traces (`t_max > 0`) and whose triangle test permutation equals the first such ray's;
     /// returns the packet and the mask of the lanes it took. Each lane's fields are those of
@@ -183,17 +197,7 @@ impl Rays8 {
         );
         let negative = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(d_kz, zero)) as u32;
         let on_axis = [!yb & !zb, yb & !zb, zb];
-        let mut r = Rays8 {
-            o: [[0.0; 8]; 3],
-            inv: [[1.0; 8]; 3],
-            sx: [0.0; 8],
-            sy: [0.0; 8],
-            sz: [0.0; 8],
-            t_max: [0.0; 8],
-            k: [0, 1, 2],
-            active: 0,
-            frustum: None,
-        };
+        let mut r = Self::EMPTY;
         if valid == 0 {
             return (r, 0);
         }
@@ -243,17 +247,7 @@ impl Rays8 {
     /// mask of the lanes it took (the reference [`Self::from_rays`] is tested against).
     #[cfg(test)]
     pub(super) fn new(lanes: &[Option<(Vec3, Vec3, f32, TriangleRay)>]) -> (Self, u32) {
-        let mut r = Rays8 {
-            o: [[0.0; 8]; 3],
-            inv: [[1.0; 8]; 3],
-            sx: [0.0; 8],
-            sy: [0.0; 8],
-            sz: [0.0; 8],
-            t_max: [0.0; 8],
-            k: [0, 1, 2],
-            active: 0,
-            frustum: None,
-        };
+        let mut r = Self::EMPTY;
         let mut d = [[1.0f32; 8]; 3];
         let mut first: Option<[usize; 3]> = None;
         for (i, lane) in lanes.iter().enumerate().take(8) {
