@@ -154,8 +154,8 @@ impl Rays8 {
     /// traces (`t_max > 0`) and whose triangle test permutation equals the first such ray's;
     /// returns the packet and the mask of the lanes it took. Each lane's fields are those of
     /// [`TriangleRay::new`] and [`super::node4::safe_inverse3`], by the same operations on eight
-    /// lanes at once, so the packet is bit for bit the one [`Self::new`] makes from the
-    /// prepared rays (a unit test checks it).
+    /// lanes at once, so the packet is bit for bit the one the rays prepared one by one make
+    /// (a unit test checks it against such a reference, `Rays8::new`).
     ///
     /// # Safety
     /// The CPU supports AVX2.
