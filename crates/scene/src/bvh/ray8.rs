@@ -66,8 +66,60 @@ struct Frustum {
 
 impl Frustum {
     /// The frustum of the rays in `lanes` of `o` and `inv`, or `None` where some axis has
-    /// directions of both signs (or no ray is given).
+    /// directions of both signs (or no ray is given). NaN components are left out of the
+    /// bounds (a ray with one meets no box).
+    ///
+    /// # Safety
+    /// The CPU supports AVX2.
+    #[target_feature(enable = "avx2")]
     fn new(o: &[[f32; 8]; 3], inv: &[[f32; 8]; 3], lanes: u32) -> Option<Self> {
+        if lanes == 0 {
+            return None;
+        }
+        let mut f = Frustum {
+            near: [0; 3],
+            o_near: [0.0; 3],
+            o_far: [0.0; 3],
+            inv_min: [0.0; 3],
+            inv_max: [0.0; 3],
+        };
+        let on = lane_mask(lanes);
+        let (inf, neg_inf) = (
+            _mm256_set1_ps(f32::INFINITY),
+            _mm256_set1_ps(f32::NEG_INFINITY),
+        );
+        // Lanes without a ray, and NaN components, count as +∞ for the least and −∞ for the
+        // greatest.
+        let bounds = |row: &[f32; 8]| {
+            let v = load(row);
+            let keep = _mm256_and_ps(on, _mm256_cmp_ps::<_CMP_ORD_Q>(v, v));
+            (
+                hmin(_mm256_blendv_ps(inf, v, keep)),
+                hmax(_mm256_blendv_ps(neg_inf, v, keep)),
+            )
+        };
+        for a in 0..3 {
+            let (i_lo, i_hi) = bounds(&inv[a]);
+            // Reciprocals are never zero (`safe_inverse3`).
+            let positive = if i_lo > 0.0 {
+                true
+            } else if i_hi < 0.0 {
+                false
+            } else {
+                return None;
+            };
+            let (o_lo, o_hi) = bounds(&o[a]);
+            f.near[a] = if positive { 0 } else { 1 };
+            (f.o_near[a], f.o_far[a]) = if positive { (o_hi, o_lo) } else { (o_lo, o_hi) };
+            (f.inv_min[a], f.inv_max[a]) = (i_lo, i_hi);
+        }
+        Some(f)
+    }
+
+    /// The frustum as the scalar loop finds it: the reference the unit tests hold
+    /// [`Self::new`] to.
+    #[cfg(test)]
+    fn scalar(o: &[[f32; 8]; 3], inv: &[[f32; 8]; 3], lanes: u32) -> Option<Self> {
         let mut f = Frustum {
             near: [0; 3],
             o_near: [0.0; 3],
@@ -79,7 +131,7 @@ impl Frustum {
             return None;
         }
         for a in 0..3 {
-            // Lanes without a ray count as ±∞ (a loop the compiler vectorises).
+            // Lanes without a ray count as ±∞ (`f32::min` and `max` leave NaN out).
             let (mut o_lo, mut o_hi) = (f32::INFINITY, f32::NEG_INFINITY);
             let (mut i_lo, mut i_hi) = (f32::INFINITY, f32::NEG_INFINITY);
             for i in 0..8 {
@@ -90,7 +142,6 @@ impl Frustum {
                 i_lo = i_lo.min(pick(inv[a][i], f32::INFINITY));
                 i_hi = i_hi.max(pick(inv[a][i], f32::NEG_INFINITY));
             }
-            // Reciprocals are never zero (`safe_inverse`).
             let positive = if i_lo > 0.0 {
                 true
             } else if i_hi < 0.0 {
@@ -275,7 +326,7 @@ impl Rays8 {
         if let Some(k) = first {
             r.k = k;
         }
-        r.frustum = Frustum::new(&r.o, &r.inv, r.active);
+        r.frustum = Frustum::scalar(&r.o, &r.inv, r.active);
         let taken = r.active;
         (r, taken)
     }
@@ -914,12 +965,24 @@ mod tests {
         let mut out: Vec<u64> = rows.flatten().map(|x| u64::from(x.to_bits())).collect();
         out.extend(r.k.map(|k| k as u64));
         out.push(u64::from(r.active));
-        if let Some(f) = &r.frustum {
-            let rows = [f.o_near, f.o_far, f.inv_min, f.inv_max];
-            out.extend(rows.iter().flatten().map(|x| u64::from(x.to_bits())));
-            out.extend(f.near.map(|n| n as u64));
-        }
+        out.push(r.frustum.is_some() as u64);
         out
+    }
+
+    /// A frustum's numbers as values (its bounds are minima and maxima, which may differ from
+    /// the scalar loop's in the sign of a zero bound; no comparison sees it).
+    fn frustum_values(r: &Rays8) -> Option<([f32; 12], [usize; 3])> {
+        r.frustum.map(|f| {
+            let mut v = [0.0; 12];
+            for (i, x) in [f.o_near, f.o_far, f.inv_min, f.inv_max]
+                .iter()
+                .flatten()
+                .enumerate()
+            {
+                v[i] = *x;
+            }
+            (v, f.near)
+        })
     }
 
     #[test]
@@ -978,6 +1041,11 @@ mod tests {
             let got = unsafe { Rays8::from_rays(&rays) };
             assert_eq!(got.1, want.1, "case {case}: lanes taken");
             assert_eq!(bits(&got.0), bits(&want.0), "case {case}");
+            assert_eq!(
+                frustum_values(&got.0),
+                frustum_values(&want.0),
+                "case {case}"
+            );
             partial += (want.1 != 0 && want.1.count_ones() < n as u32) as u32;
             frusta += want.0.frustum.is_some() as u32;
             taken_total += want.1.count_ones();
