@@ -65,6 +65,15 @@ struct Frustum {
 }
 
 impl Frustum {
+    /// All bounds zero, filled in by the constructors.
+    const ZERO: Self = Frustum {
+        near: [0; 3],
+        o_near: [0.0; 3],
+        o_far: [0.0; 3],
+        inv_min: [0.0; 3],
+        inv_max: [0.0; 3],
+    };
+
     /// The frustum of the rays in `lanes` of `o` and `inv`, or `None` where some axis has
     /// directions of both signs (or no ray is given). NaN components are left out of the
     /// bounds (a ray with one meets no box).
@@ -76,13 +85,7 @@ impl Frustum {
         if lanes == 0 {
             return None;
         }
-        let mut f = Frustum {
-            near: [0; 3],
-            o_near: [0.0; 3],
-            o_far: [0.0; 3],
-            inv_min: [0.0; 3],
-            inv_max: [0.0; 3],
-        };
+        let mut f = Self::ZERO;
         let on = lane_mask(lanes);
         let (inf, neg_inf) = (
             _mm256_set1_ps(f32::INFINITY),
@@ -120,13 +123,7 @@ impl Frustum {
     /// [`Self::new`] to.
     #[cfg(test)]
     fn scalar(o: &[[f32; 8]; 3], inv: &[[f32; 8]; 3], lanes: u32) -> Option<Self> {
-        let mut f = Frustum {
-            near: [0; 3],
-            o_near: [0.0; 3],
-            o_far: [0.0; 3],
-            inv_min: [0.0; 3],
-            inv_max: [0.0; 3],
-        };
+        let mut f = Self::ZERO;
         if lanes == 0 {
             return None;
         }
