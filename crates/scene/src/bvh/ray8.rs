@@ -465,8 +465,6 @@ pub(super) unsafe fn closest8<const SWITCH: u32>(
     let mut b2 = [0.0f32; 8];
     let mut found = 0u32;
     let slabs = Slabs::new(rays);
-    let inf = _mm256_set1_ps(f32::INFINITY);
-    let neg_inf = _mm256_set1_ps(f32::NEG_INFINITY);
     let robust = _mm256_set1_ps(ROBUST);
     let frustum = rays.frustum.as_ref();
     // Entries: the least entry distance of the rays that entered the child, the child, and
@@ -518,34 +516,17 @@ pub(super) unsafe fn closest8<const SWITCH: u32>(
             t_best = load(&tb);
         } else if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
-            let entered = lane_mask(rays_in);
-            // The children the frustum meets (all where there is none) are tested ray by ray.
-            let mut children = match frustum {
-                Some(f) => f.hit(node, hmax(_mm256_blendv_ps(neg_inf, t_best, entered))),
-                None => node.used(),
-            };
             let mut hits = [(0.0f32, 0u32, 0u32); 8];
-            let mut n = 0;
-            while children != 0 {
-                let c = children.trailing_zeros() as usize & 7;
-                children &= children - 1;
-                let child = node.child(c);
-                let (lo, hi) = node.lane_box(c);
-                let (t0, le) = slabs.test(lo, hi, t_best);
-                let le = _mm256_and_ps(le, entered);
-                let m = _mm256_movemask_ps(le) as u32;
-                if m == 0 {
-                    continue;
-                }
-                // The child's key: the least entry distance of the rays that enter it.
-                let key = hmin(_mm256_blendv_ps(inf, t0, le));
-                let mut j = n;
-                while j > 0 && hits[j - 1].0 > key {
+            let n = entered_children::<true>(node, frustum, &slabs, rays_in, t_best, &mut hits);
+            // Near to far by key (stable: lanes in order).
+            for k in 1..n {
+                let e = hits[k & 7];
+                let mut j = k;
+                while j > 0 && hits[j - 1].0 > e.0 {
                     hits[j] = hits[j - 1];
                     j -= 1;
                 }
-                hits[j % 8] = (key, child, m);
-                n += 1;
+                hits[j & 7] = e;
             }
             if n > 0 {
                 for &e in hits[1..n].iter().rev() {
@@ -573,11 +554,8 @@ pub(super) unsafe fn closest8<const SWITCH: u32>(
                     while edge != 0 {
                         let i = edge.trailing_zeros() as usize & 7;
                         edge &= edge - 1;
-                        let Some(tr) = rays.triangle_ray(i) else {
-                            continue;
-                        };
-                        let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
-                        if let Some((t, u1, u2)) = tr.intersect(tb[i].next_up(), v[0], v[1], v[2])
+                        // `intersect` keeps `t < bound`: ask for `t ≤ tb[i]`, then the tie rule.
+                        if let Some((t, u1, u2)) = scalar_test(rays, i, pk, l, tb[i].next_up())
                             && (t < tb[i] || (found >> i & 1 == 1 && p < prim[i]))
                         {
                             t_new[i] = t;
@@ -690,7 +668,6 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
     let mut occluded = 0u32;
     let t_max = load(&rays.t_max);
     let slabs = Slabs::new(rays);
-    let neg_inf = _mm256_set1_ps(f32::NEG_INFINITY);
     let frustum = rays.frustum.as_ref();
     // Entries: a child and the rays that entered it.
     let mut buf: StackBuf<(u32, u32)> = [const { MaybeUninit::uninit() }; STACK];
@@ -724,29 +701,15 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
             }
         } else if cur & LEAF == 0 {
             let node = &nodes[cur as usize];
-            let entered = lane_mask(rays_in);
-            let mut children = match frustum {
-                Some(f) => f.hit(node, hmax(_mm256_blendv_ps(neg_inf, t_max, entered))),
-                None => node.used(),
-            };
-            let mut next = None;
-            while children != 0 {
-                let c = children.trailing_zeros() as usize & 7;
-                children &= children - 1;
-                let child = node.child(c);
-                let (lo, hi) = node.lane_box(c);
-                let (_, le) = slabs.test(lo, hi, t_max);
-                let m = _mm256_movemask_ps(_mm256_and_ps(le, entered)) as u32;
-                if m != 0 {
-                    if next.is_none() {
-                        next = Some((child, m));
-                    } else {
-                        stack.push((child, m));
-                    }
+            let mut hits = [(0.0f32, 0u32, 0u32); 8];
+            let n = entered_children::<false>(node, frustum, &slabs, rays_in, t_max, &mut hits);
+            if n > 0 {
+                // The first child next, the others stacked (any order finds whether some hit
+                // exists).
+                for &(_, child, m) in &hits[1..n] {
+                    stack.push((child, m));
                 }
-            }
-            if let Some(next) = next {
-                (cur, rays_in) = next;
+                (cur, rays_in) = (hits[0].1, hits[0].2);
                 continue;
             }
         } else {
@@ -760,15 +723,10 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
                         triangle8(pk, l, rays, t_max, rays_in, &mut on_edge).map_or(0, |a| a.less);
                     let mut hit = less & rays_in & !on_edge;
                     let mut edge = on_edge & rays_in;
-                    let tm = &rays.t_max;
                     while edge != 0 {
                         let i = edge.trailing_zeros() as usize & 7;
                         edge &= edge - 1;
-                        let Some(tr) = rays.triangle_ray(i) else {
-                            continue;
-                        };
-                        let v = [pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l)];
-                        if tr.intersect(tm[i], v[0], v[1], v[2]).is_some() {
+                        if scalar_test(rays, i, pk, l, rays.t_max[i]).is_some() {
                             hit |= 1 << i;
                         }
                     }
@@ -808,6 +766,68 @@ pub(super) unsafe fn any8<const SWITCH: u32>(
             }
         }
     }
+}
+
+/// The children of `node` that rays of `rays_in` enter within their `t_far` (per lane): the
+/// frustum, where the packet has one, picks those worth testing ray by ray. Written to `out` in
+/// lane order as `(key, child, rays)`, where `key` is the least entry distance of those rays
+/// when `KEY` (the closest-hit traversal's order), else 0; returns how many.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn entered_children<const KEY: bool>(
+    node: &Node8,
+    frustum: Option<&Frustum>,
+    slabs: &Slabs,
+    rays_in: u32,
+    t_far: __m256,
+    out: &mut [(f32, u32, u32); 8],
+) -> usize {
+    let entered = lane_mask(rays_in);
+    let mut children = match frustum {
+        Some(f) => f.hit(
+            node,
+            hmax(_mm256_blendv_ps(
+                _mm256_set1_ps(f32::NEG_INFINITY),
+                t_far,
+                entered,
+            )),
+        ),
+        None => node.used(),
+    };
+    let mut n = 0;
+    while children != 0 {
+        let c = children.trailing_zeros() as usize & 7;
+        children &= children - 1;
+        let (lo, hi) = node.lane_box(c);
+        let (t0, le) = slabs.test(lo, hi, t_far);
+        let le = _mm256_and_ps(le, entered);
+        let m = _mm256_movemask_ps(le) as u32;
+        if m == 0 {
+            continue;
+        }
+        let key = if KEY {
+            hmin(_mm256_blendv_ps(_mm256_set1_ps(f32::INFINITY), t0, le))
+        } else {
+            0.0
+        };
+        out[n & 7] = (key, node.child(c), m);
+        n += 1;
+    }
+    n
+}
+
+/// The scalar watertight test of ray `i` of `rays` against triangle `l` of `pk` (for rays
+/// exactly on an edge, as the one-ray traversal decides them): `(t, b1, b2)` with `t < bound`.
+#[inline]
+fn scalar_test(
+    rays: &Rays8,
+    i: usize,
+    pk: &Packet,
+    l: usize,
+    bound: f32,
+) -> Option<(f32, f32, f32)> {
+    let tr = rays.triangle_ray(i)?;
+    tr.intersect(bound, pk.vertex(0, l), pk.vertex(1, l), pk.vertex(2, l))
 }
 
 /// What [`triangle8`] finds for eight rays: per lane the distance and barycentrics, and the
