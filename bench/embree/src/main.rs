@@ -170,15 +170,18 @@ enum Row {
     /// `Geometry::intersect_stream` / `occluded_stream`: eight rays at a time through the
     /// 8-wide BVH, fed in packet order. Where a set has no such query its cells print n/a.
     CausticaPackets,
+    /// `Geometry::hit_distance_stream`: as `CausticaPackets`, t only (no shadow variant).
+    CausticaPacketsT,
     Embree1,
     Embree8,
     Embree1M,
 }
 
-const ROWS: [Row; 6] = [
+const ROWS: [Row; 7] = [
     Row::Caustica,
     Row::CausticaT,
     Row::CausticaPackets,
+    Row::CausticaPacketsT,
     Row::Embree1,
     Row::Embree8,
     Row::Embree1M,
@@ -193,6 +196,9 @@ impl Row {
             Row::CausticaT => "caustica `Geometry::hit_distance` (t only), single rays",
             Row::CausticaPackets => {
                 "caustica `Geometry::intersect_stream` / `occluded_stream`, 8 rays at a time"
+            }
+            Row::CausticaPacketsT => {
+                "caustica `Geometry::hit_distance_stream` (t only), 8 rays at a time"
             }
             Row::Embree1 => "Embree `rtcIntersect1` / `rtcOccluded1`, single rays",
             Row::Embree8 => "Embree `rtcIntersect8` / `rtcOccluded8`, 8-ray packets",
@@ -242,6 +248,17 @@ fn query<'a>(row: Row, set: &'a RaySet, geo: &'a Geometry, scene: &'a Scene) -> 
                 }
             })
         }
+        (Row::CausticaPacketsT, false) => {
+            let rays: Vec<Ray> = set.order.iter().map(|&i| set.rays[i as usize]).collect();
+            let mut res = Vec::new();
+            Box::new(move |out| {
+                geo.hit_distance_stream(&rays, &mut res);
+                for (&i, &t) in set.order.iter().zip(&res) {
+                    out[i as usize] = t;
+                }
+            })
+        }
+        (Row::CausticaPacketsT, true) => return None,
         (Row::CausticaPackets, true) => {
             let rays: Vec<Ray> = set.order.iter().map(|&i| set.rays[i as usize]).collect();
             let mut res = Vec::new();
@@ -705,7 +722,7 @@ fn main() {
         let cells: Vec<String> = (0..sets.len())
             .map(|si| match (mrays(row, si), row) {
                 (Some(m), _) => format!("{m:.2}"),
-                (None, Row::CausticaPackets) => "n/a".into(),
+                (None, Row::CausticaPackets | Row::CausticaPacketsT) => "n/a".into(),
                 (None, _) => "—".into(),
             })
             .collect();
@@ -740,6 +757,7 @@ fn main() {
             Row::CausticaPackets,
             "`intersect_stream` (`occluded_stream`)",
         ),
+        (Row::CausticaPacketsT, "`hit_distance_stream`"),
     ] {
         for (e, ename) in [
             (Row::Embree1, "Embree single"),
@@ -823,13 +841,13 @@ fn main() {
     let _ = writeln!(
         w,
         "| ray set | rays | caustica hits | `hit_distance` = `intersect`.t | \
-         `intersect_stream` = `intersect` | Embree hits | \
+         `intersect_stream` = `intersect` | `hit_distance_stream` = `intersect`.t | Embree hits | \
          agree rtcIntersect1 | agree rtcIntersect8 | agree rtcIntersect1M | hit/miss differ¹ | t differs¹ | max rel. t diff.¹ | ≥ {:.1} % |",
         100.0 * AGREE_MIN
     );
     let _ = writeln!(
         w,
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
     );
     let mut all_ok = true;
     let mut disagreements = Vec::new();
@@ -851,7 +869,11 @@ fn main() {
                 format!("{k}")
             })
         };
-        let (same_t, same_stream) = (same(Row::CausticaT), same(Row::CausticaPackets));
+        let (same_t, same_stream, same_stream_t) = (
+            same(Row::CausticaT),
+            same(Row::CausticaPackets),
+            same(Row::CausticaPacketsT),
+        );
         let e1 = &find(Row::Embree1, si).expect("Embree job").out;
         let hm = c
             .iter()
@@ -891,7 +913,7 @@ fn main() {
         let pct = |k: usize| format!("{k} ({:.3} %)", 100.0 * k as f64 / n as f64);
         let _ = writeln!(
             w,
-            "| {} | {n} | {} | {same_t} | {same_stream} | {} | {} | {} | {} | {hm} | {td} | {} | {} |",
+            "| {} | {n} | {} | {same_t} | {same_stream} | {same_stream_t} | {} | {} | {} | {} | {hm} | {td} | {} | {} |",
             set.name,
             hits(c),
             hits(e1),

@@ -775,7 +775,12 @@ fn ray_streams_give_each_ray_its_own_hit() {
         geo.intersect_stream(&rays, &mut hits);
         let mut occluded = Vec::new();
         geo.occluded_stream(&rays, &mut occluded);
-        assert_eq!((hits.len(), occluded.len()), (rays.len(), rays.len()));
+        let mut distances = Vec::new();
+        geo.hit_distance_stream(&rays, &mut distances);
+        assert_eq!(
+            (hits.len(), occluded.len(), distances.len()),
+            (rays.len(), rays.len(), rays.len())
+        );
         let key = |s: &caustica_scene::SurfaceInteraction| {
             (
                 s.t.to_bits(),
@@ -794,6 +799,11 @@ fn ray_streams_give_each_ray_its_own_hit() {
                 "{width:?} ray {i}"
             );
             assert_eq!(occluded[i], geo.occluded(r), "{width:?} ray {i}");
+            assert_eq!(
+                distances[i].map(f32::to_bits),
+                one.as_ref().map(|s| s.t.to_bits()),
+                "{width:?} ray {i}"
+            );
             n += one.is_some() as u32;
         }
         assert!(n > 3000, "hits {n}");
