@@ -35,6 +35,24 @@ enum PrimGeom {
 
 const _: () = assert!(std::mem::size_of::<PrimGeom>() == 40);
 
+/// One primitive in BVH order: its geometry (what the traversal tests for non-triangles)
+/// and what a hit's record reads besides, side by side, so that a record's data lies in two
+/// or three adjacent cache lines instead of three arrays (84 bytes; on the benchmark's
+/// 1 M-triangle mesh, where a record's reads miss the caches: docs/performance.md, fourteenth
+/// session).
+#[derive(Clone, Copy, Debug)]
+struct PrimRecord {
+    geom: PrimGeom,
+    /// The shape, and the primitive within it.
+    shape: u32,
+    prim: u32,
+    /// Normal and tangents of a mesh triangle (unused for other primitives), so a hit only
+    /// interpolates.
+    constants: TriangleConstants,
+}
+
+const _: () = assert!(std::mem::size_of::<PrimRecord>() == 84);
+
 impl PrimGeom {
     /// `(t, b1, b2)` of a hit with `t ∈ (0, t_max)`.
     #[inline(always)]
@@ -53,13 +71,8 @@ pub struct Geometry {
     /// The wide BVH over all primitives (empty when there are none).
     pub bvh: WideBvh,
     bounds: Aabb,
-    /// Primitive geometry in BVH order (40 bytes each).
-    prims: Vec<PrimGeom>,
-    /// (shape, primitive within the shape) in BVH order; read once per closest hit.
-    prim_ids: Vec<(u32, u32)>,
-    /// Normal and tangents of each mesh triangle in BVH order (unused for other primitives),
-    /// so a hit only interpolates.
-    tri_constants: Vec<TriangleConstants>,
+    /// The primitives in BVH order.
+    prims: Vec<PrimRecord>,
     /// The triangles of moving meshes, behind their own BVH over swept bounds.
     moving: MovingTriangles,
 }
@@ -147,21 +160,28 @@ impl Geometry {
         let bvh = WideBvh::build_with_width(&vboxes, &vtris, width);
         // BVH order → index into `geoms` / `ids`.
         let order: Vec<u32> = bvh.order().iter().map(|&k| valid[k as usize]).collect();
-        let prims: Vec<PrimGeom> = order
+        // A valid primitive's geometry with its ids and (for a mesh triangle) constants.
+        let prims: Vec<PrimRecord> = order
             .par_iter()
             .with_min_len(4096)
-            .filter_map(|&i| geoms[i as usize])
-            .collect();
-        let prim_ids: Vec<(u32, u32)> = order.iter().map(|&i| ids[i as usize]).collect();
-        debug_assert_eq!(prims.len(), order.len());
-        let tri_constants: Vec<TriangleConstants> = prim_ids
-            .par_iter()
-            .with_min_len(4096)
-            .map(|&(s, p)| match &shapes[s as usize].geometry {
-                ShapeGeometry::Mesh(m) => m.triangle_constants(p as usize).unwrap_or_default(),
-                _ => TriangleConstants::default(),
+            .filter_map(|&i| {
+                let geom = geoms[i as usize]?;
+                let (shape, prim) = ids[i as usize];
+                let constants = match &shapes[shape as usize].geometry {
+                    ShapeGeometry::Mesh(m) => {
+                        m.triangle_constants(prim as usize).unwrap_or_default()
+                    }
+                    _ => TriangleConstants::default(),
+                };
+                Some(PrimRecord {
+                    geom,
+                    shape,
+                    prim,
+                    constants,
+                })
             })
             .collect();
+        debug_assert_eq!(prims.len(), order.len());
         let mut bounds = order.iter().fold(Aabb::EMPTY, |mut b, &i| {
             let pb = &boxes[i as usize];
             b.grow(pb.min);
@@ -177,8 +197,6 @@ impl Geometry {
             bvh,
             bounds,
             prims,
-            prim_ids,
-            tri_constants,
             moving,
         }
     }
@@ -212,7 +230,7 @@ impl Geometry {
     fn closest(&self, ray: &Ray, prefetch: bool) -> Option<WideHit> {
         let tr = self.rays(ray)?;
         let (o, d) = (ray.o, ray.d);
-        let other = |k: u32, t_max| self.prims[k as usize].intersect(&tr, o, d, t_max);
+        let other = |k: u32, t_max| self.prims[k as usize].geom.intersect(&tr, o, d, t_max);
         // In a scene whose records fit the caches the hints would only be extra instructions:
         // there the traversal is the one without the hook (each is compiled on its own).
         let hit = if prefetch && crate::bvh::prefetch::worth(&self.prims) {
@@ -244,16 +262,14 @@ impl Geometry {
     }
 
     /// Asks the CPU to bring into the cache what [`Self::interaction`] reads of static
-    /// primitive `k` (BVH order): its vertices, its ids and its triangle constants. In a scene
-    /// larger than the caches these are three misses per hit, which the rest of the traversal
-    /// now hides.
+    /// primitive `k` (BVH order): its record (vertices, ids, triangle constants; two or three
+    /// adjacent lines). In a scene larger than the caches these are misses per hit, which the
+    /// rest of the traversal hides.
     #[inline(always)]
     fn prefetch_record(&self, k: u32) {
         use crate::bvh::prefetch::element;
         let k = k as usize;
         element(&self.prims, k);
-        element(&self.prim_ids, k);
-        element(&self.tri_constants, k);
     }
 
     /// Hit of moving triangle `k` (moving-BVH order) at `time` closer than `t_max`.
@@ -387,7 +403,9 @@ impl Geometry {
     ) -> Option<(f32, f32, f32)> {
         let ray = rays.get(i)?;
         let tr = TriangleRay::new(ray.o, ray.d);
-        self.prims[k as usize].intersect(&tr, ray.o, ray.d, t_max)
+        self.prims[k as usize]
+            .geom
+            .intersect(&tr, ray.o, ray.d, t_max)
     }
 
     /// True if anything blocks `ray` before `ray.t_max` (stops at the first hit found).
@@ -397,7 +415,7 @@ impl Geometry {
         };
         let (o, d) = (ray.o, ray.d);
         self.bvh.any(o, d, &tr, ray.t_max, |k, t_max| {
-            self.prims[k as usize].intersect(&tr, o, d, t_max)
+            self.prims[k as usize].geom.intersect(&tr, o, d, t_max)
         }) || (!self.moving.ids.is_empty()
             && self.moving.bvh.any(o, d, &tr, ray.t_max, |k, t_max| {
                 self.moving_intersect(k, &tr, ray.time, t_max)
@@ -418,18 +436,14 @@ impl Geometry {
         {
             return self.moving_interaction(ray, hit, s, p);
         }
-        let geom = &self.prims[hit.prim as usize];
-        let (shape_id, prim_id) = self.prim_ids[hit.prim as usize];
+        let rec = &self.prims[hit.prim as usize];
+        let (geom, shape_id, prim_id) = (&rec.geom, rec.shape, rec.prim);
         let shape = &self.shapes[shape_id as usize];
         let p_ray = ray.at(hit.t);
         let sh = match (&shape.geometry, geom) {
-            (ShapeGeometry::Mesh(m), PrimGeom::Triangle(v)) => m.surface_at(
-                prim_id as usize,
-                v,
-                &self.tri_constants[hit.prim as usize],
-                hit.b1,
-                hit.b2,
-            ),
+            (ShapeGeometry::Mesh(m), PrimGeom::Triangle(v)) => {
+                m.surface_at(prim_id as usize, v, &rec.constants, hit.b1, hit.b2)
+            }
             (_, PrimGeom::Sphere(s)) => s.surface(p_ray),
             (_, PrimGeom::Disk(d)) => d.surface(p_ray),
             // Unreachable (triangles come from meshes only); keep a sane record anyway.
