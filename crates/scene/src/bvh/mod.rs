@@ -288,7 +288,9 @@ impl WideBvh {
     /// exactly the hit [`Self::closest`] gives it; `other(i, k, t)` tests non-triangle
     /// primitive `k` for ray `i`. Returns the hits and the mask of the lanes traced: rays
     /// without `t_max > 0`, rays whose triangle-test axis permutation differs from the first
-    /// traced ray's, and all rays where nodes are 4-wide, are left to the caller (bit clear).
+    /// traced ray's, all rays where no more than [`ray8::ONE_BY_ONE`] would be left (the
+    /// packet would hand each over at the root) and all rays where nodes are 4-wide are left
+    /// to the caller (bit clear).
     pub fn closest_packet(
         &self,
         rays: &[Ray],
@@ -299,7 +301,10 @@ impl WideBvh {
             Nodes::Eight(n) if !n.is_empty() => {
                 // SAFETY (both calls): eight-wide nodes exist only where AVX2 was detected; the
                 // builder's child references index into `n` and `self.packets`.
-                let (rays, taken) = unsafe { ray8::Rays8::from_rays(rays) };
+                let (rays, taken) = unsafe { ray8::Rays8::from_rays(rays, ray8::ONE_BY_ONE) };
+                if taken == 0 {
+                    return ([None; 8], 0);
+                }
                 let hits = unsafe {
                     ray8::closest8::<{ ray8::ONE_BY_ONE }>(n, &self.packets, &rays, other)
                 };
@@ -320,7 +325,10 @@ impl WideBvh {
             #[cfg(target_arch = "x86_64")]
             Nodes::Eight(n) if !n.is_empty() => {
                 // SAFETY (both calls): as in `closest_packet`.
-                let (rays, taken) = unsafe { ray8::Rays8::from_rays(rays) };
+                let (rays, taken) = unsafe { ray8::Rays8::from_rays(rays, ray8::ONE_BY_ONE) };
+                if taken == 0 {
+                    return (0, 0);
+                }
                 let hit =
                     unsafe { ray8::any8::<{ ray8::ONE_BY_ONE }>(n, &self.packets, &rays, other) };
                 (hit, taken)

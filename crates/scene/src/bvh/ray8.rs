@@ -203,12 +203,15 @@ impl Rays8 {
     /// returns the packet and the mask of the lanes it took. Each lane's fields are those of
     /// [`TriangleRay::new`] and [`super::node4::safe_inverse3`], by the same operations on eight
     /// lanes at once, so the packet is bit for bit the one the rays prepared one by one make
-    /// (a unit test checks it against such a reference, `Rays8::new`).
+    /// (a unit test checks it against such a reference, `Rays8::new`). Where it would take
+    /// `min_rays` or fewer rays, it stops before the reciprocals and the frustum and takes none
+    /// (mask 0): a packet traversal would hand every ray over at the root where
+    /// `min_rays` is [`ONE_BY_ONE`], and the caller traces them one by one anyway.
     ///
     /// # Safety
     /// The CPU supports AVX2.
     #[target_feature(enable = "avx2")]
-    pub(super) fn from_rays(rays: &[Ray]) -> (Self, u32) {
+    pub(super) fn from_rays(rays: &[Ray], min_rays: u32) -> (Self, u32) {
         let mut o = [[0.0f32; 8]; 3];
         let mut d = [[1.0f32; 8]; 3];
         let mut t_max = [0.0f32; 8];
@@ -259,6 +262,9 @@ impl Rays8 {
         };
         let flip = negative >> first & 1 == 1;
         let active = valid & on_axis[kz] & if flip { negative } else { !negative };
+        if active.count_ones() <= min_rays {
+            return (r, 0);
+        }
         let mut kx = if kz == 2 { 0 } else { kz + 1 };
         let mut ky = if kx == 2 { 0 } else { kx + 1 };
         if flip {
@@ -1075,7 +1081,7 @@ mod tests {
                 .collect();
             let want = Rays8::new(&prepared(&rays));
             // SAFETY: AVX2 was detected.
-            let got = unsafe { Rays8::from_rays(&rays) };
+            let got = unsafe { Rays8::from_rays(&rays, 0) };
             assert_eq!(got.1, want.1, "case {case}: lanes taken");
             assert_eq!(bits(&got.0), bits(&want.0), "case {case}");
             assert_eq!(
@@ -1140,7 +1146,7 @@ mod tests {
                 .collect();
             let lanes = prepared(&given);
             // SAFETY: AVX2 was detected.
-            let (rays, taken) = unsafe { Rays8::from_rays(&given) };
+            let (rays, taken) = unsafe { Rays8::from_rays(&given, 0) };
             full += (taken == 0xff) as u32;
             frusta += rays.frustum.is_some() as u32;
             let none = |_: usize, _: u32, _: f32| None;
