@@ -211,6 +211,23 @@ impl Row {
 /// shadow: `Some(0.0)` if occluded, `None` if not), indexed like the set's rays.
 type Query<'a> = Box<dyn FnMut(&mut [Option<f32>]) + 'a>;
 
+/// A caustica stream query over `set`'s rays in packet order: `run(rays, results)` traces them,
+/// `result` reads each ray's entry of the query's output ([`Query`]'s), written back in ray order.
+fn in_packet_order<'a, T: 'a>(
+    set: &'a RaySet,
+    run: impl Fn(&[Ray], &mut Vec<T>) + 'a,
+    result: impl Fn(&T) -> Option<f32> + 'a,
+) -> Query<'a> {
+    let rays: Vec<Ray> = set.order.iter().map(|&i| set.rays[i as usize]).collect();
+    let mut res = Vec::new();
+    Box::new(move |out| {
+        run(&rays, &mut res);
+        for (&i, r) in set.order.iter().zip(&res) {
+            out[i as usize] = result(r);
+        }
+    })
+}
+
 /// The query of `row` on `set`, or `None` where the row has no such query.
 fn query<'a>(row: Row, set: &'a RaySet, geo: &'a Geometry, scene: &'a Scene) -> Option<Query<'a>> {
     let coh = set.coherence;
@@ -238,37 +255,22 @@ fn query<'a>(row: Row, set: &'a RaySet, geo: &'a Geometry, scene: &'a Scene) -> 
         // (a renderer generates its rays in tile order); results go back to ray order. A new
         // caustica packet or stream query gets a `Row` and an arm here, and its cells, ratios
         // and agreement check fill in by themselves.
-        (Row::CausticaPackets, false) => {
-            let rays: Vec<Ray> = set.order.iter().map(|&i| set.rays[i as usize]).collect();
-            let mut res = Vec::new();
-            Box::new(move |out| {
-                geo.intersect_stream(&rays, &mut res);
-                for (&i, h) in set.order.iter().zip(&res) {
-                    out[i as usize] = h.as_ref().map(|s| s.t);
-                }
-            })
-        }
-        (Row::CausticaPacketsT, false) => {
-            let rays: Vec<Ray> = set.order.iter().map(|&i| set.rays[i as usize]).collect();
-            let mut res = Vec::new();
-            Box::new(move |out| {
-                geo.hit_distance_stream(&rays, &mut res);
-                for (&i, &t) in set.order.iter().zip(&res) {
-                    out[i as usize] = t;
-                }
-            })
-        }
+        (Row::CausticaPackets, false) => in_packet_order(
+            set,
+            move |rays, res| geo.intersect_stream(rays, res),
+            |h| h.as_ref().map(|s| s.t),
+        ),
+        (Row::CausticaPacketsT, false) => in_packet_order(
+            set,
+            move |rays, res| geo.hit_distance_stream(rays, res),
+            |&t| t,
+        ),
         (Row::CausticaPacketsT, true) => return None,
-        (Row::CausticaPackets, true) => {
-            let rays: Vec<Ray> = set.order.iter().map(|&i| set.rays[i as usize]).collect();
-            let mut res = Vec::new();
-            Box::new(move |out| {
-                geo.occluded_stream(&rays, &mut res);
-                for (&i, &occ) in set.order.iter().zip(&res) {
-                    out[i as usize] = occ.then_some(0.0);
-                }
-            })
-        }
+        (Row::CausticaPackets, true) => in_packet_order(
+            set,
+            move |rays, res| geo.occluded_stream(rays, res),
+            |&occ| occ.then_some(0.0),
+        ),
         (Row::Embree1, false) => Box::new(move |out| {
             for (o, r) in out.iter_mut().zip(&set.rays) {
                 *o = scene.intersect1(coh, r);
