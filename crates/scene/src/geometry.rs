@@ -309,9 +309,10 @@ impl Geometry {
 
     /// The closest hit of every ray of `rays`, in order: the same records as [`Self::intersect`]
     /// gives one by one, bit for bit, but rays are traced eight at a time through the 8-wide
-    /// BVH, so a node or packet is fetched once for eight rays. Worth it for coherent rays (a
-    /// tile of camera rays); rays that differ from their packet's first in the dominant axis
-    /// of their direction, scenes with moving meshes and 4-wide BVHs go one by one.
+    /// BVH, so a node or packet is fetched once for the rays that enter it. Worth it for
+    /// coherent rays (a tile of camera rays); rays that differ from their packet's first in the
+    /// dominant axis of their direction, packets left with five such rays or fewer, scenes with
+    /// moving meshes and 4-wide BVHs go one by one.
     pub fn intersect_stream(&self, rays: &[Ray], out: &mut Vec<Option<SurfaceInteraction>>) {
         out.clear();
         out.reserve(rays.len());
