@@ -1049,7 +1049,7 @@ mod tests {
             -1.0,
             f32::NAN,
         ];
-        let (mut partial, mut frusta, mut taken_total) = (0, 0, 0);
+        let (mut partial, mut frusta, mut taken_total, mut few_total) = (0, 0, 0, 0);
         for case in 0..4000 {
             let n = if case % 9 == 0 { 1 + case % 8 } else { 8 };
             let mut pick = |scale: f32| {
@@ -1089,6 +1089,17 @@ mod tests {
                 frustum_values(&want.0),
                 "case {case}"
             );
+            // With a least count, a packet that would take that many rays or fewer takes none;
+            // the others are the same packet.
+            // SAFETY: AVX2 was detected.
+            let few = unsafe { Rays8::from_rays(&rays, ONE_BY_ONE) };
+            if want.1.count_ones() <= ONE_BY_ONE {
+                assert_eq!(few.1, 0, "case {case}: a packet of few rays set up");
+                few_total += 1;
+            } else {
+                assert_eq!(few.1, want.1, "case {case}: lanes taken with a least count");
+                assert_eq!(bits(&few.0), bits(&want.0), "case {case}");
+            }
             partial += (want.1 != 0 && want.1.count_ones() < n as u32) as u32;
             frusta += want.0.frustum.is_some() as u32;
             taken_total += want.1.count_ones();
@@ -1099,6 +1110,7 @@ mod tests {
             "{partial} partial, {frusta} frusta"
         );
         assert!(taken_total > 10_000, "{taken_total} rays taken");
+        assert!(few_total > 500, "{few_total} packets of few rays");
     }
 
     #[test]
