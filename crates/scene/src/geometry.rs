@@ -230,7 +230,13 @@ impl Geometry {
     fn closest(&self, ray: &Ray, prefetch: bool) -> Option<WideHit> {
         let tr = self.rays(ray)?;
         let (o, d) = (ray.o, ray.d);
-        let other = |k: u32, t_max| self.prims[k as usize].geom.intersect(&tr, o, d, t_max);
+        // (Reading the ray through its reference: capturing copies of `o` and `d` made every
+        // query store them again.)
+        let other = |k: u32, t_max| {
+            self.prims[k as usize]
+                .geom
+                .intersect(&tr, ray.o, ray.d, t_max)
+        };
         // In a scene whose records fit the caches the hints would only be extra instructions:
         // there the traversal is the one without the hook (each is compiled on its own).
         let hit = if prefetch && crate::bvh::prefetch::worth(&self.prims) {
@@ -416,7 +422,9 @@ impl Geometry {
         };
         let (o, d) = (ray.o, ray.d);
         self.bvh.any(o, d, &tr, ray.t_max, |k, t_max| {
-            self.prims[k as usize].geom.intersect(&tr, o, d, t_max)
+            self.prims[k as usize]
+                .geom
+                .intersect(&tr, ray.o, ray.d, t_max)
         }) || (!self.moving.ids.is_empty()
             && self.moving.bvh.any(o, d, &tr, ray.t_max, |k, t_max| {
                 self.moving_intersect(k, &tr, ray.time, t_max)
