@@ -52,37 +52,7 @@ impl Pcg32 {
     /// Uniform in [0, 1), with 24 bits of precision (never returns 1.0).
     #[inline]
     pub fn next_f32(&mut self) -> f32 {
-        Self::to_f32(self.next_u32())
-    }
-
-    /// The number [`Self::next_f32`] makes of `x`.
-    #[inline(always)]
-    fn to_f32(x: u32) -> f32 {
-        (x >> 8) as f32 * (1.0 / 16_777_216.0)
-    }
-
-    /// `N` numbers from each of `W` generators side by side: `out[j][k]` is the `j`-th of `N`
-    /// calls of [`Self::next_f32`] on `rngs[k]`, bit for bit, and every generator is left as
-    /// those calls leave it. The same steps as the calls, written lane-wise over arrays so that
-    /// the compiler computes the `W` generators in SIMD lanes (each step's 64-bit multiply,
-    /// shifts and rotation): the path tracer's lanes draw a vertex's numbers this way.
-    #[inline(always)]
-    pub fn next_f32_lanes<const N: usize, const W: usize>(rngs: &mut [Pcg32; W]) -> [[f32; W]; N] {
-        let mut state: [u64; W] = std::array::from_fn(|k| rngs[k].state);
-        let inc: [u64; W] = std::array::from_fn(|k| rngs[k].inc);
-        let mut out = [[0.0; W]; N];
-        for row in &mut out {
-            for k in 0..W {
-                let old = state[k];
-                state[k] = old.wrapping_mul(Self::MULT).wrapping_add(inc[k]);
-                let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
-                row[k] = Self::to_f32(xorshifted.rotate_right((old >> 59) as u32));
-            }
-        }
-        for (r, s) in rngs.iter_mut().zip(state) {
-            r.state = s;
-        }
-        out
+        (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 }
 

@@ -188,37 +188,23 @@ impl Sampler {
         Vec2::new(x, y)
     }
 
-    /// The next `N` numbers of every sampler of `samplers` whose bit is set in `mask`, side by
-    /// side: `out[j][k]` is the `j`-th of `N` calls of [`Self::next_1d`] on `samplers[k]`, bit
-    /// for bit, and each such sampler is left as those calls leave it. The other samplers are
-    /// left as they are; their lanes of `out` hold numbers that mean nothing (but depend only
-    /// on the samplers, like every number here). Where every sampler of `mask` is an
-    /// independent one (not replaying primary samples), their generators step in SIMD lanes
-    /// ([`Pcg32::next_f32_lanes`]); otherwise the samplers draw one by one.
-    pub fn next_1d_lanes<const N: usize, const W: usize>(
-        samplers: &mut [Sampler; W],
-        mask: u32,
-    ) -> [[f32; W]; N] {
-        let in_mask = |k: usize| mask >> k & 1 == 1;
-        let lanes = (0..W).all(|k| {
-            !in_mask(k)
-                || (samplers[k].kind == SamplerKind::Independent && samplers[k].primary.is_none())
-        });
-        if !lanes {
-            let mut out = [[0.0; W]; N];
-            for k in (0..W).filter(|&k| in_mask(k)) {
-                for row in &mut out {
-                    row[k] = samplers[k].next_1d();
-                }
+    /// The next `N` numbers, bit for bit those of `N` calls of [`Self::next_1d`]. The
+    /// independent sampler checks its kind once and steps its generator in registers.
+    #[inline(always)]
+    pub fn next_1d_array<const N: usize>(&mut self) -> [f32; N] {
+        let mut out = [0.0; N];
+        if self.primary.is_none() && self.kind == SamplerKind::Independent {
+            let mut rng = self.rng;
+            for x in &mut out {
+                *x = rng.next_f32();
             }
-            return out;
+            self.rng = rng;
+        } else {
+            for x in &mut out {
+                *x = self.next_1d();
+            }
         }
-        let mut rngs: [Pcg32; W] = std::array::from_fn(|k| samplers[k].rng);
-        let drawn = Pcg32::next_f32_lanes::<N, W>(&mut rngs);
-        for (k, rng) in rngs.into_iter().enumerate().filter(|&(k, _)| in_mask(k)) {
-            samplers[k].rng = rng;
-        }
-        drawn
+        out
     }
 }
 
@@ -244,44 +230,35 @@ mod tests {
     }
 
     #[test]
-    fn lanes_draw_what_each_sampler_draws_alone() {
-        // Every kind, a mask with gaps, and a lane replaying primary samples (which makes the
-        // independent samplers draw one by one): each lane of the mask gets its sampler's next
-        // numbers bit for bit and ends where its sampler ends; the others are untouched.
+    fn arrays_hold_the_numbers_drawn_one_by_one() {
+        // Every kind, and the independent sampler replaying primary samples (which draws one by
+        // one): the array is the next seven numbers bit for bit, and the sampler goes on as if
+        // they had been drawn one by one.
         for (kind, replay) in [
             (SamplerKind::Independent, false),
             (SamplerKind::Independent, true),
             (SamplerKind::Sobol, false),
         ] {
-            let start = |k: u32| {
+            let start = || {
                 let mut s = Sampler::new(kind, 11);
-                s.start_pixel_sample(k, 2 * k + 1, 3 + k);
-                for _ in 0..k {
-                    s.next_1d(); // samplers at different positions of their sequences
-                }
-                if replay && k == 5 {
+                s.start_pixel_sample(3, 7, 5);
+                s.next_1d();
+                if replay {
                     s.replay_primary(vec![0.25, 0.75]);
                 }
                 s
             };
-            let mask = 0b1011_0110;
-            let mut lanes: [Sampler; 8] = std::array::from_fn(|k| start(k as u32));
-            let got = Sampler::next_1d_lanes::<7, 8>(&mut lanes, mask);
-            for k in 0..8 {
-                let mut alone = start(k as u32);
-                if mask >> k & 1 == 1 {
-                    for (j, row) in got.iter().enumerate() {
-                        let want = alone.next_1d();
-                        assert_eq!(
-                            row[k].to_bits(),
-                            want.to_bits(),
-                            "{kind:?} lane {k} draw {j}"
-                        );
-                    }
-                }
-                for _ in 0..5 {
-                    assert_eq!(lanes[k].next_1d().to_bits(), alone.next_1d().to_bits());
-                }
+            let (mut a, mut b) = (start(), start());
+            let got = a.next_1d_array::<7>();
+            for (j, x) in got.iter().enumerate() {
+                assert_eq!(x.to_bits(), b.next_1d().to_bits(), "{kind:?} draw {j}");
+            }
+            for _ in 0..5 {
+                assert_eq!(
+                    a.next_1d().to_bits(),
+                    b.next_1d().to_bits(),
+                    "{kind:?} after"
+                );
             }
         }
     }

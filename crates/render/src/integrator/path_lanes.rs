@@ -2,8 +2,8 @@
 //! 3): a wavefront over a row's samples, as Mitsuba 3's vectorised variants run their paths.
 //! Each lane holds one path from its camera ray to its end and then takes the row's next
 //! sample. Per vertex, the closest hits, the material's albedo, the light's triangle and the
-//! shadow rays are found lane by lane through the scene's scalar queries; a vertex's seven
-//! random numbers are drawn for all lanes at once ([`Sampler::next_1d_lanes`]); the shading frame,
+//! shadow rays are found lane by lane through the scene's scalar queries (a vertex's seven
+//! random numbers drawn at once per lane, [`Sampler::next_1d_array`]); the shading frame,
 //! the direction back, next-event estimation ([`direct_lanes::estimate`], four lanes at a
 //! time), cosine sampling (glibc's sine and cosine still lane by lane), the same-side test,
 //! roulette and the spawned rays are computed in the lanes (arrays of eight floats that the
@@ -421,19 +421,19 @@ fn trace<'s>(
         h.ns.set(k, si.ns);
         h.dpdu.set(k, si.dpdu);
         h.albedo.set(k, Vec3::from_array(albedo.c));
-        // Kept for `direct_with`, which the lanes whose light the kernel does not take need.
-        h.si[k] = Some(si);
-    }
-    // The scalar loop's numbers at a vertex, drawn for all the shading lanes at once (each
-    // lane's in its order): next-event estimation's three, the BSDF's three (the first, the
-    // lobe number, the Lambertian BSDF ignores), roulette's one.
-    let [u_light, u_nee_x, u_nee_y, _, u_bsdf_x, u_bsdf_y, u_rr] =
-        Sampler::next_1d_lanes::<7, W>(&mut paths.samplers, h.shade);
-    (h.u_light, h.u_nee, h.u_bsdf, h.u_rr) =
-        (u_light, [u_nee_x, u_nee_y], [u_bsdf_x, u_bsdf_y], u_rr);
-    for k in 0..W {
-        if h.shade >> k & 1 == 1 && light_sample(scene, h, k, Vec2::new(u_nee_x[k], u_nee_y[k])) {
+        // The scalar loop's numbers at a vertex: next-event estimation's three, the BSDF's
+        // three (the first, the lobe number, the Lambertian BSDF ignores), roulette's one.
+        let [u_light, u_nee_x, u_nee_y, _, u_bsdf_x, u_bsdf_y, u_rr] =
+            paths.samplers[k].next_1d_array::<7>();
+        h.u_light[k] = u_light;
+        (h.u_nee[0][k], h.u_nee[1][k]) = (u_nee_x, u_nee_y);
+        (h.u_bsdf[0][k], h.u_bsdf[1][k]) = (u_bsdf_x, u_bsdf_y);
+        h.u_rr[k] = u_rr;
+        if light_sample(scene, h, k, Vec2::new(u_nee_x, u_nee_y)) {
             h.nee |= 1 << k;
+        } else {
+            // Kept for `direct_with` (a record copied per vertex only where it is needed).
+            h.si[k] = Some(si);
         }
     }
 }
