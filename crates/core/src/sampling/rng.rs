@@ -21,7 +21,7 @@ pub fn mix_seed(seed: u64, parts: &[u64]) -> u64 {
 }
 
 /// PCG32 (O'Neill 2014, XSH-RR variant): small, fast, statistically good.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Pcg32 {
     state: u64,
     inc: u64,

@@ -194,7 +194,8 @@ impl Sampler {
     pub fn next_1d_array<const N: usize>(&mut self) -> [f32; N] {
         let mut out = [0.0; N];
         if self.primary.is_none() && self.kind == SamplerKind::Independent {
-            let mut rng = self.rng;
+            // (A copy held in registers, written back after the `N` steps.)
+            let mut rng = self.rng.clone();
             for x in &mut out {
                 *x = rng.next_f32();
             }
