@@ -355,44 +355,51 @@ impl Geometry {
     /// without the surface records (the stream counterpart of `hit_distance`, and what a
     /// packet query of Embree's, `rtcIntersect8`, returns besides the hit's ids).
     pub fn hit_distance_stream(&self, rays: &[Ray], out: &mut Vec<Option<f32>>) {
-        out.clear();
-        out.reserve(rays.len());
-        if !self.moving.ids.is_empty() {
-            out.extend(rays.iter().map(|r| self.hit_distance(r)));
-            return;
-        }
-        for chunk in rays.chunks(8) {
+        self.stream(rays, out, Self::hit_distance, |chunk| {
             let (hits, taken) = self.bvh.closest_packet(chunk, |i, k, t_max| {
                 self.other_in_packet(chunk, i, k, t_max)
             });
-            for (i, ray) in chunk.iter().enumerate() {
-                out.push(if taken >> i & 1 == 1 {
-                    hits[i].map(|h| h.t)
-                } else {
-                    self.hit_distance(ray)
-                });
-            }
-        }
+            (hits.map(|h| h.map(|h| h.t)), taken)
+        });
     }
 
     /// Whether each ray of `rays` is blocked before its `t_max`, in order: [`Self::occluded`]
     /// for each, traced eight at a time as in [`Self::intersect_stream`].
     pub fn occluded_stream(&self, rays: &[Ray], out: &mut Vec<bool>) {
-        out.clear();
-        out.reserve(rays.len());
-        if !self.moving.ids.is_empty() {
-            out.extend(rays.iter().map(|r| self.occluded(r)));
-            return;
-        }
-        for chunk in rays.chunks(8) {
+        self.stream(rays, out, Self::occluded, |chunk| {
             let (hit, taken) = self.bvh.any_packet(chunk, |i, k, t_max| {
                 self.other_in_packet(chunk, i, k, t_max)
             });
+            (std::array::from_fn(|i| hit >> i & 1 == 1), taken)
+        });
+    }
+
+    /// The loop of the streams whose answers are small ([`Self::hit_distance_stream`],
+    /// [`Self::occluded_stream`]): `packet` answers up to eight rays and says which it took,
+    /// `one` answers the others (and every ray where meshes move). `intersect_stream` keeps its
+    /// own loop: passing its eight records through here cost 8 % more instructions per ray
+    /// (docs/performance.md, fourteenth session).
+    #[inline(always)]
+    fn stream<T: Copy>(
+        &self,
+        rays: &[Ray],
+        out: &mut Vec<T>,
+        one: impl Fn(&Self, &Ray) -> T,
+        mut packet: impl FnMut(&[Ray]) -> ([T; 8], u32),
+    ) {
+        out.clear();
+        out.reserve(rays.len());
+        if !self.moving.ids.is_empty() {
+            out.extend(rays.iter().map(|r| one(self, r)));
+            return;
+        }
+        for chunk in rays.chunks(8) {
+            let (answers, taken) = packet(chunk);
             for (i, ray) in chunk.iter().enumerate() {
                 out.push(if taken >> i & 1 == 1 {
-                    hit >> i & 1 == 1
+                    answers[i]
                 } else {
-                    self.occluded(ray)
+                    one(self, ray)
                 });
             }
         }
