@@ -74,8 +74,11 @@ impl Distribution1D {
             // Two entries of positive probability: no zero entry to skip.
             ([p0, p1], [c0, c1, c2]) if *p0 > 0.0 && *p1 > 0.0 => {
                 let below = (*c0 <= u) as usize + (*c1 <= u) as usize + (*c2 <= u) as usize;
-                let (i, p, c) = if below >= 2 { (1, p1, c1) } else { (0, p0, c0) };
-                (i, *p, ((u - c) / p).clamp(0.0, ONE_MINUS_EPSILON))
+                // The entry by its index, not by a choice between the two (which the compiler
+                // made a branch, a coin flip for the predictor).
+                let i = (below >= 2) as usize;
+                let (p, c) = (self.pmf[i], self.cdf[i]);
+                (i, p, ((u - c) / p).clamp(0.0, ONE_MINUS_EPSILON))
             }
             _ => self.sample_table(u),
         }

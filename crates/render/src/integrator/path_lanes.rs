@@ -45,6 +45,8 @@ use glam::Vec4;
 
 /// Paths side by side.
 const W: usize = 8;
+/// Every lane's bit.
+const ALL: u32 = (1 << W) - 1;
 /// One float per lane.
 type F = [f32; W];
 
@@ -52,6 +54,25 @@ type F = [f32; W];
 #[inline(always)]
 fn lanes(f: impl FnMut(usize) -> f32) -> F {
     std::array::from_fn(f)
+}
+
+/// The lanes whose bits are set in a mask, lowest first. A loop over them branches on its end
+/// alone, where testing each of the eight bits is a coin flip the branch predictor often
+/// loses (callgrind's branch simulation, docs/performance.md, sixteenth session).
+#[derive(Clone, Copy)]
+struct Bits(u32);
+
+impl Iterator for Bits {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let k = self.0.trailing_zeros() as usize % W;
+        self.0 &= self.0 - 1;
+        Some(k)
+    }
 }
 
 /// Three coordinates in the lanes.
@@ -85,6 +106,19 @@ impl V {
             z: half(&self.z, h),
         }
     }
+}
+
+/// `if c[k] != 0 { a[k] } else { b[k] }` in every lane `k`, by four-lane blends. Written lane
+/// by lane, the compiler may make each choice a branch around its operands' work (a division,
+/// say), which the branch predictor loses half the time.
+#[inline(always)]
+fn blend(c: &F, a: &F, b: &F) -> F {
+    let mut out = [0.0; W];
+    for h in 0..W / LANES {
+        let m = half(c, h).cmpne(Vec4::ZERO);
+        Vec4::select(m, half(a, h), half(b, h)).write_to_slice(&mut out[LANES * h..]);
+    }
+    out
 }
 
 /// Lanes `4h .. 4h + 4` of `a`.
@@ -239,10 +273,7 @@ pub fn render_row(
     let mut stream = PixelStream::default();
     loop {
         // New samples in the lanes whose paths ended.
-        for k in 0..W {
-            if paths.alive >> k & 1 == 1 {
-                continue;
-            }
+        for k in Bits(!paths.alive & ALL) {
             let Some((x, fx, s)) = samples.next() else {
                 break;
             };
@@ -358,10 +389,7 @@ fn trace<'s>(
     add: &mut dyn FnMut(usize, Spectrum),
 ) {
     (h.shade, h.nee) = (0, 0);
-    for k in 0..W {
-        if paths.alive >> k & 1 == 0 {
-            continue;
-        }
+    for k in Bits(paths.alive) {
         // `trace_segment` without media: the closest hit.
         stats.rays += 1;
         let Some(si) = scene.intersect(&paths.ray[k]) else {
@@ -491,13 +519,13 @@ fn shade(
         y: lanes(|k| ns.z[k] * s.x[k] - s.z[k] * ns.x[k]),
         z: lanes(|k| ns.x[k] * s.y[k] - s.x[k] * ns.y[k]),
     };
-    for k in 0..W {
-        // A tangent along the normal: the frame of the normal alone.
-        if h.shade >> k & 1 == 1 && len2[k] < 1e-12 {
-            let f = Frame::from_normal(ns.get(k));
-            s.set(k, f.s);
-            t.set(k, f.t);
-        }
+    // A tangent along the normal: the frame of the normal alone (the lanes found first, so
+    // that the loop does not branch on every lane).
+    let along = (0..W).fold(0, |m, k| m | ((len2[k] < 1e-12) as u32) << k);
+    for k in Bits(h.shade & along) {
+        let f = Frame::from_normal(ns.get(k));
+        s.set(k, f.s);
+        t.set(k, f.t);
     }
     // `frame.to_local(−d)`.
     let back = V {
@@ -542,10 +570,7 @@ fn shade(
             time: half(&time, half_),
         };
         let e = direct_lanes::estimate(&lanes_in);
-        for j in 0..LANES {
-            if quad >> j & 1 == 0 {
-                continue;
-            }
+        for j in Bits(quad) {
             let k = LANES * half_ + j;
             let mut est = Spectrum::ZERO;
             if e.ray >> j & 1 == 1 {
@@ -562,10 +587,7 @@ fn shade(
             add_term(paths, k, term);
         }
     }
-    for k in 0..W {
-        if (h.shade & !h.nee) >> k & 1 == 0 {
-            continue;
-        }
+    for k in Bits(h.shade & !h.nee) {
         let Some(si) = h.si[k] else { continue };
         let v = Vertex::new(scene, si, &paths.ray[k], &mut Channels::Rgb);
         let at = Scatterer::Surface {
@@ -596,15 +618,13 @@ fn shade(
     // itself lane by lane took 1.09x the time (docs/performance.md, tenth session).
     let around_x = lanes(|k| (ox[k].abs() > oy[k].abs()) as u32 as f32);
     let r = lanes(|k| if around_x[k] != 0.0 { ox[k] } else { oy[k] });
-    let theta_x = lanes(|k| 0.25 * PI * (oy[k] / ox[k]));
-    let theta_y = lanes(|k| 0.5 * PI - 0.25 * PI * (ox[k] / oy[k]));
-    let theta = lanes(|k| {
-        if around_x[k] != 0.0 {
-            theta_x[k]
-        } else {
-            theta_y[k]
-        }
-    });
+    // θ = π/4 · (oy / ox) around x, π/2 − π/4 · (ox / oy) around y: one quotient per lane of
+    // the chosen operands (the same bits; a choice between the two quotients became a branch
+    // per lane around its division, which the predictor lost half the time).
+    let num = blend(&around_x, &oy, &ox);
+    let den = blend(&around_x, &ox, &oy);
+    let quarter = lanes(|k| 0.25 * PI * (num[k] / den[k]));
+    let theta = blend(&around_x, &quarter, &lanes(|k| 0.5 * PI - quarter[k]));
     let mut lx = [0.0f32; W];
     let mut ly = [0.0f32; W];
     for k in 0..W {
@@ -652,10 +672,7 @@ fn shade(
         y: lanes(|k| p.y[k] + ng.y[k] * (side[k] * offset[k])),
         z: lanes(|k| p.z[k] + ng.z[k] * (side[k] * offset[k])),
     };
-    for k in 0..W {
-        if h.shade >> k & 1 == 0 {
-            continue;
-        }
+    for k in Bits(h.shade) {
         // No sample for a grazing `wo` or a direction on the horizon; an inconsistent side.
         if wo.z[k] == 0.0 || z[k] <= 0.0 || consistent[k] == 0.0 {
             end(paths, k, add);
