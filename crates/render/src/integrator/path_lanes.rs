@@ -75,6 +75,12 @@ impl Iterator for Bits {
     }
 }
 
+/// The mask of the lanes `k` where `f(k)`.
+#[inline(always)]
+fn mask(f: impl Fn(usize) -> bool) -> u32 {
+    (0..W).fold(0, |m, k| m | (f(k) as u32) << k)
+}
+
 /// Three coordinates in the lanes.
 #[derive(Clone, Copy, Default)]
 struct V {
@@ -627,8 +633,14 @@ fn shade(
     let theta = blend(&around_x, &quarter, &lanes(|k| 0.5 * PI - quarter[k]));
     let mut lx = [0.0f32; W];
     let mut ly = [0.0f32; W];
-    for k in 0..W {
-        (lx[k], ly[k]) = (r[k] * theta[k].cos(), r[k] * theta[k].sin());
+    // The shading lanes' sines and cosines, those around x first: glibc's `sincosf` branches
+    // on whether |θ| < π/4, which is whether the lane is around x, a coin flip when the lanes
+    // come in order (the other lanes' values are not read).
+    let x_lanes = mask(|k| around_x[k] != 0.0);
+    for lanes_ in [h.shade & x_lanes, h.shade & !x_lanes] {
+        for k in Bits(lanes_) {
+            (lx[k], ly[k]) = (r[k] * theta[k].cos(), r[k] * theta[k].sin());
+        }
     }
     let centre = lanes(|k| (ox[k] == 0.0 && oy[k] == 0.0) as u32 as f32);
     let lx = lanes(|k| if centre[k] != 0.0 { 0.0 } else { lx[k] });
