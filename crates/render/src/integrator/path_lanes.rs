@@ -527,8 +527,7 @@ fn shade(
     };
     // A tangent along the normal: the frame of the normal alone (the lanes found first, so
     // that the loop does not branch on every lane).
-    let along = (0..W).fold(0, |m, k| m | ((len2[k] < 1e-12) as u32) << k);
-    for k in Bits(h.shade & along) {
+    for k in Bits(h.shade & mask(|k| len2[k] < 1e-12)) {
         let f = Frame::from_normal(ns.get(k));
         s.set(k, f.s);
         t.set(k, f.t);
@@ -637,8 +636,8 @@ fn shade(
     // on whether |θ| < π/4, which is whether the lane is around x, a coin flip when the lanes
     // come in order (the other lanes' values are not read).
     let x_lanes = mask(|k| around_x[k] != 0.0);
-    for lanes_ in [h.shade & x_lanes, h.shade & !x_lanes] {
-        for k in Bits(lanes_) {
+    for group in [h.shade & x_lanes, h.shade & !x_lanes] {
+        for k in Bits(group) {
             (lx[k], ly[k]) = (r[k] * theta[k].cos(), r[k] * theta[k].sin());
         }
     }
