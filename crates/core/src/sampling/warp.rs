@@ -13,14 +13,17 @@ pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    // Both cases computed and one kept: the choice is a coin flip for the CPU, which a branch
-    // mispredicts half the time (docs/performance.md, issue 26).
-    let (theta_x, theta_y) = (0.25 * PI * (o.y / o.x), 0.5 * PI - 0.25 * PI * (o.x / o.y));
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, theta_x)
-    } else {
-        (o.y, theta_y)
-    };
+    // θ = π/4 · (y / x) around x, π/2 − π/4 · (x / y) around y, from one quotient of the chosen
+    // operands. The choice is a coin flip for the CPU: written as a choice between the two
+    // quotients it compiled to a branch around each division, mispredicted about half the time
+    // (callgrind's branch simulation, docs/performance.md, issue 26, sixteenth session), so it
+    // is made by selects the compiler is told not to turn into branches. The same bits as the
+    // two quotients (the path tracer's lanes compute it the same way).
+    use std::hint::select_unpredictable as pick;
+    let around_x = o.x.abs() > o.y.abs();
+    let r = pick(around_x, o.x, o.y);
+    let quarter = 0.25 * PI * (pick(around_x, o.y, o.x) / pick(around_x, o.x, o.y));
+    let theta = pick(around_x, quarter, 0.5 * PI - quarter);
     Vec2::new(r * theta.cos(), r * theta.sin())
 }
 
@@ -98,10 +101,12 @@ pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
 #[inline]
 pub fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
     // The smaller coordinate s maps to s/2 and the larger l to l − s/2, in whichever of b0, b1
-    // the coordinate stands for. The choice is a bit mask, not an `if`: the comparison is a
-    // coin flip, and a mispredicted branch cost more than the whole map (light sampling).
-    let mask = ((u.x < u.y) as u32).wrapping_neg();
-    let pick = |a: f32, b: f32| f32::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask));
+    // the coordinate stands for. The choice is a select the compiler is told not to make a
+    // branch: the comparison is a coin flip, and a mispredicted branch cost more than the whole
+    // map (light sampling). (A bit mask was not enough: the compiler turned it back into a
+    // branch, which callgrind's branch simulation caught in the sixteenth session.)
+    let below = u.x < u.y;
+    let pick = |a: f32, b: f32| std::hint::select_unpredictable(below, a, b);
     let (s, l) = (pick(u.x, u.y), pick(u.y, u.x));
     let h = s / 2.0;
     let m = l - h;
